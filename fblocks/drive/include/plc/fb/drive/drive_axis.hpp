@@ -1,0 +1,195 @@
+// DriveAxis: the PLC's handle on one E1 drive (PLCopen AXIS_REF), the layer
+// between the PROFIdrive telegram types and the blocks (RTmotion's layering:
+// blocks -> axis state and commands -> drive words).
+//
+// Every block on a drive takes the same DriveAxis (`fb(ctx, axis)`). The
+// axis
+// * reads the drive's telegram once per scan (begin(), idempotent per scan)
+//   and writes the PLC's telegram after every block (commit()), so the
+//   order of the blocks in a program does not matter;
+// * counts the controller sign-of-life into STW2.12-15 once per scan and
+//   watches the drive's in ZSW2.12-15: a counter that does not move for more
+//   than SignOfLifeTolerance scans (like PNU 925 on the drive side) is a
+//   loss of sign-of-life, and every block on the axis reports kErrSignOfLife
+//   until MC_Reset (or AckError) once the counter runs again;
+// * runs the traversing-task handshake of spec §7.6/§10.1: STW1.6 is raised
+//   only after ZSW1.12 was seen 0, held until ZSW1.12 rises (the drive's
+//   acknowledgement, "rising edge active"), then dropped; the task is done
+//   when ZSW1.10 (target reached) is 1 after the acknowledgement. No
+//   acknowledgement within AckTimeout is kErrTaskNotAck;
+// * keeps the PLCopen axis state (Disabled, Standstill, Homing,
+//   DiscreteMotion, ContinuousMotion, Stopping, ErrorStop) and the id of the
+//   command in control, so a block whose command was replaced reports
+//   CommandAborted.
+//
+// Safe state: while the drive is not reachable or the sign-of-life is lost,
+// STW1 goes to OFF1 (0x0406: control by PLC, no OFF2/OFF3, ON = 0).
+#pragma once
+
+#include <cstdint>
+
+#include "plc/fb/drive/diag_codes.hpp"
+#include "plc/fb/drive/telegrams.hpp"
+#include "plc/io/device_port.hpp"
+#include "plc/reflect.hpp"
+#include "plc/scan_context.hpp"
+#include "plc/types.hpp"
+
+namespace plc::drive {
+
+// PLCopen axis states (PLCopen MC Part 1 §3.2 diagram; numbered in the
+// diagram's order).
+enum class AxisState : std::uint8_t {
+  Disabled = 0,
+  Standstill = 1,
+  Homing = 2,
+  DiscreteMotion = 3,
+  ContinuousMotion = 4,
+  SynchronizedMotion = 5,  // not used by these blocks
+  Stopping = 6,
+  ErrorStop = 7,
+};
+const char* to_string(AxisState s);
+
+// PROFIdrive drive state as read from ZSW1 (spec §5).
+enum class DriveState : std::uint8_t {
+  SwitchingOnInhibited = 1,  // S1
+  ReadyForSwitchingOn = 2,   // S2
+  SwitchedOn = 3,            // S3
+  Operation = 4,             // S4
+  SwitchingOff = 5,          // S5 (OFF1 or OFF3 branch)
+  Fault = 6,
+};
+DriveState drive_state_from_zsw1(std::uint16_t zsw1);
+
+// How power is taken away (MC_Power StopMode, SinaPos ConfigEPos).
+enum class StopMode : std::uint8_t { Off1Ramp = 0, Off2Coast = 1, Off3Quick = 2 };
+
+// Kinds of traversing task the axis sends over telegram 9/111.
+enum class TaskKind : std::uint8_t { Relative = 1, Absolute = 2, Velocity = 3 };
+
+enum class CmdStatus : std::uint8_t { Busy, Done, Aborted, Error };
+
+struct DriveAxis {
+  // ---------------- configuration (before the first scan) ----------------
+  io::DevicePort Port;
+  UINT Telegram = 111;           // 3, 9 or 111, as configured in the drive
+  UINT SignOfLifeTolerance = 5;  // scans the drive counter may stand still
+  BOOL SignOfLifeCheck = true;
+  LREAL CuPerRev = 10000;    // control units per motor revolution
+  LREAL RefSpeedRpm = 3000;  // Pt317 (100 % of NSOLL_B/NIST_B)
+  LREAL AccTimeMs = 100;     // Pt534: 100 % MDI_ACC, 0 -> RefSpeed
+  LREAL DecTimeMs = 100;     // Pt537: 100 % MDI_DEC
+  TIME AckTimeout = std::chrono::milliseconds(200);
+
+  // ---------------- actual values (each scan) ----------------
+  WORD ZSW1{}, ZSW2{}, POS_ZSW1{}, POS_ZSW2{}, MELDW{}, AKTSATZ{}, G1_ZSW{};
+  DINT XIST_A{}, NIST_B{};
+  UDINT G1_XIST1{}, G1_XIST2{};
+  UINT FAULT_CODE{}, WARN_CODE{};
+  LREAL ActPosition{};  // CU (XIST_A; G1_XIST1 on telegram 3)
+  LREAL ActVelocity{};  // CU/s from NIST_B (telegram 3/111) or XIST_A difference (9)
+  BOOL CommOk{};        // online, right telegram, sign-of-life alive
+  BOOL SignOfLifeLost{};
+  WORD CommError{};  // kErrOffline / kErrSignOfLife / kErrTelegram or 0
+  AxisState State = AxisState::Disabled;
+
+  // ---------------- sent to the drive (composed by commit()) ----------------
+  WORD STW1{}, STW2{}, POS_STW1{}, POS_STW2{}, SATZANW{}, MDI_MODE{}, G1_STW{};
+  UINT OVERRIDE = 0x4000;
+  DINT MDI_TARPOS{}, MDI_VELOCITY{}, NSOLL_B{};
+  INT MDI_ACC = 0x4000, MDI_DEC = 0x4000;
+
+  // ---------------- requests from blocks ----------------
+  BOOL PowerRequest{};  // MC_Power / SinaPos / SinaSpeed enable
+  StopMode PowerStopMode = StopMode::Off1Ramp;
+  BOOL AckRequest{};  // STW1.7 (MC_Reset drives the edge)
+  BOOL JogRequest1{}, JogRequest2{};
+  BOOL IntermediateStop{};     // STW1.5 = 0 while TRUE
+  BOOL RejectTask{};           // STW1.4 = 0 while TRUE
+  BOOL StopActive{};           // MC_Stop holds the axis in Stopping
+  BOOL SetReferenceRequest{};  // POS_STW2.1
+  BOOL InhibitPower{};         // AbsEncoderInit: force OFF1 whatever PowerRequest says
+
+  // ---------------- the scan protocol ----------------
+  void begin(const ScanContext& ctx);  // read inputs once per scan
+  void commit();                       // write outputs (cheap, any number of times)
+
+  [[nodiscard]] TelegramType telegram() const { return static_cast<TelegramType>(Telegram); }
+  [[nodiscard]] bool positioning() const { return Telegram == 9 || Telegram == 111; }
+  [[nodiscard]] DriveState drive_state() const { return drive_state_from_zsw1(ZSW1); }
+  [[nodiscard]] bool operation_enabled() const { return (ZSW1 & Zsw1Pos::kOperationEnabled) != 0; }
+  [[nodiscard]] bool drive_fault() const { return (ZSW1 & Zsw1Pos::kFault) != 0; }
+  [[nodiscard]] bool standstill() const { return (ZSW1 & Zsw1Pos::kMotorStopped) != 0; }
+  [[nodiscard]] bool homed() const { return (ZSW1 & Zsw1Pos::kHomePositionSet) != 0; }
+  [[nodiscard]] bool target_reached() const { return (ZSW1 & Zsw1Pos::kTargetReached) != 0; }
+  // The error every block on this axis reports now (0 = none): comm first,
+  // then a drive fault, then a latched axis error (ErrorStop).
+  [[nodiscard]] std::uint16_t axis_error() const;
+  [[nodiscard]] TIME now() const { return now_; }
+
+  // ---- command interface for blocks (PLCopen layer) ----
+  // Each start returns the id of the new command; the previous command is
+  // aborted. A block polls status(id) in later scans.
+  std::uint32_t start_task(TaskKind kind, DINT position, DINT mdi_velocity, INT mdi_acc,
+                           INT mdi_dec);
+  std::uint32_t start_homing(TIME timeout);
+  std::uint32_t start_stop();       // MC_Stop: reject task, jog off, hold Stopping
+  std::uint32_t start_halt();       // MC_Halt: intermediate stop, then drop the task
+  std::uint32_t start_jog();        // jog via JogRequest1/2 levels
+  void end_stop(std::uint32_t id);  // MC_Stop released (Execute FALSE)
+  void release(std::uint32_t id);   // a continuous command lets go (jog off)
+  [[nodiscard]] CmdStatus status(std::uint32_t id) const;
+  [[nodiscard]] std::uint16_t cmd_error(std::uint32_t id) const;
+  [[nodiscard]] bool in_velocity(std::uint32_t id) const;
+  [[nodiscard]] std::uint32_t active_command() const { return cmd_id_; }
+  void abort_all();  // power off / ErrorStop: nothing in control
+  void latch_error(std::uint16_t e) {
+    if (!error_) error_ = e;
+  }
+  // MC_Reset: clear the latched error and the sign-of-life loss.
+  void reset_errors();
+
+  PLC_REFLECT(Port, Telegram, SignOfLifeTolerance, SignOfLifeCheck, CuPerRev, RefSpeedRpm,
+              AccTimeMs, DecTimeMs, AckTimeout, ZSW1, ZSW2, POS_ZSW1, POS_ZSW2, MELDW, AKTSATZ,
+              G1_ZSW, XIST_A, NIST_B, G1_XIST1, G1_XIST2, FAULT_CODE, WARN_CODE, ActPosition,
+              ActVelocity, CommOk, SignOfLifeLost, CommError, State, STW1, STW2, POS_STW1, POS_STW2,
+              SATZANW, MDI_MODE, G1_STW, OVERRIDE, MDI_TARPOS, MDI_VELOCITY, NSOLL_B, MDI_ACC,
+              MDI_DEC, PowerRequest, PowerStopMode, AckRequest, JogRequest1, JogRequest2,
+              IntermediateStop, RejectTask, StopActive, SetReferenceRequest, InhibitPower,
+              // internal state: shown by the debugger, kept in recording snapshots
+              now_, last_scan_, last_cycle_, begun_, sol_out_, sol_in_last_, sol_stall_, sol_seen_,
+              error_, cmd_id_, next_id_, kind_, phase_, task_kind_, cmd_err_, phase_start_,
+              homing_timeout_, stw6_, stw6_sent_, homing_bit_, homing_started_, seen_traversing_,
+              halt_release_, prev_xist_, have_prev_xist_, task_velocity_)
+
+  // ---- internals (public for tests and the benchmark, not for programs) ----
+  enum class Phase : std::uint8_t { Idle, PreLow, Request, Running, Done, Error, Aborted };
+  enum class Kind : std::uint8_t { None, Task, Homing, Stop, Halt, Jog };
+  void advance();
+  void update_state();
+  void open_command(Kind kind, Phase phase);
+
+  TIME now_{};
+  TIME last_scan_{};
+  std::uint64_t last_cycle_ = ~std::uint64_t{0};
+  bool begun_ = false;
+  std::uint8_t sol_out_ = 0, sol_in_last_ = 0;
+  std::uint16_t sol_stall_ = 0;
+  bool sol_seen_ = false;
+  std::uint16_t error_ = 0;  // latched axis error (ErrorStop until reset)
+  std::uint32_t cmd_id_ = 0, next_id_ = 1;
+  Kind kind_ = Kind::None;
+  Phase phase_ = Phase::Idle;
+  TaskKind task_kind_ = TaskKind::Relative;
+  std::uint16_t cmd_err_ = 0;
+  TIME phase_start_{};
+  TIME homing_timeout_{};
+  bool stw6_ = false, stw6_sent_ = false, homing_bit_ = false, homing_started_ = false;
+  bool seen_traversing_ = false, halt_release_ = false;
+  DINT prev_xist_ = 0;
+  bool have_prev_xist_ = false;
+  DINT task_velocity_ = 0;
+};
+
+}  // namespace plc::drive

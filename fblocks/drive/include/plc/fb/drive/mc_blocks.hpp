@@ -1,0 +1,187 @@
+// PLCopen Motion Control Part 1 blocks on a DriveAxis (E1 over telegram 9/111,
+// MC_Power and MC_Reset also over telegram 3). Conventions of
+// shared/reference/softplc-anchors.md §3:
+// * Execute blocks latch their inputs on the rising edge of Execute; exactly
+//   one of Busy, Done, Error, CommandAborted is TRUE while Execute is TRUE;
+//   Done/Error/CommandAborted/ErrorID reset on the falling edge of Execute and
+//   show for at least one scan if the command ends after Execute fell.
+// * A command refused in the present axis state gives Error with the state's
+//   ErrorID (kErrDisabled, kErrErrorStop, kErrStopping, kErrHoming,
+//   kErrNotStandstill); a command replaced by another gives CommandAborted.
+// * Enable blocks (MC_Power, MC_Read*) report Valid while Enable is TRUE.
+// Units: Position in control units (CU), Velocity in CU/s, Acceleration and
+// Deceleration in CU/s^2 (0 = the drive's 100 % ramp Pt534/Pt537; more than
+// 100 % is not possible on the E1 and is clamped to 100 %). Jerk and
+// BufferMode are not supported (always Aborting).
+// ErrorID values: diag_codes.hpp.
+#pragma once
+
+#include "plc/fb/drive/drive_axis.hpp"
+#include "plc/reflect.hpp"
+#include "plc/scan_context.hpp"
+#include "plc/types.hpp"
+
+namespace plc::drive {
+
+// PLCopen MC_Direction values used by MC_MoveVelocity.
+inline constexpr INT kMcPositiveDirection = 1;
+inline constexpr INT kMcNegativeDirection = 3;
+
+// Execute-edge and output-holding logic shared by the Execute blocks.
+struct McExecute {
+  BOOL Execute{};
+  BOOL Done{};
+  BOOL Busy{};
+  BOOL Active{};
+  BOOL CommandAborted{};
+  BOOL Error{};
+  WORD ErrorID{};
+
+ protected:
+  // Returns true on the rising edge of Execute (outputs cleared).
+  bool on_call();
+  void finish_done();
+  void finish_error(std::uint16_t e);
+  void finish_aborted();
+  // Poll a running axis command; returns true when it ended this scan.
+  bool poll(DriveAxis& axis);
+  // State check for a new motion command; 0 if allowed.
+  static std::uint16_t motion_refusal(const DriveAxis& axis);
+  // Checks the inputs of a positioning command and starts the task, or
+  // finishes with the error that refuses it (MoveAbsolute, MoveRelative).
+  void start_positioning(DriveAxis& axis, TaskKind kind, LREAL target, LREAL velocity,
+                         LREAL acceleration, LREAL deceleration);
+
+  std::uint32_t id_ = 0;
+  bool prev_execute_ = false;
+};
+
+// MC_Power over STW1/ZSW1: Enable = TRUE walks the drive S1 -> S2 -> S3 -> S4
+// (ON = 0 while switch-on inhibited, then ON + enable operation);
+// Enable = FALSE takes power away with StopMode 0 = OFF1 ramp (Pt537),
+// 1 = OFF2 coast/dynamic brake, 2 = OFF3 quick stop (Pt538 / Pt30A).
+// Status = operation enabled (ZSW1.2). Error when the axis has an error or
+// S4 is not reached within EnableTimeout (kErrLockout if the drive stayed in
+// switch-on inhibited, else kErrEnableTimeout).
+struct MC_Power {
+  BOOL Enable{};
+  INT StopMode{0};
+  TIME EnableTimeout = std::chrono::seconds(1);
+  BOOL Status{};
+  BOOL Valid{};
+  BOOL Error{};
+  WORD ErrorID{};
+
+  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  PLC_REFLECT(Enable, StopMode, EnableTimeout, Status, Valid, Error, ErrorID, enable_since_,
+              prev_enable_)
+
+  TIME enable_since_{};
+  bool prev_enable_ = false;
+};
+
+// MC_Reset: acknowledges a drive fault with a rising edge of STW1.7 (held
+// until the fault clears), waits for the fault to go away, and clears the
+// axis error (ErrorStop -> Standstill or Disabled). kErrResetTimeout if the
+// fault is still there after Timeout (its cause is not gone).
+struct MC_Reset : McExecute {
+  TIME Timeout = std::chrono::seconds(1);
+  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  PLC_REFLECT(Execute, Timeout, Done, Busy, Error, ErrorID, id_, prev_execute_, pulsing_, t0_)
+
+  bool pulsing_ = false;
+  TIME t0_{};
+};
+
+struct MC_MoveAbsolute : McExecute {
+  LREAL Position{};
+  LREAL Velocity{};
+  LREAL Acceleration{};
+  LREAL Deceleration{};
+  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  PLC_REFLECT(Execute, Position, Velocity, Acceleration, Deceleration, Done, Busy, Active,
+              CommandAborted, Error, ErrorID, id_, prev_execute_)
+};
+
+struct MC_MoveRelative : McExecute {
+  LREAL Distance{};
+  LREAL Velocity{};
+  LREAL Acceleration{};
+  LREAL Deceleration{};
+  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  PLC_REFLECT(Execute, Distance, Velocity, Acceleration, Deceleration, Done, Busy, Active,
+              CommandAborted, Error, ErrorID, id_, prev_execute_)
+};
+
+// The E1 has no speed-controlled MDI submode (spec §7.6): MC_MoveVelocity
+// sends a relative task to the far end of the 32-bit range (about 2^31 CU)
+// at Velocity, which runs until another command takes over. InVelocity when
+// the actual velocity is within 1 % of Velocity x override.
+struct MC_MoveVelocity : McExecute {
+  LREAL Velocity{};
+  LREAL Acceleration{};
+  LREAL Deceleration{};
+  INT Direction = kMcPositiveDirection;
+  BOOL InVelocity{};
+  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  PLC_REFLECT(Execute, Velocity, Acceleration, Deceleration, Direction, InVelocity, Busy, Active,
+              CommandAborted, Error, ErrorID, id_, prev_execute_)
+};
+
+// Drive-internal homing (STW1.11, spec §7.8): Done when ZSW1.11 (home set)
+// is back after the drive started homing and the motor stands. Position is
+// not sent: the E1 takes its home position from its own parameters. Only
+// from Standstill.
+struct MC_Home : McExecute {
+  LREAL Position{};
+  TIME Timeout = std::chrono::seconds(60);
+  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  PLC_REFLECT(Execute, Position, Timeout, Done, Busy, Active, CommandAborted, Error, ErrorID, id_,
+              prev_execute_)
+};
+
+// MC_Stop: rejects the traversing task (STW1.4 = 0: the drive stops with
+// its emergency ramp Pt538) and stops jog and homing. Done at standstill;
+// the axis stays in Stopping, refusing motion, while Execute is TRUE.
+// Deceleration is not sent (the E1 has no per-command stop ramp).
+struct MC_Stop : McExecute {
+  LREAL Deceleration{};
+  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  PLC_REFLECT(Execute, Deceleration, Done, Busy, Active, CommandAborted, Error, ErrorID, id_,
+              prev_execute_, held_)
+  bool held_ = false;
+};
+
+// MC_Halt: intermediate stop (STW1.5 = 0) on the task's own deceleration,
+// then drops the task at standstill. Another motion command may abort it.
+struct MC_Halt : McExecute {
+  LREAL Deceleration{};
+  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  PLC_REFLECT(Execute, Deceleration, Done, Busy, Active, CommandAborted, Error, ErrorID, id_,
+              prev_execute_)
+};
+
+struct MC_ReadStatus {
+  BOOL Enable{};
+  BOOL Valid{}, Busy{}, Error{};
+  WORD ErrorID{};
+  BOOL ErrorStop{}, Disabled{}, Stopping{}, Homing{}, Standstill{}, DiscreteMotion{},
+      ContinuousMotion{}, SynchronizedMotion{};
+  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  PLC_REFLECT(Enable, Valid, Busy, Error, ErrorID, ErrorStop, Disabled, Stopping, Homing,
+              Standstill, DiscreteMotion, ContinuousMotion, SynchronizedMotion)
+};
+
+struct MC_ReadActualPosition {
+  BOOL Enable{};
+  BOOL Valid{}, Busy{}, Error{};
+  WORD ErrorID{};
+  LREAL Position{};
+  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  PLC_REFLECT(Enable, Valid, Busy, Error, ErrorID, Position)
+};
+
+// Helpers shared with SinaPos: PLCopen dynamics -> MDI fields.
+INT accel_to_mdi(const DriveAxis& axis, LREAL accel, bool deceleration);
+
+}  // namespace plc::drive

@@ -1,0 +1,73 @@
+// Normalisations of the E1 process data (spec §2 Table 3.1.1, §7.1, §7.6).
+//
+//   NSOLL_B / NIST_B   0x40000000 = 100 % of the speed reference (Pt317 rpm
+//                      rotary, Pt386 x 100 mm/s linear); ~ +/-200 % range
+//   MDI_VELOCITY       1 = 1000 CU/min, 0 .. 2^31-1
+//   MDI_ACC / MDI_DEC  0x4000 = 100 % of the Pt534 / Pt537 reference, 0..16384
+//   OVERRIDE           0x4000 = 100 % of the MDI velocity, 0..32767 (~200 %)
+//
+// All conversions saturate at the field's range instead of wrapping, so a
+// too-large setpoint from a program never reverses a direction.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+namespace plc::drive {
+
+inline constexpr double kNsollB100 = 1073741824.0;  // 0x40000000
+inline constexpr double kPercent14 = 16384.0;       // 0x4000 (MDI_ACC/DEC, OVERRIDE)
+
+namespace detail {
+inline std::int64_t round_sat(double v, double lo, double hi) {
+  if (std::isnan(v)) return 0;
+  if (v < lo) v = lo;
+  if (v > hi) v = hi;
+  return static_cast<std::int64_t>(std::llround(v));
+}
+}  // namespace detail
+
+// speed (same unit as `reference`, e.g. rpm) -> NSOLL_B.
+inline std::int32_t speed_to_nsoll_b(double speed, double reference) {
+  if (reference <= 0) return 0;
+  return static_cast<std::int32_t>(
+      detail::round_sat(speed / reference * kNsollB100, -2147483648.0, 2147483647.0));
+}
+// NIST_B (or NSOLL_B) -> speed in the unit of `reference`.
+inline double nist_b_to_speed(std::int32_t nist_b, double reference) {
+  return static_cast<double>(nist_b) / kNsollB100 * reference;
+}
+
+// CU/s -> MDI_VELOCITY (1 = 1000 CU/min); negative becomes 0 (spec §7.6).
+inline std::int32_t cu_per_s_to_mdi_velocity(double cu_per_s) {
+  return static_cast<std::int32_t>(detail::round_sat(cu_per_s * 60.0 / 1000.0, 0, 2147483647.0));
+}
+inline double mdi_velocity_to_cu_per_s(std::int32_t mdi_velocity) {
+  return static_cast<double>(mdi_velocity) * 1000.0 / 60.0;
+}
+
+// Percent (0..100) -> MDI_ACC / MDI_DEC (0x4000 = 100 %), clamped to 0..16384.
+inline std::int16_t percent_to_mdi_acc(double percent) {
+  return static_cast<std::int16_t>(detail::round_sat(percent / 100.0 * kPercent14, 0, 16384));
+}
+inline double mdi_acc_to_percent(std::int16_t v) { return v / kPercent14 * 100.0; }
+
+// Percent (0..~200) -> OVERRIDE (0x4000 = 100 %), clamped to 0..32767.
+inline std::uint16_t percent_to_override(double percent) {
+  return static_cast<std::uint16_t>(detail::round_sat(percent / 100.0 * kPercent14, 0, 32767));
+}
+inline double override_to_percent(std::uint16_t v) { return v / kPercent14 * 100.0; }
+
+// rpm <-> CU/s for a rotary axis with `cu_per_rev` control units per motor
+// revolution (the electronic gear, E1 user manual §6.11).
+inline double rpm_to_cu_per_s(double rpm, double cu_per_rev) { return rpm / 60.0 * cu_per_rev; }
+inline double cu_per_s_to_rpm(double v, double cu_per_rev) { return v * 60.0 / cu_per_rev; }
+
+// [INF] spec §10.3.6: the acceleration reference Pt534 (and Pt537, Pt538,
+// Pt30A) is a ramp *time*; we read it as the time from 0 to the reference
+// speed Pt317. So the 100 % acceleration in CU/s^2 is:
+inline double ramp_time_to_accel(double ref_speed_cu_per_s, double ramp_ms) {
+  return ramp_ms > 0 ? ref_speed_cu_per_s / (ramp_ms / 1000.0) : 0.0;
+}
+
+}  // namespace plc::drive

@@ -1,0 +1,432 @@
+#include "plc/fb/drive/drive_axis.hpp"
+
+#include <cmath>
+
+#include "plc/fb/drive/scaling.hpp"
+#include "plc/fb/drive/sign_of_life.hpp"
+
+namespace plc::drive {
+
+const char* to_string(AxisState s) {
+  switch (s) {
+    case AxisState::Disabled:
+      return "Disabled";
+    case AxisState::Standstill:
+      return "Standstill";
+    case AxisState::Homing:
+      return "Homing";
+    case AxisState::DiscreteMotion:
+      return "DiscreteMotion";
+    case AxisState::ContinuousMotion:
+      return "ContinuousMotion";
+    case AxisState::SynchronizedMotion:
+      return "SynchronizedMotion";
+    case AxisState::Stopping:
+      return "Stopping";
+    case AxisState::ErrorStop:
+      return "ErrorStop";
+  }
+  return "?";
+}
+
+DriveState drive_state_from_zsw1(std::uint16_t z) {
+  if (z & Zsw1Pos::kFault) return DriveState::Fault;
+  if (z & Zsw1Pos::kSwitchOnInhibited) return DriveState::SwitchingOnInhibited;
+  if (z & Zsw1Pos::kOperationEnabled) return DriveState::Operation;
+  if ((z & Zsw1Pos::kReadyToOperate) && (z & Zsw1Pos::kReadyToSwitchOn))
+    return DriveState::SwitchedOn;
+  if (z & Zsw1Pos::kReadyToSwitchOn) {
+    // S2 and the OFF1 branch of S5 show the same bits 0-2; S5 has the
+    // pulses on, which ZSW1 alone does not tell, so report S2.
+    return DriveState::ReadyForSwitchingOn;
+  }
+  return DriveState::SwitchingOff;  // OFF3 branch: bits 0-2 = 0, bit 6 = 0
+}
+
+std::uint16_t DriveAxis::axis_error() const {
+  if (CommError) return CommError;
+  if (drive_fault()) return kErrDriveFault;
+  return error_;
+}
+
+void DriveAxis::begin(const ScanContext& ctx) {
+  if (begun_ && ctx.cycle == last_cycle_ && ctx.now == now_) return;
+  const TIME dt = begun_ ? ctx.now - now_ : TIME{};
+  begun_ = true;
+  last_cycle_ = ctx.cycle;
+  now_ = ctx.now;
+
+  const auto tg = telegram();
+  const auto in = Port.in();
+  const bool shape_ok = is_supported_telegram(Telegram) && in.size() >= in_bytes(tg) &&
+                        Port.out().size() >= out_bytes(tg);
+  const bool online = Port.online();
+  if (shape_ok) {
+    switch (tg) {
+      case TelegramType::Standard3: {
+        const auto t = Telegram3In::decode(in);
+        ZSW1 = t.zsw1.word();
+        NIST_B = t.nist_b;
+        ZSW2 = t.zsw2.word(false);
+        G1_ZSW = t.g1_zsw.word();
+        G1_XIST1 = t.g1_xist1;
+        G1_XIST2 = t.g1_xist2;
+        ActPosition = static_cast<double>(static_cast<std::int32_t>(t.g1_xist1));
+        ActVelocity = rpm_to_cu_per_s(nist_b_to_speed(NIST_B, RefSpeedRpm), CuPerRev);
+        break;
+      }
+      case TelegramType::Standard9: {
+        const auto t = Telegram9In::decode(in);
+        ZSW1 = t.zsw1.word();
+        AKTSATZ = t.aktsatz.word();
+        ZSW2 = t.zsw2.word();
+        XIST_A = t.xist_a;
+        ActPosition = XIST_A;
+        const double secs = std::chrono::duration<double>(dt).count();
+        if (have_prev_xist_ && secs > 0)
+          ActVelocity =
+              static_cast<double>(static_cast<std::int32_t>(
+                  static_cast<std::uint32_t>(XIST_A) - static_cast<std::uint32_t>(prev_xist_))) /
+              secs;
+        break;
+      }
+      case TelegramType::Hiwin111: {
+        const auto t = Telegram111In::decode(in);
+        ZSW1 = t.zsw1.word();
+        POS_ZSW1 = t.pos_zsw1.word();
+        POS_ZSW2 = t.pos_zsw2.word();
+        ZSW2 = t.zsw2.word();
+        MELDW = t.meldw.word();
+        XIST_A = t.xist_a;
+        NIST_B = t.nist_b;
+        FAULT_CODE = t.fault_code;
+        WARN_CODE = t.warn_code;
+        ActPosition = XIST_A;
+        ActVelocity = rpm_to_cu_per_s(nist_b_to_speed(NIST_B, RefSpeedRpm), CuPerRev);
+        break;
+      }
+    }
+    prev_xist_ = XIST_A;
+    have_prev_xist_ = true;
+  }
+
+  // Drive sign-of-life: the counter must move; standing still for more
+  // than SignOfLifeTolerance scans is a loss (latched until reset_errors()).
+  if (SignOfLifeCheck && online && shape_ok) {
+    const auto s = static_cast<std::uint8_t>((ZSW2.value >> 12) & 0xF);
+    if (!sol_seen_) {
+      if (s != 0) {
+        sol_seen_ = true;
+        sol_in_last_ = s;
+        sol_stall_ = 0;
+      }
+    } else if (s == sol_in_last_) {
+      if (++sol_stall_ > SignOfLifeTolerance) SignOfLifeLost = true;
+    } else {
+      sol_stall_ = 0;
+      sol_in_last_ = s;
+    }
+  }
+  CommError = !Port.bound()    ? kErrOffline
+              : !shape_ok      ? kErrTelegram
+              : !online        ? kErrOffline
+              : SignOfLifeLost ? kErrSignOfLife
+                               : 0;
+  CommOk = CommError == 0;
+  sol_out_ = next_sign_of_life(sol_out_);
+
+  advance();
+  update_state();
+}
+
+void DriveAxis::abort_all() {
+  if (kind_ != Kind::None && phase_ != Phase::Done && phase_ != Phase::Error)
+    phase_ = Phase::Aborted;
+  kind_ = Kind::None;
+  stw6_ = false;
+  homing_bit_ = false;
+  JogRequest1 = JogRequest2 = false;
+  IntermediateStop = RejectTask = false;
+  StopActive = false;
+  SetReferenceRequest = false;
+}
+
+void DriveAxis::reset_errors() {
+  error_ = 0;
+  if (State == AxisState::ErrorStop) State = AxisState::Disabled;  // update_state() refines
+  SignOfLifeLost = false;
+  sol_seen_ = false;
+  sol_stall_ = 0;
+}
+
+void DriveAxis::update_state() {
+  const std::uint16_t e = axis_error();
+  if (e) {
+    if (State != AxisState::ErrorStop) abort_all();
+    latch_error(e);
+    State = AxisState::ErrorStop;
+    return;
+  }
+  if (State == AxisState::ErrorStop) return;  // until MC_Reset clears error_
+  if (!operation_enabled()) {
+    if (State != AxisState::Disabled) abort_all();
+    State = AxisState::Disabled;
+    return;
+  }
+  const bool running =
+      phase_ == Phase::PreLow || phase_ == Phase::Request || phase_ == Phase::Running;
+  if (StopActive || (kind_ == Kind::Stop && running)) {
+    State = AxisState::Stopping;
+  } else if (kind_ == Kind::Homing && running) {
+    State = AxisState::Homing;
+  } else if (kind_ == Kind::Task && running) {
+    State =
+        task_kind_ == TaskKind::Velocity ? AxisState::ContinuousMotion : AxisState::DiscreteMotion;
+  } else if (kind_ == Kind::Halt && running) {
+    State = AxisState::DiscreteMotion;
+  } else if (kind_ == Kind::Jog && running) {
+    State = AxisState::ContinuousMotion;
+  } else {
+    State = AxisState::Standstill;
+  }
+}
+
+// The handshakes of the command in control, once per scan.
+void DriveAxis::advance() {
+  const bool ack = (ZSW1 & Zsw1Pos::kTaskAck) != 0;
+  const bool fail_allowed = CommOk;
+  auto fail = [&](std::uint16_t e) {
+    cmd_err_ = e;
+    phase_ = Phase::Error;
+    stw6_ = false;
+    homing_bit_ = false;
+  };
+  switch (kind_) {
+    case Kind::None:
+      break;
+    case Kind::Task:
+      if (phase_ == Phase::PreLow) {
+        stw6_ = false;
+        if (!stw6_sent_ && !ack) {
+          phase_ = Phase::Request;
+          phase_start_ = now_;
+          stw6_ = true;
+        } else if (fail_allowed && now_ - phase_start_ > AckTimeout) {
+          fail(kErrTaskNotAck);
+        }
+      } else if (phase_ == Phase::Request) {
+        stw6_ = true;
+        if (ack && stw6_sent_) {
+          phase_ = Phase::Running;
+          stw6_ = false;
+          seen_traversing_ = (POS_ZSW2 & PosZsw2::kTraversingActive) != 0;
+          if (task_kind_ != TaskKind::Velocity && target_reached()) phase_ = Phase::Done;
+        } else if (fail_allowed && now_ - phase_start_ > AckTimeout) {
+          fail(kErrTaskNotAck);
+        }
+      } else if (phase_ == Phase::Running) {
+        stw6_ = false;
+        const bool traversing = (POS_ZSW2 & PosZsw2::kTraversingActive) != 0;
+        if (traversing) seen_traversing_ = true;
+        if (task_kind_ != TaskKind::Velocity && target_reached() && !traversing) {
+          phase_ = Phase::Done;
+        } else if (Telegram == 111 && seen_traversing_ && !traversing && !IntermediateStop &&
+                   !target_reached() && standstill()) {
+          fail(kErrTaskCancelled);  // the drive dropped the task (overtravel, ...)
+        }
+      }
+      break;
+    case Kind::Homing:
+      if (phase_ == Phase::Running) {
+        homing_bit_ = true;
+        const bool active = (POS_ZSW1 & PosZsw1::kHomingActive) != 0;
+        if (!homing_started_ && (!homed() || active)) homing_started_ = true;
+        if (homing_started_ && homed() && !active && standstill()) {
+          phase_ = Phase::Done;
+          homing_bit_ = false;
+        } else if (fail_allowed && now_ - phase_start_ > homing_timeout_) {
+          fail(kErrHomingTimeout);
+        }
+      }
+      break;
+    case Kind::Stop:
+      if (phase_ == Phase::Running && standstill()) phase_ = Phase::Done;
+      break;
+    case Kind::Halt:
+      if (phase_ == Phase::Running && standstill()) {
+        RejectTask = true;  // the paused task is dropped at standstill
+        halt_release_ = true;
+        phase_ = Phase::Done;
+      } else if (phase_ == Phase::Done && halt_release_) {
+        RejectTask = false;
+        IntermediateStop = false;
+        halt_release_ = false;
+      }
+      break;
+    case Kind::Jog:
+      if (phase_ == Phase::Running && !JogRequest1 && !JogRequest2 && standstill())
+        phase_ = Phase::Done;
+      break;
+  }
+}
+
+// Every command starts the same way: the previous one is aborted, the new
+// one gets the next id and starts its first phase now.
+void DriveAxis::open_command(Kind kind, Phase phase) {
+  abort_all();
+  cmd_id_ = next_id_++;
+  kind_ = kind;
+  cmd_err_ = 0;
+  phase_ = phase;
+  phase_start_ = now_;
+}
+
+std::uint32_t DriveAxis::start_task(TaskKind kind, DINT position, DINT mdi_velocity, INT mdi_acc,
+                                    INT mdi_dec) {
+  open_command(Kind::Task, Phase::PreLow);
+  task_kind_ = kind;
+  seen_traversing_ = false;
+  MDI_TARPOS = kind == TaskKind::Velocity ? (position < 0 ? -0x7FFFFFFF : 0x7FFFFFFF) : position;
+  MDI_VELOCITY = mdi_velocity;
+  task_velocity_ = mdi_velocity;
+  MDI_ACC = mdi_acc;
+  MDI_DEC = mdi_dec;
+  MDI_MODE = kind == TaskKind::Absolute ? MdiMode::kAbsolute : 0;
+  advance();
+  return cmd_id_;
+}
+
+std::uint32_t DriveAxis::start_homing(TIME timeout) {
+  open_command(Kind::Homing, Phase::Running);
+  homing_timeout_ = timeout;
+  homing_started_ = false;
+  homing_bit_ = true;
+  return cmd_id_;
+}
+
+std::uint32_t DriveAxis::start_stop() {
+  open_command(Kind::Stop, Phase::Running);
+  RejectTask = true;
+  StopActive = true;
+  return cmd_id_;
+}
+
+void DriveAxis::end_stop(std::uint32_t id) {
+  if (id != cmd_id_) return;
+  StopActive = false;
+  RejectTask = false;
+}
+
+std::uint32_t DriveAxis::start_halt() {
+  open_command(Kind::Halt, Phase::Running);
+  IntermediateStop = true;
+  halt_release_ = false;
+  return cmd_id_;
+}
+
+std::uint32_t DriveAxis::start_jog() {
+  const bool j1 = JogRequest1, j2 = JogRequest2;
+  open_command(Kind::Jog, Phase::Running);
+  JogRequest1 = j1;
+  JogRequest2 = j2;
+  return cmd_id_;
+}
+
+void DriveAxis::release(std::uint32_t id) {
+  if (id != cmd_id_) return;
+  if (kind_ == Kind::Jog) JogRequest1 = JogRequest2 = false;
+}
+
+CmdStatus DriveAxis::status(std::uint32_t id) const {
+  if (id == 0 || id != cmd_id_) return CmdStatus::Aborted;
+  switch (phase_) {
+    case Phase::Done:
+      return CmdStatus::Done;
+    case Phase::Error:
+      return CmdStatus::Error;
+    case Phase::Aborted:
+    case Phase::Idle:
+      return CmdStatus::Aborted;
+    default:
+      return CmdStatus::Busy;
+  }
+}
+
+std::uint16_t DriveAxis::cmd_error(std::uint32_t id) const {
+  return id == cmd_id_ && phase_ == Phase::Error ? cmd_err_ : std::uint16_t{0};
+}
+
+bool DriveAxis::in_velocity(std::uint32_t id) const {
+  if (id != cmd_id_ || kind_ != Kind::Task || phase_ != Phase::Running) return false;
+  const double want =
+      mdi_velocity_to_cu_per_s(task_velocity_) * override_to_percent(OVERRIDE) / 100.0;
+  const double tol = std::max(0.01 * want, mdi_velocity_to_cu_per_s(1));
+  return std::fabs(std::fabs(ActVelocity) - want) <= tol;
+}
+
+void DriveAxis::commit() {
+  const auto tg = telegram();
+  const auto out = Port.out();
+  if (!is_supported_telegram(Telegram) || out.size() < out_bytes(tg)) return;
+  std::uint16_t stw1 = Stw1Pos::kControlByPlc;
+  const bool power = CommOk && PowerRequest && !InhibitPower && !drive_fault();
+  if (power) {
+    stw1 |= Stw1Pos::kNoCoastStop | Stw1Pos::kNoQuickStop | Stw1Pos::kEnableOperation;
+    // From S1 the drive needs ON = 0 first (S1 -> S2), then ON = 1.
+    if (!(ZSW1 & Zsw1Pos::kSwitchOnInhibited)) stw1 |= Stw1Pos::kOn;
+  } else {
+    const StopMode m = CommOk && !InhibitPower ? PowerStopMode : StopMode::Off1Ramp;
+    if (m != StopMode::Off2Coast) stw1 |= Stw1Pos::kNoCoastStop;
+    if (m != StopMode::Off3Quick) stw1 |= Stw1Pos::kNoQuickStop;
+  }
+  if (AckRequest) stw1 |= Stw1Pos::kFaultAck;
+  STW2 = static_cast<std::uint16_t>(sol_out_ << 12);
+  if (tg == TelegramType::Standard3) {
+    STW1 = static_cast<std::uint16_t>(stw1 & Stw1Speed::kDefined);
+    Telegram3Out t;
+    t.stw1 = Stw1Speed::from(STW1);
+    t.nsoll_b = power ? NSOLL_B : 0;
+    t.stw2 = Stw2::from(STW2);
+    t.g1_stw = G1Stw::from(G1_STW);
+    t.encode(out);
+    return;
+  }
+  if (!RejectTask) stw1 |= Stw1Pos::kNoRejectTask;
+  if (!IntermediateStop) stw1 |= Stw1Pos::kNoIntermediateStop;
+  if (stw6_) stw1 |= Stw1Pos::kActivateTask;
+  if (JogRequest1) stw1 |= Stw1Pos::kJog1;
+  if (JogRequest2) stw1 |= Stw1Pos::kJog2;
+  if (homing_bit_) stw1 |= Stw1Pos::kStartHoming;
+  STW1 = stw1;
+  stw6_sent_ = stw6_;
+  POS_STW1 = static_cast<std::uint16_t>(PosStw1::kActivateMdi |
+                                        ((MDI_MODE & MdiMode::kAbsolute) ? PosStw1::kAbsolute : 0));
+  POS_STW2 = SetReferenceRequest ? PosStw2::kSetReferencePoint : 0;
+  SATZANW = Satzanw::kActivateMdi;
+  if (tg == TelegramType::Standard9) {
+    Telegram9Out t;
+    t.stw1 = Stw1Pos::from(STW1);
+    t.satzanw = Satzanw::from(SATZANW);
+    t.stw2 = Stw2::from(STW2);
+    t.mdi_tarpos = MDI_TARPOS;
+    t.mdi_velocity = MDI_VELOCITY;
+    t.mdi_acc = MDI_ACC;
+    t.mdi_dec = MDI_DEC;
+    t.mdi_mode = MdiMode::from(MDI_MODE);
+    t.encode(out);
+    return;
+  }
+  Telegram111Out t;
+  t.stw1 = Stw1Pos::from(STW1);
+  t.pos_stw1 = PosStw1::from(POS_STW1);
+  t.pos_stw2 = PosStw2::from(POS_STW2);
+  t.stw2 = Stw2::from(STW2);
+  t.override_ = OVERRIDE;
+  t.mdi_tarpos = MDI_TARPOS;
+  t.mdi_velocity = MDI_VELOCITY;
+  t.mdi_acc = MDI_ACC;
+  t.mdi_dec = MDI_DEC;
+  t.encode(out);
+}
+
+}  // namespace plc::drive

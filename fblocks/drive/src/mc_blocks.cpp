@@ -1,0 +1,272 @@
+#include "plc/fb/drive/mc_blocks.hpp"
+
+#include "plc/fb/drive/scaling.hpp"
+
+namespace plc::drive {
+
+// ------------------------------------------------------------ McExecute
+bool McExecute::on_call() {
+  const bool edge = Execute && !prev_execute_;
+  if ((!Execute && !Busy) || edge) {
+    // Falling edge (or a finished command already shown for a scan): reset.
+    Done = Error = CommandAborted = false;
+    ErrorID = 0;
+  }
+  prev_execute_ = Execute;
+  return edge;
+}
+
+void McExecute::finish_done() {
+  Done = true;
+  Busy = Active = false;
+}
+void McExecute::finish_error(std::uint16_t e) {
+  Error = true;
+  ErrorID = e;
+  Busy = Active = false;
+}
+void McExecute::finish_aborted() {
+  CommandAborted = true;
+  Busy = Active = false;
+}
+
+bool McExecute::poll(DriveAxis& axis) {
+  if (!Busy) return false;
+  if (const std::uint16_t e = axis.axis_error()) {
+    finish_error(e);
+    return true;
+  }
+  switch (axis.status(id_)) {
+    case CmdStatus::Busy:
+      Active = true;
+      return false;
+    case CmdStatus::Done:
+      finish_done();
+      return true;
+    case CmdStatus::Error:
+      finish_error(axis.cmd_error(id_));
+      return true;
+    case CmdStatus::Aborted:
+      finish_aborted();
+      return true;
+  }
+  return false;
+}
+
+std::uint16_t McExecute::motion_refusal(const DriveAxis& axis) {
+  if (!axis.positioning()) return kErrTelegram;
+  if (const std::uint16_t e = axis.axis_error()) return e;
+  switch (axis.State) {
+    case AxisState::Disabled:
+      return kErrDisabled;
+    case AxisState::ErrorStop:
+      return kErrErrorStop;
+    case AxisState::Stopping:
+      return kErrStopping;
+    case AxisState::Homing:
+      return kErrHoming;
+    default:
+      return 0;
+  }
+}
+
+INT accel_to_mdi(const DriveAxis& axis, LREAL accel, bool deceleration) {
+  if (accel <= 0) return 0x4000;
+  const double ref = ramp_time_to_accel(rpm_to_cu_per_s(axis.RefSpeedRpm, axis.CuPerRev),
+                                        deceleration ? axis.DecTimeMs : axis.AccTimeMs);
+  if (ref <= 0) return 0x4000;
+  const INT v = percent_to_mdi_acc(accel / ref * 100.0);
+  return v < 1 ? INT{1} : v;
+}
+
+// ------------------------------------------------------------ MC_Power
+void MC_Power::operator()(const ScanContext& ctx, DriveAxis& axis) {
+  axis.begin(ctx);
+  if (Enable && !prev_enable_) enable_since_ = ctx.now;
+  prev_enable_ = Enable;
+  const bool mode_ok = StopMode >= 0 && StopMode <= 2;
+  axis.PowerRequest = Enable && mode_ok;
+  if (mode_ok) axis.PowerStopMode = static_cast<drive::StopMode>(StopMode);
+  Status = axis.CommOk && axis.operation_enabled();
+  std::uint16_t e = !mode_ok ? kErrMode : axis.axis_error();
+  if (!e && Enable && !Status && ctx.now - enable_since_ > EnableTimeout)
+    e = axis.drive_state() == DriveState::SwitchingOnInhibited ? kErrLockout : kErrEnableTimeout;
+  if (Status) enable_since_ = ctx.now;
+  Error = e != 0;
+  ErrorID = e;
+  Valid = Enable && !Error;
+  axis.commit();
+}
+
+// ------------------------------------------------------------ MC_Reset
+void MC_Reset::operator()(const ScanContext& ctx, DriveAxis& axis) {
+  axis.begin(ctx);
+  if (on_call()) {
+    Busy = true;
+    pulsing_ = true;
+    t0_ = ctx.now;
+    axis.AckRequest = false;  // make sure the drive sees 0 -> 1
+    axis.reset_errors();      // restart sign-of-life monitoring; re-latched if still bad
+  } else if (Busy && pulsing_) {
+    axis.AckRequest = true;
+    if (!axis.drive_fault() && axis.CommOk) {
+      axis.AckRequest = false;
+      axis.reset_errors();
+      axis.update_state();
+      pulsing_ = false;
+      finish_done();
+    } else if (ctx.now - t0_ > Timeout) {
+      axis.AckRequest = false;
+      pulsing_ = false;
+      finish_error(axis.drive_fault() ? kErrResetTimeout : axis.CommError.value);
+    }
+  }
+  axis.commit();
+}
+
+// ------------------------------------------------------------ moves
+void McExecute::start_positioning(DriveAxis& axis, TaskKind kind, LREAL target, LREAL velocity,
+                                  LREAL acceleration, LREAL deceleration) {
+  const std::uint16_t r = motion_refusal(axis);
+  const DINT v = cu_per_s_to_mdi_velocity(velocity);
+  if (r)
+    finish_error(r);
+  else if (velocity <= 0 || v <= 0)
+    finish_error(kErrVelocity);
+  else if (acceleration < 0 || deceleration < 0)
+    finish_error(kErrAccel);
+  else {
+    id_ = axis.start_task(kind, static_cast<DINT>(std::llround(target)), v,
+                          accel_to_mdi(axis, acceleration, false),
+                          accel_to_mdi(axis, deceleration, true));
+    Busy = true;
+  }
+}
+
+void MC_MoveAbsolute::operator()(const ScanContext& ctx, DriveAxis& axis) {
+  axis.begin(ctx);
+  if (on_call())
+    start_positioning(axis, TaskKind::Absolute, Position, Velocity, Acceleration, Deceleration);
+  poll(axis);
+  axis.commit();
+}
+
+void MC_MoveRelative::operator()(const ScanContext& ctx, DriveAxis& axis) {
+  axis.begin(ctx);
+  if (on_call())
+    start_positioning(axis, TaskKind::Relative, Distance, Velocity, Acceleration, Deceleration);
+  poll(axis);
+  axis.commit();
+}
+
+void MC_MoveVelocity::operator()(const ScanContext& ctx, DriveAxis& axis) {
+  axis.begin(ctx);
+  if (on_call()) {
+    const std::uint16_t r = motion_refusal(axis);
+    const DINT v = cu_per_s_to_mdi_velocity(Velocity);
+    InVelocity = false;
+    if (r)
+      finish_error(r);
+    else if (Velocity <= 0 || v <= 0)
+      finish_error(kErrVelocity);
+    else if (Acceleration < 0 || Deceleration < 0)
+      finish_error(kErrAccel);
+    else if (Direction != kMcPositiveDirection && Direction != kMcNegativeDirection)
+      finish_error(kErrDirection);
+    else {
+      id_ = axis.start_task(TaskKind::Velocity, Direction == kMcNegativeDirection ? -1 : 1, v,
+                            accel_to_mdi(axis, Acceleration, false),
+                            accel_to_mdi(axis, Deceleration, true));
+      Busy = true;
+    }
+  }
+  poll(axis);
+  InVelocity = Busy && axis.in_velocity(id_);
+  if (!Execute && !Busy) InVelocity = false;
+  axis.commit();
+}
+
+void MC_Home::operator()(const ScanContext& ctx, DriveAxis& axis) {
+  axis.begin(ctx);
+  if (on_call()) {
+    std::uint16_t r = motion_refusal(axis);
+    if (!r && axis.State != AxisState::Standstill) r = kErrNotStandstill;
+    if (r)
+      finish_error(r);
+    else {
+      id_ = axis.start_homing(Timeout);
+      Busy = true;
+    }
+  }
+  poll(axis);
+  axis.commit();
+}
+
+void MC_Stop::operator()(const ScanContext& ctx, DriveAxis& axis) {
+  axis.begin(ctx);
+  if (on_call()) {
+    std::uint16_t r = axis.positioning() ? axis.axis_error() : kErrTelegram;
+    if (!r && axis.State == AxisState::Disabled) r = kErrDisabled;
+    if (r)
+      finish_error(r);
+    else {
+      id_ = axis.start_stop();
+      Busy = true;
+      held_ = true;
+    }
+  }
+  poll(axis);
+  // Stopping lasts while Execute is TRUE (PLCopen), then Standstill.
+  if (held_ && !Busy && !Execute) {
+    axis.end_stop(id_);
+    held_ = false;
+    axis.update_state();
+  }
+  axis.commit();
+}
+
+void MC_Halt::operator()(const ScanContext& ctx, DriveAxis& axis) {
+  axis.begin(ctx);
+  if (on_call()) {
+    const std::uint16_t r = motion_refusal(axis);
+    if (r)
+      finish_error(r);
+    else {
+      id_ = axis.start_halt();
+      Busy = true;
+    }
+  }
+  poll(axis);
+  axis.commit();
+}
+
+void MC_ReadStatus::operator()(const ScanContext& ctx, DriveAxis& axis) {
+  axis.begin(ctx);
+  Valid = Enable;
+  Busy = Enable;
+  Error = false;
+  ErrorID = 0;
+  const AxisState s = axis.State;
+  ErrorStop = Enable && s == AxisState::ErrorStop;
+  Disabled = Enable && s == AxisState::Disabled;
+  Stopping = Enable && s == AxisState::Stopping;
+  Homing = Enable && s == AxisState::Homing;
+  Standstill = Enable && s == AxisState::Standstill;
+  DiscreteMotion = Enable && s == AxisState::DiscreteMotion;
+  ContinuousMotion = Enable && s == AxisState::ContinuousMotion;
+  SynchronizedMotion = Enable && s == AxisState::SynchronizedMotion;
+  axis.commit();
+}
+
+void MC_ReadActualPosition::operator()(const ScanContext& ctx, DriveAxis& axis) {
+  axis.begin(ctx);
+  const std::uint16_t e = Enable ? axis.CommError.value : std::uint16_t{0};
+  Error = e != 0;
+  ErrorID = e;
+  Valid = Enable && !Error;
+  Busy = Enable;
+  if (Valid) Position = axis.ActPosition;
+  axis.commit();
+}
+
+}  // namespace plc::drive

@@ -1,0 +1,227 @@
+// F_MODULE: the F-host driver block for one PROFIsafe F-module, with the
+// signals of the Siemens F-I/O data block as its interface
+// (softplc-anchors.md §4.4).
+//
+// *** FOR TEST BENCHES AND SIMULATION ONLY. THIS IS NOT CERTIFIED SAFETY
+// *** SOFTWARE and must not be used to protect people or machines.
+// To be verified against IEC 61784-3-3 (PROFIsafe) before any other use:
+// CRC1/CRC2 polynomials, start values and covered byte order (crc.hpp,
+// safety_pdu.hpp), control/status byte bits (control_status_byte.hpp),
+// F-parameter bit positions (f_parameters.hpp), and the host state machine
+// (f_host_protocol.hpp).
+//
+// Start-up: once the device is online the block writes the 14-byte
+// F-parameter block (CRC1 included) with a record write (index
+// kFParamRecordIndex). A refused write sets DIAG bit kFParError and DIAG_CODE
+// to the device's 57xx code; the write is retried every second. Then the
+// cyclic protocol runs (FHostProtocol). On a device fault the block reads the
+// device's diagnostic record once to show the NORD 57xx code in DIAG_CODE.
+// A device silent for three watchdog periods is parameterised again (it may
+// have been power-cycled); that restart needs ACK_REI.
+//
+//   inputs : PASS_ON, ACK_NEC (default 1), ACK_REI, IPAR_EN, OUT_DATA
+//   outputs: PASS_OUT, QBAD, ACK_REQ, IPAR_OK, DIAG, DIAG_CODE, IN_DATA,
+//            VS_IN / VS_OUT (value status per channel bit: 1 = process
+//            value valid, 0 = fail-safe value), STATE
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "plc/fb/safety/f_host_diag.hpp"
+#include "plc/fb/safety/f_host_protocol.hpp"
+#include "plc/fb/safety/f_parameters.hpp"
+#include "plc/fb/safety/safety_pdu.hpp"
+#include "plc/io/byte_order.hpp"
+#include "plc/io/device_port.hpp"
+#include "plc/io/record_request.hpp"
+#include "plc/reflect.hpp"
+#include "plc/scan_context.hpp"
+#include "plc/types.hpp"
+
+namespace plc::safety {
+
+// NIn: F-input data bytes (device -> host), NOut: F-output data bytes.
+template <std::size_t NIn, std::size_t NOut>
+class F_MODULE {
+  static_assert(NIn >= 1 && NIn <= kMaxFData && NOut >= 1 && NOut <= kMaxFData);
+
+ public:
+  static constexpr std::size_t kInPdu = pdu_size(NIn);
+  static constexpr std::size_t kOutPdu = pdu_size(NOut);
+
+  io::DevicePort port;
+
+  // F-parameters (spec §2.2); fixed NORD values are set in send_fparams().
+  UINT F_Source_Add = 1;
+  UINT F_Dest_Add = 1;
+  UINT F_WD_Time = 100;  // ms
+  USINT F_SIL = 2;       // code: 0 SIL1, 1 SIL2, 2 SIL3, 3 NoSIL
+  UDINT F_iPar_CRC = 0;
+
+  // F-I/O DB inputs.
+  BOOL PASS_ON = false;
+  BOOL ACK_NEC = true;
+  BOOL ACK_REI = false;
+  BOOL IPAR_EN = false;
+  std::array<BYTE, NOut> OUT_DATA{};
+
+  // F-I/O DB outputs (QBAD and PASS_OUT are 1 until the first valid exchange).
+  BOOL PASS_OUT = true;
+  BOOL QBAD = true;
+  BOOL ACK_REQ = false;
+  BOOL IPAR_OK = false;
+  BYTE DIAG = 0;
+  UINT DIAG_CODE = 0;  // last NORD 57xx code reported by the device
+  std::array<BYTE, NIn> IN_DATA{};
+  std::array<BYTE, NIn> VS_IN{};
+  std::array<BYTE, NOut> VS_OUT{};
+  FHostState STATE = FHostState::Param;
+
+  PLC_REFLECT(port, F_Source_Add, F_Dest_Add, F_WD_Time, F_SIL, F_iPar_CRC, PASS_ON, ACK_NEC,
+              ACK_REI, IPAR_EN, OUT_DATA, PASS_OUT, QBAD, ACK_REQ, IPAR_OK, DIAG, DIAG_CODE,
+              IN_DATA, VS_IN, VS_OUT, STATE,
+              // internal state: shown by the debugger, kept in recording snapshots
+              proto_, block_, phase_, retry_at_, diag_read_pending_, restart_after_fault_)
+
+  void operator()(const ScanContext& ctx) {
+    if (!port.bound() || port.in().size() < kInPdu || port.out().size() < kOutPdu) {
+      proto_.param_failed(diag::kNoLink);
+      publish_passive();
+      return;
+    }
+    switch (phase_) {
+      case Phase::SendParams:
+        if (port.online()) send_fparams();
+        break;
+      case Phase::WaitParams:
+        poll_fparams(ctx.now);
+        break;
+      case Phase::Retry:
+        if (ctx.now >= retry_at_) phase_ = Phase::SendParams;
+        break;
+      case Phase::Cyclic:
+        // The device has been silent for kLostAfter watchdog periods (e.g.
+        // power-cycled, so it lost its F-parameters): send them again; the
+        // restart then needs ACK_REI like any communication fault.
+        if (proto_.watchdog_expiries_in_row() >= kLostAfter) {
+          restart_after_fault_ = true;
+          phase_ = Phase::SendParams;
+        }
+        break;
+    }
+
+    std::uint8_t app_out[NOut];
+    for (std::size_t i = 0; i < NOut; ++i) app_out[i] = OUT_DATA[i];
+    // The protocol keeps the last valid data when no new telegram is due,
+    // so it works on the data the block currently shows.
+    std::uint8_t app_in[NIn];
+    for (std::size_t i = 0; i < NIn; ++i) app_in[i] = IN_DATA[i];
+    FHostCommand cmd{PASS_ON, ACK_NEC, ACK_REI, IPAR_EN};
+    proto_.cycle(ctx.now, port.in().first(kInPdu), port.out().first(kOutPdu), app_out, app_in, cmd);
+    for (std::size_t i = 0; i < NIn; ++i) IN_DATA[i] = app_in[i];
+    if (phase_ == Phase::Cyclic) poll_device_diag();
+
+    STATE = proto_.state();
+    PASS_OUT = proto_.pass_out();
+    QBAD = proto_.qbad();
+    ACK_REQ = proto_.ack_req();
+    IPAR_OK = proto_.ipar_ok();
+    DIAG = proto_.diag();
+    const std::uint8_t vs_in = proto_.data_valid() ? 0xFF : 0x00;
+    const std::uint8_t vs_out = (STATE == FHostState::Run && !PASS_ON) ? 0xFF : 0x00;
+    VS_IN.fill(vs_in);
+    VS_OUT.fill(vs_out);
+  }
+
+  // The pure protocol underneath (tests and diagnostics).
+  [[nodiscard]] const FHostProtocol& protocol() const { return proto_; }
+  // The encoded F-parameter block as last sent.
+  [[nodiscard]] const std::array<std::uint8_t, kFParamBlockSize>& fparam_block() const {
+    return block_;
+  }
+
+ private:
+  enum class Phase : std::uint8_t { SendParams, WaitParams, Retry, Cyclic };
+  static constexpr std::uint32_t kLostAfter = 3;
+
+  void send_fparams() {
+    FParameters p;
+    p.sil = F_SIL;
+    // F_CRC_Length 00 = 3-byte CRC (spec §2.2); 10 = 4-byte CRC is our
+    // [SPEC] reading for F-data above 12 bytes (to verify, IEC 61784-3-3).
+    p.crc_length = crc2_length(NIn > NOut ? NIn : NOut) == 3 ? 0 : 2;
+    p.source_add = F_Source_Add;
+    p.dest_add = F_Dest_Add;
+    p.wd_time_ms = F_WD_Time;
+    p.ipar_crc = F_iPar_CRC;
+    encode(p, block_);
+    proto_.configure(p.par_crc, NOut, NIn, std::chrono::milliseconds(F_WD_Time));
+    fpar_req_.reset();
+    fpar_req_.prepare_write(kFParamRecordIndex, block_);
+    port.submit(fpar_req_);
+    phase_ = Phase::WaitParams;
+  }
+
+  void poll_fparams(TIME now) {
+    const io::RecordStatus s = fpar_req_.status();
+    if (s == io::RecordStatus::Done) {
+      fpar_req_.reset();
+      proto_.start(now, restart_after_fault_);
+      restart_after_fault_ = false;
+      diag_read_pending_ = false;
+      phase_ = Phase::Cyclic;
+    } else if (s == io::RecordStatus::Error) {
+      const std::uint16_t code = fpar_req_.error_code();
+      const bool device_code = code >= 5700 && code <= 5799;
+      if (device_code) DIAG_CODE = code;
+      proto_.param_failed(device_code ? diag::kFParError : diag::kNoLink);
+      fpar_req_.reset();
+      retry_at_ = now + std::chrono::seconds(1);
+      phase_ = Phase::Retry;
+    }
+  }
+
+  // On a newly reported device fault, read the device's 57xx code once.
+  void poll_device_diag() {
+    const bool fault = (proto_.diag() & diag::kDevFault) != 0;
+    if (diag_req_.status() == io::RecordStatus::Done) {
+      if (diag_req_.data().size() >= 2) {
+        const std::uint16_t code = io::load_be<std::uint16_t>(diag_req_.data(), 0);
+        if (code != 0) DIAG_CODE = code;
+      }
+      diag_req_.reset();
+    } else if (diag_req_.status() == io::RecordStatus::Error) {
+      diag_req_.reset();
+    }
+    if (fault && !diag_read_pending_ && diag_req_.status() == io::RecordStatus::Idle) {
+      diag_req_.prepare_read(kNordDiagRecordIndex);
+      port.submit(diag_req_);
+      diag_read_pending_ = true;
+    }
+    if (!fault) diag_read_pending_ = false;
+  }
+
+  void publish_passive() {
+    STATE = proto_.state();
+    PASS_OUT = true;
+    QBAD = true;
+    ACK_REQ = false;
+    DIAG = proto_.diag();
+    IN_DATA.fill(0);
+    VS_IN.fill(0);
+    VS_OUT.fill(0);
+  }
+
+  FHostProtocol proto_;
+  io::RecordRequest fpar_req_;
+  io::RecordRequest diag_req_;
+  std::array<std::uint8_t, kFParamBlockSize> block_{};
+  Phase phase_ = Phase::SendParams;
+  TIME retry_at_{};
+  bool diag_read_pending_ = false;
+  bool restart_after_fault_ = false;
+};
+
+}  // namespace plc::safety

@@ -1,0 +1,173 @@
+#include "plc/fb/safety/f_host_protocol.hpp"
+
+#include <algorithm>
+
+#include "plc/fb/safety/control_status_byte.hpp"
+#include "plc/fb/safety/f_host_diag.hpp"
+
+namespace plc::safety {
+
+void FHostProtocol::configure(std::uint16_t crc1, std::size_t out_len, std::size_t in_len,
+                              TIME wd_time) {
+  crc1_ = crc1;
+  out_len_ = std::min(out_len, kMaxFData);
+  in_len_ = std::min(in_len, kMaxFData);
+  wd_ = wd_time;
+  reset();
+}
+
+void FHostProtocol::reset() {
+  state_ = FHostState::Param;
+  cn_ = 0;
+  accepted_cn_ = 0;
+  toggle_h_ = false;  // the first request flips it to 1: a device that has
+                      // sent nothing yet (all zero) never looks like an answer
+  sent_any_ = false;
+  force_new_ = false;
+  resync_needed_ = true;
+  pending_rcons_ = false;
+  pending_fv_ = true;
+  comm_fault_seen_ = false;
+  device_fault_seen_ = false;
+  ipar_ok_ = false;
+  data_valid_ = false;
+}
+
+void FHostProtocol::start(TIME now, bool after_fault) {
+  reset();
+  state_ = FHostState::Startup;
+  if (!after_fault) diag_ = 0;
+  comm_fault_seen_ = after_fault;
+  wd_in_row_ = 0;
+  t_restart_ = now;
+}
+
+void FHostProtocol::comm_fault(std::uint8_t diag_bit) {
+  diag_ |= diag_bit;
+  comm_fault_seen_ = true;
+  resync_needed_ = true;
+  state_ = FHostState::PassiveComm;
+}
+
+void FHostProtocol::device_fault(std::uint8_t diag_bit) {
+  diag_ |= diag_bit;
+  device_fault_seen_ = diag_bit != 0 || device_fault_seen_;
+  if (state_ != FHostState::PassiveComm) state_ = FHostState::PassiveDevice;
+}
+
+void FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> response,
+                          std::span<std::uint8_t> request, std::span<const std::uint8_t> app_out,
+                          std::span<std::uint8_t> app_in, const FHostCommand& cmd) {
+  const bool ack_edge = cmd.ack_rei && !prev_ack_rei_;
+  prev_ack_rei_ = cmd.ack_rei;
+
+  if (state_ == FHostState::Param) {
+    std::fill(request.begin(), request.end(), std::uint8_t{0});
+    std::fill(app_in.begin(), app_in.end(), std::uint8_t{0});
+    data_valid_ = false;
+    return;
+  }
+
+  const std::uint8_t status = response[in_len_];
+  const bool got_new = sent_any_ && (((status & sb::kToggleD) != 0) == toggle_h_);
+  bool valid = false;
+  if (got_new) {
+    if (!check_pdu(response, in_len_, cn_, crc1_)) {
+      ++crc_errors_;
+      comm_fault(diag::kHostCrc);
+    } else {
+      valid = true;
+      wd_in_row_ = 0;
+      t_restart_ = now;  // the host watchdog restarts on each valid new telegram
+      ipar_ok_ = (status & sb::kIparOk) != 0;
+      if (status & sb::kCeCrc) comm_fault(diag::kDevCeCrc);
+      if (status & sb::kWdTimeout) comm_fault(diag::kDevWd);
+      if (status & sb::kDeviceFault) device_fault(diag::kDevFault);
+      if (pending_rcons_) resync_needed_ = false;
+    }
+  } else if (now - t_restart_ > wd_) {
+    ++wd_expiries_;
+    ++wd_in_row_;
+    comm_fault(diag::kHostWd);
+    t_restart_ = now;
+    force_new_ = true;
+  }
+
+  const bool dev_clean = (status & (sb::kCeCrc | sb::kWdTimeout | sb::kDeviceFault)) == 0;
+  const bool fv = (status & sb::kFvActivated) != 0;
+
+  if (valid) {
+    switch (state_) {
+      case FHostState::Run:
+        // FV_activated that the host did not ask for: the device passivated
+        // itself; treat it as a device-side passivation.
+        if (fv && !pending_fv_) device_fault(0);
+        break;
+      case FHostState::Startup:
+        if (!resync_needed_ && dev_clean)
+          state_ = comm_fault_seen_ ? FHostState::WaitAck : FHostState::Reintegrating;
+        break;
+      case FHostState::PassiveComm:
+      case FHostState::PassiveDevice:
+        if (!resync_needed_ && dev_clean) {
+          const bool need_ack = comm_fault_seen_ || cmd.ack_nec;
+          state_ = need_ack ? FHostState::WaitAck : FHostState::Reintegrating;
+        }
+        break;
+      case FHostState::Reintegrating:
+        if (dev_clean && !fv && !resync_needed_) {
+          state_ = FHostState::Run;
+          diag_ = 0;
+          comm_fault_seen_ = false;
+          device_fault_seen_ = false;
+        }
+        break;
+      default:
+        break;
+    }
+  }
+  // ACK_REI is only taken while ACK_REQ is set.
+  if (state_ == FHostState::WaitAck && ack_edge) state_ = FHostState::Reintegrating;
+
+  // Data for the application: only from this scan's valid telegram in Run
+  // with no fail-safe values active; the last valid data stays while no new
+  // telegram is due; everything else is the fail-safe value 0.
+  const bool may_pass = state_ == FHostState::Run && !cmd.pass_on;
+  if (valid && may_pass && !fv) {
+    for (std::size_t i = 0; i < in_len_; ++i) app_in[i] = response[i];
+    accepted_cn_ = cn_;
+    data_valid_ = true;
+  } else if (!(may_pass && data_valid_ && !got_new)) {
+    std::fill(app_in.begin(), app_in.begin() + static_cast<std::ptrdiff_t>(in_len_),
+              std::uint8_t{0});
+    data_valid_ = false;
+  }
+
+  if (got_new || force_new_ || !sent_any_) build_request(request, app_out, cmd);
+}
+
+void FHostProtocol::build_request(std::span<std::uint8_t> request,
+                                  std::span<const std::uint8_t> app_out, const FHostCommand& cmd) {
+  force_new_ = false;
+  sent_any_ = true;
+  pending_rcons_ = resync_needed_;
+  cn_ = resync_needed_ ? 0 : next_cons_nr(cn_);
+  toggle_h_ = !toggle_h_;
+
+  const bool run = state_ == FHostState::Run;
+  const bool activate_fv = cmd.pass_on || !(run || state_ == FHostState::Reintegrating);
+  pending_fv_ = activate_fv || !run;
+  std::uint8_t control = toggle_h_ ? cb::kToggleH : 0;
+  if (cmd.ipar_en) control |= cb::kIparEn;
+  if (state_ == FHostState::Reintegrating) control |= cb::kOaReq;
+  if (pending_rcons_) control |= cb::kRConsNr;
+  if (activate_fv) control |= cb::kActivateFv;
+
+  std::uint8_t data[kMaxFData] = {};
+  if (run && !cmd.pass_on) {
+    for (std::size_t i = 0; i < out_len_; ++i) data[i] = app_out[i];
+  }
+  write_pdu(request, std::span<const std::uint8_t>(data, out_len_), control, cn_, crc1_);
+}
+
+}  // namespace plc::safety

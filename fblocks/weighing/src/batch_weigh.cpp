@@ -1,0 +1,348 @@
+#include "plc/fb/weighing/batch_weigh.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace plc::weighing {
+
+namespace {
+constexpr auto kNetCode = static_cast<std::uint8_t>(ReadCode::Net);
+// After the tare the net value needs a few device cycles (20 ms, spec §0)
+// to show the new zero; sample the start weight after that.
+constexpr TIME kSampleDelay = std::chrono::milliseconds(3 * kDeviceCycleMs);
+constexpr TIME kReadyTimeout = std::chrono::seconds(2);
+}  // namespace
+
+void PR5510_BatchWeigh::set_valves(bool coarse, bool fine, bool discharge) {
+  CoarseFeed = coarse;
+  FineFeed = fine;
+  Discharge = discharge;
+  if (DriveDeviceOutputs && Device != nullptr) {
+    Device->set_output(OutputBit::Out1, coarse);
+    Device->set_output(OutputBit::Out2, fine);
+    Device->set_output(OutputBit::Out3, discharge);
+  }
+}
+
+// Fine flow of this opening: a slope over the fine phase once the coarse
+// tail has landed; the longer the window, the less quantisation noise.
+void PR5510_BatchWeigh::measure_fine_rate(TIME now) {
+  if (now - entered_ < FlowSettleTime) return;
+  if (!rate_started_) {
+    rate_started_ = true;
+    rate_t1_ = now;
+    rate_n1_ = ActualNet;
+    return;
+  }
+  const double span = std::chrono::duration<double>(now - rate_t1_).count();
+  if (span >= 0.2) {
+    const auto r = static_cast<REAL>((ActualNet - rate_n1_) / span);
+    if (r > 0) FineRate = r;
+  }
+}
+
+// The net weight at which the fine valve closes.
+REAL PR5510_BatchWeigh::cutoff() const {
+  if (FlowCompensation && FineRate > 0 && time_learned_)
+    return TargetWeight - std::min(InFlightTime * FineRate, FineSwitchPoint);
+  return TargetWeight - PreactActual;
+}
+
+void PR5510_BatchWeigh::enter(BatchState s, TIME now) {
+  State = s;
+  entered_ = now;
+}
+
+void PR5510_BatchWeigh::fail(std::uint16_t id, TIME now) {
+  set_valves(false, false, false);
+  Busy = false;
+  Paused = false;
+  Error = true;
+  ErrorID = id;
+  enter(BatchState::Error, now);
+}
+
+void PR5510_BatchWeigh::start(TIME now) {
+  Done = Error = CommandAborted = false;
+  ErrorID = error_id::kNone;
+  const bool params_ok = TargetWeight > 0 && FineSwitchPoint >= 0 && Preact >= 0 && TolPlus >= 0 &&
+                         TolMinus >= 0 && AdaptGain >= 0 && AdaptGain <= 1 &&
+                         FineSwitchPoint < TargetWeight && MaxTopUps >= 0;
+  if (Device == nullptr) return fail(error_id::kNoDevice, now);
+  if (slot_ == PR5510_Device::kNoSlot) slot_ = Device->attach();
+  if (slot_ == PR5510_Device::kNoSlot) return fail(error_id::kTooManyClients, now);
+  if (!params_ok) return fail(error_id::kInvalidParameter, now);
+  if (!learned_ || !AdaptPreact) {
+    PreactActual = std::clamp(Preact, 0.0f, FineSwitchPoint);
+    time_learned_ = false;
+  }
+  Busy = true;
+  TopUps = 0;
+  top_up_ = closed_by_preact_ = adapted_ = false;
+  rate_started_ = false;
+  FineRate = 0;
+  ActualNet = 0;
+  active_time_ = TIME::zero();
+  tare_step_ = TareStep::WaitReady;
+  Device->ack_command(slot_);
+  enter(BatchState::Tare, now);
+}
+
+void PR5510_BatchWeigh::finish_check(REAL final_net, TIME now) {
+  const REAL dev = final_net - TargetWeight;
+  if (!adapted_) {
+    // Learn from the first check of a batch only, and only when the fine
+    // valve was closed by the preact (a top-up or an overshoot in coarse
+    // says nothing about the fine in-flight).
+    LastDeviation = dev;
+    if (AdaptPreact && closed_by_preact_) {
+      const REAL step =
+          std::clamp(AdaptGain * dev, -0.5f * FineSwitchPoint, 0.5f * FineSwitchPoint);
+      if (FlowCompensation && FineRate > 0 && time_learned_) {
+        InFlightTime = std::max(0.0f, InFlightTime + step / FineRate);
+        PreactActual = std::min(InFlightTime * FineRate, FineSwitchPoint);
+      } else {
+        PreactActual = std::clamp(PreactActual + step, 0.0f, FineSwitchPoint);
+      }
+      learned_ = true;
+    }
+    adapted_ = true;
+  }
+  const REAL eps_under = 1e-5f * std::max(1.0f, std::abs(TargetWeight));
+  if (dev < -TolMinus - eps_under && TopUps < MaxTopUps) {
+    ++TopUps;
+    top_up_ = true;
+    top_up_len_ = TopUpPulse;
+    if (FineRate > 0) {
+      const auto want =
+          std::chrono::duration_cast<TIME>(std::chrono::duration<double>(-dev / FineRate));
+      top_up_len_ = std::clamp(want, TIME(std::chrono::milliseconds(kDeviceCycleMs)), TopUpPulse);
+    }
+    closed_by_preact_ = false;
+    set_valves(false, true, false);
+    enter(BatchState::Fine, now);
+    return;
+  }
+  // Boundaries inclusive: a deviation of exactly the tolerance (a whole
+  // number of display digits) must not fail on REAL rounding.
+  const REAL eps = 1e-5f * std::max(1.0f, std::abs(TargetWeight));
+  const bool in_tol = dev <= TolPlus + eps && dev >= -TolMinus - eps;
+  LastNet = final_net;
+  InTolerance = in_tol;
+  LastResult = in_tol ? BatchResult::InTolerance
+                      : (dev > 0 ? BatchResult::OverWeight : BatchResult::UnderWeight);
+  ++BatchCount;
+  TotalWeight += final_net;
+  if (in_tol) {
+    ++InTolCount;
+  } else {
+    ++OutTolCount;
+  }
+  if (!in_tol && StopOnOutOfTolerance)
+    return fail(dev > 0 ? error_id::kOverWeight : error_id::kUnderWeight, now);
+  if (DischargeEnable) {
+    active_time_ = TIME::zero();
+    enter(BatchState::Discharge, now);
+  } else {
+    Busy = false;
+    Done = true;
+    enter(BatchState::Done, now);
+  }
+}
+
+void PR5510_BatchWeigh::operator()(const ScanContext& ctx) {
+  const TIME now = ctx.now;
+  const TIME dt = last_now_ == TIME::zero() ? TIME::zero() : now - last_now_;
+  last_now_ = now;
+  const bool rising = Execute && !prev_execute_;
+  prev_execute_ = Execute;
+  if (ResetTotals && !prev_reset_) {
+    TotalWeight = 0;
+    BatchCount = InTolCount = OutTolCount = 0;
+    learned_ = false;
+    time_learned_ = false;
+    InFlightTime = 0;
+    PreactActual = Preact;
+  }
+  prev_reset_ = ResetTotals;
+
+  // PLCopen: Done / Error / CommandAborted held while Execute is TRUE, and
+  // for one scan at least; then back to Idle.
+  if ((Done || Error || CommandAborted) && !Execute) {
+    Done = Error = CommandAborted = false;
+    ErrorID = error_id::kNone;
+    enter(BatchState::Idle, now);
+  }
+  if (rising && !Busy) start(now);
+  if (!Busy) return;
+
+  if (Abort) {
+    set_valves(false, false, false);
+    Busy = false;
+    Paused = false;
+    CommandAborted = true;
+    enter(BatchState::Aborted, now);
+    return;
+  }
+  if (!Device->Online) return fail(error_id::kDeviceOffline, now);
+  if (const std::uint16_t e = Device->read_error(slot_); e != error_id::kNone) return fail(e, now);
+
+  // The net weight, live through the read window (spec §3.5).
+  if (Device->Ready && Device->read_valid(slot_, kNetCode)) {
+    net_ = Device->to_units(Device->read_dint());
+    have_net_ = true;
+  }
+  // While a feed valve may open the cut-off needs every value: urgent.
+  const bool urgent = State == BatchState::Coarse || State == BatchState::Fine;
+  Device->request_read(slot_, kNetCode, urgent);
+  if (State != BatchState::Tare) ActualNet = net_ - start_net_;
+
+  const bool feeding_state =
+      State == BatchState::Coarse || State == BatchState::Fine || State == BatchState::Discharge;
+  const bool was_paused = Paused;
+  Paused = Pause && feeding_state;
+  if (Paused) {
+    set_valves(false, false, false);
+    return;  // timers frozen: active_time_ does not advance
+  }
+  if (was_paused && State == BatchState::Fine && !top_up_) {
+    // The flow stopped meanwhile: measure it afresh once it runs again
+    // (FineRate keeps the last value until then).
+    rate_started_ = false;
+    entered_ = now;
+  }
+  if (feeding_state) active_time_ += dt;
+  run_state(ctx);
+}
+
+void PR5510_BatchWeigh::run_state(const ScanContext& ctx) {
+  const TIME now = ctx.now;
+  const StatusBits& st = Device->status();
+  // Spec §7.2: Adu Error, Over-load and Dimmed mean "weight invalid"; only
+  // the at/above-FSD half of Dimmed counts (see the header).
+  const bool weight_invalid = st.AduError || st.Overload || st.AboveFsd;
+  const bool filling = State == BatchState::Coarse || State == BatchState::Fine;
+  if ((filling || State == BatchState::Settle) && weight_invalid)
+    return fail(error_id::kWeightInvalid, now);
+  if (filling && active_time_ > MaxFillTime) return fail(error_id::kFillTimeout, now);
+
+  switch (State) {
+    case BatchState::Tare:
+      set_valves(false, false, false);
+      switch (tare_step_) {
+        case TareStep::WaitReady:
+          if (Device->Ready) {
+            have_net_ = false;
+            tare_step_ = TareAtStart ? TareStep::WaitStill : TareStep::Sample;
+            entered_ = now;
+          } else if (now - entered_ > kReadyTimeout) {
+            fail(error_id::kNotReady, now);
+          }
+          break;
+        case TareStep::WaitStill:
+          // Spec §7.2: tare at standstill, or the device fails with error 31.
+          if (st.StandStill) {
+            Device->ack_command(slot_);
+            Device->request_command(slot_, CommandBit::SetTare);
+            tare_step_ = TareStep::Command;
+          } else if (now - entered_ > MaxSettleTime) {
+            fail(error_id::kSettleTimeout, now);
+          }
+          break;
+        case TareStep::Command:
+          if (Device->command_status(slot_) == CommandStatus::Done) {
+            Device->ack_command(slot_);
+            tare_step_ = TareStep::Sample;
+            entered_ = now;
+          } else if (Device->command_status(slot_) == CommandStatus::Error) {
+            const std::uint16_t e = Device->command_error(slot_);
+            Device->ack_command(slot_);
+            fail(e, now);
+          }
+          break;
+        case TareStep::Sample:
+          if (have_net_ && now - entered_ >= kSampleDelay && Device->read_valid(slot_, kNetCode)) {
+            start_net_ = net_;
+            ActualNet = 0;
+            active_time_ = TIME::zero();
+            enter(BatchState::Coarse, now);
+          }
+          break;
+      }
+      break;
+
+    case BatchState::Coarse:
+      if (ActualNet >= TargetWeight - PreactActual) {
+        // Already at the cut-off: the coarse in-flight decides the rest.
+        set_valves(false, false, false);
+        enter(BatchState::Settle, now);
+      } else if (ActualNet >= TargetWeight - FineSwitchPoint) {
+        set_valves(false, true, false);
+        enter(BatchState::Fine, now);
+      } else {
+        set_valves(true, true, false);
+      }
+      break;
+
+    case BatchState::Fine:
+      if (top_up_) {
+        // A timed jog of the fine valve after an under-weight check.
+        set_valves(false, true, false);
+        if (now - entered_ >= top_up_len_) {
+          set_valves(false, false, false);
+          enter(BatchState::Settle, now);
+        }
+      } else {
+        measure_fine_rate(now);
+        if (FlowCompensation && FineRate > 0 && !time_learned_) {
+          // First measured rate: turn the mass preact into a time.
+          InFlightTime = PreactActual / FineRate;
+          time_learned_ = true;
+        }
+        if (ActualNet >= cutoff()) {
+          set_valves(false, false, false);
+          closed_by_preact_ = true;
+          enter(BatchState::Settle, now);
+        } else {
+          set_valves(false, true, false);
+        }
+      }
+      break;
+
+    case BatchState::Settle:
+      set_valves(false, false, false);
+      // The in-flight material lands during SettleTime; then the device
+      // must report standstill with a net value that is ours (read_valid).
+      if (now - entered_ >= SettleTime && st.StandStill && Device->read_valid(slot_, kNetCode)) {
+        enter(BatchState::Check, now);
+      } else if (now - entered_ > SettleTime + MaxSettleTime) {
+        fail(error_id::kSettleTimeout, now);
+      }
+      break;
+
+    case BatchState::Check:
+      finish_check(ActualNet, now);
+      break;
+
+    case BatchState::Discharge:
+      if (ActualNet <= EmptyWeight) {
+        set_valves(false, false, false);
+        Busy = false;
+        Done = true;
+        enter(BatchState::Done, now);
+      } else if (active_time_ > MaxDischargeTime) {
+        fail(error_id::kDischargeTimeout, now);
+      } else {
+        set_valves(false, false, true);
+      }
+      break;
+
+    case BatchState::Idle:
+    case BatchState::Done:
+    case BatchState::Aborted:
+    case BatchState::Error:
+      break;
+  }
+}
+
+}  // namespace plc::weighing

@@ -1,0 +1,80 @@
+// A simulated device: one class, no transport in it.
+//
+// It takes the PLC's output bytes and a time step and gives input bytes, and
+// it answers acyclic record requests. The in-process `sim` plugin hosts it;
+// protocol-level device simulators (PROFINET device, DeviceNet slave) can host
+// the same class. Models are deterministic: the same outputs and steps give
+// the same inputs, bit for bit (seed any noise from params).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "plc/io/model_params.hpp"
+#include "plc/io/record_request.hpp"
+#include "plc/types.hpp"
+
+namespace plc::io {
+
+class DeviceModel {
+ public:
+  virtual ~DeviceModel() = default;
+
+  // Cyclic data sizes in bytes: device -> PLC (%I) and PLC -> device (%Q).
+  [[nodiscard]] virtual std::size_t input_size() const = 0;
+  [[nodiscard]] virtual std::size_t output_size() const = 0;
+
+  // Advance the device by dt to time `now` with the latest PLC outputs, and
+  // write the device's current inputs. Called every plugin step.
+  virtual void step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
+                    std::span<std::uint8_t> to_plc) = 0;
+
+  // Acyclic services. Read: fill `out`, set `length`; return None or an
+  // error. The default refuses every index.
+  virtual RecordError read_record(std::uint16_t index, std::span<std::uint8_t> out,
+                                  std::size_t& length);
+  virtual RecordError write_record(std::uint16_t index, std::span<const std::uint8_t> data);
+
+  // Whether the device answers on the bus now (fault injection "stop
+  // answering" turns this off; the plugin then reports the device Offline and
+  // stops updating its inputs).
+  [[nodiscard]] virtual bool answering() const { return true; }
+
+  // Power cycle: volatile state lost, non-volatile state (e.g. an absolute
+  // encoder's multi-turn count) kept.
+  virtual void power_cycle() {}
+};
+
+using DeviceModelFactory = std::function<std::unique_ptr<DeviceModel>(const ModelParams&)>;
+
+// Models are found by name (the `model:` key of a device in the cell config).
+class DeviceModelRegistry {
+ public:
+  static DeviceModelRegistry& instance();
+  void add(const std::string& name, DeviceModelFactory f);
+  [[nodiscard]] const DeviceModelFactory* find(const std::string& name) const;
+  [[nodiscard]] std::vector<std::string> names() const;
+
+ private:
+  std::map<std::string, DeviceModelFactory> factories_;
+};
+
+// Registers a model class constructible from `const ModelParams&`:
+//   PLC_REGISTER_DEVICE_MODEL("first_order", FirstOrderPlant)
+// Put it in a .cpp of an OBJECT library (static archives drop unused objects).
+#define PLC_REGISTER_DEVICE_MODEL(name, Class)                                             \
+  namespace {                                                                              \
+  const bool plc_model_registered_##Class = [] {                                           \
+    ::plc::io::DeviceModelRegistry::instance().add(                                        \
+        name, [](const ::plc::io::ModelParams& p) { return std::make_unique<Class>(p); }); \
+    return true;                                                                           \
+  }();                                                                                     \
+  }
+
+}  // namespace plc::io

@@ -1,0 +1,51 @@
+// Parameters of a device model or plugin, as given under `params:` in the
+// cell config. Kept free of YAML so models do not depend on the config
+// parser; the loader turns a ParamError into `file:line:column: message`
+// pointing at the offending key.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include "plc/types.hpp"
+
+namespace plc::io {
+
+struct ParamError : std::runtime_error {
+  ParamError(std::string key_, const std::string& msg)
+      : std::runtime_error(msg), key(std::move(key_)) {}
+  std::string key;  // the offending key ("" = the params block itself)
+};
+
+class ModelParams {
+ public:
+  void set(const std::string& key, const std::string& value) { values_[key] = value; }
+  [[nodiscard]] bool has(const std::string& key) const { return values_.count(key) != 0; }
+
+  // Typed getters: return the default when absent, throw ParamError when the
+  // value does not parse or is out of range. Each getter marks the key used.
+  double get_double(const std::string& key, double def) const;
+  std::int64_t get_int(const std::string& key, std::int64_t def, std::int64_t min = INT64_MIN,
+                       std::int64_t max = INT64_MAX) const;
+  bool get_bool(const std::string& key, bool def) const;
+  TIME get_time(const std::string& key, TIME def) const;  // "T#2s", "20ms", "1.5s"
+  std::string get_string(const std::string& key, const std::string& def) const;
+
+  // Throws ParamError naming the first key no getter asked for: a typo in a
+  // config must not pass silently. Models call this at the end of their
+  // constructor.
+  void reject_unknown() const;
+
+  [[nodiscard]] const std::map<std::string, std::string>& values() const { return values_; }
+
+ private:
+  const std::string* find(const std::string& key) const;
+  std::map<std::string, std::string> values_;
+  mutable std::set<std::string> used_;
+};
+
+}  // namespace plc::io

@@ -1,0 +1,249 @@
+// Simulated NORD SK TU4-PNS / SK CU4-PNS PROFIsafe F-device (slot 1 "SAFE":
+// 8-byte F-PDU each way: 4 bytes F-data, status/control byte, 3-byte CRC2).
+// Spec: nord-profisafe.md §8.3 (required behaviour) and §8.4 (fault injection).
+//
+// FOR TEST BENCHES AND SIMULATION ONLY, NOT CERTIFIED. The protocol details
+// it shares with the F-host (CRC, control/status bits, F-parameter layout)
+// are the spec's [SPEC] values and must be verified against IEC 61784-3-3.
+//
+// Behaviour:
+//  * F-parameters arrive by record write (kFParamRecordIndex) and are checked
+//    in this order: length (5725, fatal), CRC1 (5717), F_Par_Version (5716),
+//    F_CRC_Length (5721), F_Block_ID / reserved bits / WD > 10000 (5718),
+//    F_SIL above `max_sil` (5715), source (5713), destination range 1..255
+//    (5712), destination != own F-address (5711), F_WD_Time 0 (5714),
+//    F_iPar_CRC != P840 (5719). The refused write returns the code as the
+//    record error. No cyclic exchange until a block passes.
+//  * F-address: DIP value (`dip_address` 0..255); P831 (`p831`) when DIP = 0.
+//    An effective address of 0 or 65535 is the fatal DIP error 5726.
+//  * Cyclic: a request is new when its Toggle_h differs from the last one;
+//    a new request is checked with CRC2 for the expected consecutive number
+//    (0 after R_cons_nr). A failure sets CE_CRC and fail-safe values; the
+//    number advances anyway (the host does too). The watchdog F_WD_Time runs
+//    between valid new requests; expiry sets WD_timeout and fail-safe values.
+//    CE_CRC / WD_timeout are reported until the host resynchronises with
+//    R_cons_nr; FV_activated then stays until OA_Req (spec §8.3 cyclic 4).
+//    The device answers each new request once (one response per request).
+//  * Errors: q errors passivate per P801 (module: Device_Fault + FV, all
+//    outputs off, inputs 0; channel: only that SO off, latched until In 3.7);
+//    they end when the cause is gone and, for safety-function violations and
+//    5732-5738, no sooner than 10 s after onset (spec §1.5 [AMBIG] reading).
+//    Fatal errors latch Device_Fault + FV until power_cycle().
+//  * Drive model: speed (rpm) set by `speed_rpm` or set_speed_rpm(); the
+//    encoder position integrates it (pulses per rev from P812, ratio P811),
+//    or is set with set_position_inc().
+//  * SI1/SI2 pass the P805 filter (a level must be stable for P805 before
+//    the device takes it); P806 clock monitoring checks the source set with
+//    set_si_source() (5737/5738, held >= 10 s).
+// Not modelled: OSSD test pulses P804, output short detection (5732-5736
+// only by injection), the non-safe PPO slots.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+#include "plc/fb/safety/f_parameters.hpp"
+#include "plc/io/device_model.hpp"
+#include "plc/sim/nord_fe_led.hpp"
+#include "plc/sim/nord_iparams.hpp"
+#include "plc/sim/nord_safety_functions.hpp"
+
+namespace plc::sim {
+
+class NordProfisafeModel : public io::DeviceModel {
+ public:
+  static constexpr std::size_t kPdu = 8;
+
+  explicit NordProfisafeModel(const io::ModelParams& p);
+
+  [[nodiscard]] std::size_t input_size() const override { return kPdu; }
+  [[nodiscard]] std::size_t output_size() const override { return kPdu; }
+  void step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
+            std::span<std::uint8_t> to_plc) override;
+  io::RecordError read_record(std::uint16_t index, std::span<std::uint8_t> out,
+                              std::size_t& length) override;
+  io::RecordError write_record(std::uint16_t index, std::span<const std::uint8_t> data) override;
+  [[nodiscard]] bool answering() const override { return !stopped_; }
+  void power_cycle() override;
+
+  // ---- drive and field inputs ----
+  void set_speed_rpm(double n) { speed_rpm_ = n; }
+  void set_position_inc(double p) { position_inc_ = p; }
+  // Raw SI1/SI2 levels; the device sees them through the P805 filter.
+  void set_si(bool si1, bool si2) { si_raw_ = {si1, si2}; }
+  // What feeds SI1/SI2 (input 0/1): 0 = static 24 V, 1 = TAKT1, 2 = TAKT2.
+  // With P806 assigning a clock, any other source is 5737/5738 (spec §4.5).
+  void set_si_source(int input, int clock) { si_source_[input & 1] = clock; }
+
+  // ---- fault injection (spec §8.4) ----
+  // XOR `mask` into byte `byte` of the next n requests the device receives.
+  void corrupt_requests(int n, std::size_t byte, std::uint8_t mask);
+  // XOR `mask` into byte `byte` of the next n responses the device sends.
+  void corrupt_responses(int n, std::size_t byte, std::uint8_t mask);
+  // The next n responses are replaced by the one sent two exchanges earlier.
+  void repeat_old_responses(int n) { repeat_resp_ = n; }
+  // The next n received requests are replaced by the one received two
+  // exchanges earlier (a replayed request).
+  void repeat_old_requests(int n) { repeat_req_ = n; }
+  // The host sees the response bytes frozen for `d` (telegrams delayed).
+  void delay_responses(TIME d) {
+    delay_for_ = d;
+    delay_start_pending_ = true;
+  }
+  // Requests are lost for `d` (the device sees no new telegram).
+  void drop_requests(TIME d) {
+    drop_for_ = d;
+    drop_start_pending_ = true;
+  }
+  // Stop answering on the bus altogether (SimDevice reports it Offline).
+  void stop(bool s) { stopped_ = s; }
+  // The next n responses are computed with a foreign CRC1 (another F-device
+  // or address pair answering).
+  void answer_as_foreign_device(int n) { foreign_ = n; }
+  // Device fault: q (acknowledgeable; ends when clear_device_fault() was
+  // called and, for 5732-5738, >= 10 s after onset) or fatal (latched).
+  void inject_device_fault(std::uint16_t code, bool fatal = false);
+  void clear_device_fault() { injected_cause_ = false; }
+  // A system error (counted in P848; more than 15 is the permanent 5792).
+  void inject_system_error();
+  // Wrong F-address: new DIP / P831 values, read at the next power_cycle()
+  // (the device reads its address only at power-on, spec §6.4).
+  void set_dip_address(std::uint16_t dip, std::uint16_t p831 = 0) {
+    dip_ = dip;
+    p831_ = p831;
+  }
+
+  // ---- observation ----
+  [[nodiscard]] bool ossd(int i) const { return ossd_[i]; }  // 0..2 = SO1..SO3
+  [[nodiscard]] bool fail_safe_active() const;
+  [[nodiscard]] bool device_fault() const;
+  [[nodiscard]] bool fatal() const { return fatal_code_ != 0; }
+  [[nodiscard]] bool fparams_ok() const { return fpar_ok_; }
+  [[nodiscard]] std::uint16_t f_address() const { return f_address_; }
+  [[nodiscard]] std::uint16_t current_code() const { return p841_; }   // P841
+  [[nodiscard]] std::uint16_t previous_code() const { return p842_; }  // P842
+  // The FE LED now (blink code of the current code, spec §5.6).
+  [[nodiscard]] bool fe_led() const { return nord_fe_led(p841_, now_ - code_since_); }
+  [[nodiscard]] std::uint32_t cons_nr() const { return cn_; }
+  [[nodiscard]] std::uint64_t crc_errors() const { return crc_errors_; }
+  [[nodiscard]] std::uint64_t watchdog_expiries() const { return wd_expiries_; }
+  [[nodiscard]] std::uint16_t system_errors() const { return p848_; }
+  [[nodiscard]] const NordSafetyFunctions& functions() const { return fn_; }
+  // What the device sent (F-data, clean) in the response with number cn, if
+  // still in its history; and what it took from the valid request cn.
+  bool sent_data(std::uint32_t cn, std::span<std::uint8_t, 4> out) const;
+  bool accepted_request(std::uint32_t cn, std::span<std::uint8_t, 4> out) const;
+
+ private:
+  // q-error slots: one per cause kind.
+  enum Q : int {
+    kQSls,
+    kQSsr,
+    kQSdiP,
+    kQSdiN,
+    kQSos,  // violations 5781-5785
+    kQSlsOff,
+    kQSsrOff,
+    kQSdiPOff,
+    kQSdiNOff,
+    kQSosOff,  // requested w/o P820 (q)
+    kQSo1Off,
+    kQSo2Off,
+    kQSo3Off,
+    kQSi1Off,
+    kQSi2Off,  // 5741-5743, 5746-5747
+    kQSi1Clock,
+    kQSi2Clock,  // 5737, 5738 (P806 clock monitoring)
+    kQDiscrepancy,
+    kQInjected,
+    kQCount
+  };
+  struct QError {
+    std::uint16_t code = 0;
+    bool active = false;
+    bool cause = false;
+    TIME onset{};
+    TIME hold{};
+    int channel = -1;  // SO index for channel passivation, -1 = module
+  };
+
+  void reset_volatile();
+  void handle_request(TIME now, std::span<const std::uint8_t> req);
+  void evaluate(TIME now, TIME dt);
+  void update_q(TIME now);
+  void raise_code(std::uint16_t code);
+  void build_response();
+  bool passivated() const;
+  bool module_fault() const;
+  bool q_cause(int q) const;
+
+  NordIParams ip_;
+  NordSafetyFunctions fn_;
+  std::uint16_t dip_ = 1, p831_ = 0, f_address_ = 1;
+  int max_sil_ = 3;
+  double speed_rpm_ = 0.0, position_inc_ = 0.0;
+  std::array<bool, 2> si_raw_{};  // as wired
+  std::array<bool, 2> si_{};      // after the P805 filter
+  std::array<bool, 2> si_changing_{};
+  std::array<TIME, 2> si_change_since_{};
+  std::array<int, 2> si_source_{};
+  std::uint16_t config_fatal_ = 0;  // i-parameter / DIP fatal code found at power-on
+
+  // F-parameters / protocol
+  bool fpar_ok_ = false;
+  std::uint16_t crc1_ = 0;
+  TIME wd_{};
+  TIME now_{};
+  std::uint32_t cn_ = 0;
+  bool last_toggle_ = false;
+  bool ce_crc_ = false, wd_timeout_ = false, cons_nr_r_ = false;
+  bool fault_fv_ = true;  // fail-safe values until OA_Req
+  bool host_fv_ = true;   // host's activate_FV
+  TIME t_valid_{};
+  std::array<std::uint8_t, 4> requested_{};  // F-data of the last valid request
+  std::array<std::uint8_t, 4> applied_{};    // what acts (0 while passivated)
+  bool chan_ack_prev_ = false;
+
+  // Errors
+  std::array<QError, kQCount> q_{};
+  std::uint16_t fatal_code_ = 0;
+  std::uint16_t p841_ = 0, p842_ = 0, p848_ = 0;
+  TIME code_since_{};  // when p841_ got its value (blink code start)
+  bool injected_cause_ = false;
+  std::array<bool, 3> chan_passive_{};
+  TIME discrepancy_since_{};
+  bool discrepancy_timing_ = false;
+  bool discrepancy_fault_ = false;
+  bool respond_pending_ = false;
+
+  // Outputs
+  std::array<bool, 3> ossd_{};
+  std::array<std::uint8_t, kPdu> pdu_{};   // the response as sent
+  std::array<std::uint8_t, kPdu> seen_{};  // what the host sees (delay injection)
+
+  // History (ring) for repeat injection and the soak oracle.
+  static constexpr std::size_t kHist = 64;
+  struct Sent {
+    std::uint32_t cn = 0;
+    bool valid = false;
+    std::array<std::uint8_t, 4> data{};
+    std::array<std::uint8_t, kPdu> pdu{};
+  };
+  std::array<Sent, kHist> sent_{};
+  std::array<Sent, kHist> accepted_{};
+  std::size_t sent_head_ = 0, accepted_head_ = 0;
+  std::array<std::array<std::uint8_t, kPdu>, 3> req_hist_{};
+  std::uint64_t crc_errors_ = 0, wd_expiries_ = 0;
+
+  // Injection state
+  int corrupt_req_n_ = 0, corrupt_resp_n_ = 0, repeat_resp_ = 0, repeat_req_ = 0, foreign_ = 0;
+  std::size_t corrupt_req_byte_ = 0, corrupt_resp_byte_ = 0;
+  std::uint8_t corrupt_req_mask_ = 0, corrupt_resp_mask_ = 0;
+  TIME delay_for_{}, delay_until_{}, drop_for_{}, drop_until_{};
+  bool delay_start_pending_ = false, drop_start_pending_ = false;
+  bool stopped_ = false;
+  bool permanent_5792_ = false;
+};
+
+}  // namespace plc::sim

@@ -1,0 +1,72 @@
+// The NORD safe speed/position monitoring functions SLS, SSR, SDI-P, SDI-N,
+// SOS and SSM (spec nord-profisafe.md §1.5, §8.3 "Safety logic each cycle"),
+// evaluated against speed and position from the simulated drive.
+//
+// * A function is monitored when P820 enables it AND the host requests it;
+//   monitoring starts after the activation time P821 and stops at once when
+//   the request drops.
+// * The reaction time P822 is an up/down integrating counter: it counts up
+//   while the limit is violated and down while it is not; the error is raised
+//   when it reaches P822 (immediately for 0). SOS has no reaction time.
+// * SDI counts movement in the forbidden direction since monitoring started
+//   and trips above P824; SOS trips when the position leaves the P824 window
+//   around the position at monitoring start.
+// * SSM: status bit only, 1 when |speed| <= P823[-07] (spec [AMBIG] reading).
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "plc/sim/nord_iparams.hpp"
+#include "plc/types.hpp"
+
+namespace plc::sim {
+
+class NordSafetyFunctions {
+ public:
+  enum Fn : int { kSls = 0, kSsr = 1, kSdiP = 2, kSdiN = 3, kSos = 4, kCount = 5 };
+
+  struct Request {
+    std::array<bool, kCount> on{};  // host request bits (already 0 when passivated)
+    std::uint8_t sls_level = 0;     // 0..3
+  };
+
+  explicit NordSafetyFunctions(const NordIParams& ip) : ip_(ip) {}
+
+  // Advance by dt; position in encoder increments.
+  void step(TIME now, TIME dt, const Request& rq, double speed_rpm, double position_inc);
+
+  // A violation tripped this function (latched until clear_trip()).
+  [[nodiscard]] bool tripped(int fn) const { return trip_[fn]; }
+  // The violation that tripped `fn` is still present (SLS/SSR: speed still
+  // outside the limit in force at the trip; SDI/SOS: a one-time event).
+  [[nodiscard]] bool cause_present(int fn, double speed_rpm) const;
+  void clear_trip(int fn) { trip_[fn] = false; }
+
+  // Status bits of spec §2.4 (F-data Out).
+  [[nodiscard]] bool ok(int fn) const { return ok_[fn]; }
+  [[nodiscard]] bool ssm() const { return ssm_; }
+  [[nodiscard]] bool monitoring(int fn) const { return st_[fn].monitoring; }
+
+  void reset();
+
+ private:
+  struct State {
+    bool requested = false;
+    bool monitoring = false;
+    TIME since{};
+    TIME integ{};
+    double ref_pos = 0.0;
+    double last_pos = 0.0;
+    double wrong_way = 0.0;
+  };
+
+  const NordIParams& ip_;
+  std::array<State, kCount> st_{};
+  std::array<bool, kCount> trip_{};
+  std::array<bool, kCount> ok_{};
+  std::uint8_t trip_level_ = 0;
+  bool ssm_ = false;
+};
+
+}  // namespace plc::sim

@@ -1,0 +1,523 @@
+#include "plc/sim/nord_profisafe_model.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "plc/fb/safety/control_status_byte.hpp"
+#include "plc/fb/safety/nord_error_codes.hpp"
+#include "plc/fb/safety/nord_fdata_bits.hpp"
+#include "plc/fb/safety/safety_pdu.hpp"
+
+namespace plc::sim {
+
+namespace err = plc::safety::nord::err;
+namespace nin = plc::safety::nord::in;
+namespace nout = plc::safety::nord::out;
+namespace cb = plc::safety::cb;
+namespace sbit = plc::safety::sb;
+using plc::safety::nord::get;
+using plc::safety::nord::put;
+using namespace std::chrono_literals;
+
+NordProfisafeModel::NordProfisafeModel(const io::ModelParams& p)
+    : ip_(NordIParams::from(p)), fn_(ip_) {
+  dip_ = static_cast<std::uint16_t>(p.get_int("dip_address", 1, 0, 65535));
+  p831_ = static_cast<std::uint16_t>(p.get_int("p831", 0, 0, 65535));
+  max_sil_ = static_cast<int>(p.get_int("max_sil", 3, 0, 3));
+  speed_rpm_ = p.get_double("speed_rpm", 0.0);
+  si_raw_ = {p.get_bool("si1", false), p.get_bool("si2", false)};
+  si_ = si_raw_;
+  p.reject_unknown();
+  power_cycle();
+}
+
+void NordProfisafeModel::reset_volatile() {
+  fpar_ok_ = false;
+  crc1_ = 0;
+  wd_ = {};
+  cn_ = 0;
+  last_toggle_ = false;
+  ce_crc_ = wd_timeout_ = cons_nr_r_ = false;
+  fault_fv_ = host_fv_ = true;
+  requested_ = {};
+  applied_ = {};
+  chan_ack_prev_ = false;
+  static constexpr std::uint16_t kCodes[kQCount] = {err::kSlsViolated,
+                                                    err::kSsrViolated,
+                                                    err::kSdiPViolated,
+                                                    err::kSdiNViolated,
+                                                    err::kSosViolated,
+                                                    err::kSls,
+                                                    err::kSsr,
+                                                    err::kSdiP,
+                                                    err::kSdiN,
+                                                    err::kSos,
+                                                    err::kSo1NotEnabled,
+                                                    err::kSo2NotEnabled,
+                                                    err::kSo3NotEnabled,
+                                                    err::kSi1NotEnabled,
+                                                    err::kSi2NotEnabled,
+                                                    err::kInput1Diag,
+                                                    err::kInput2Diag,
+                                                    err::kDiscrepancy,
+                                                    0};
+  for (int i = 0; i < kQCount; ++i) {
+    q_[i] = QError{};
+    q_[i].code = kCodes[i];
+    // Reintegration >= 10 s after a violation (§1.5) or a clock-monitoring
+    // error (§2.8).
+    if (i <= kQSos || i == kQSi1Clock || i == kQSi2Clock) q_[i].hold = 10s;
+  }
+  q_[kQSo1Off].channel = 0;
+  q_[kQSo2Off].channel = 1;
+  q_[kQSo3Off].channel = 2;
+  fatal_code_ = 0;
+  p841_ = p842_ = 0;
+  injected_cause_ = false;
+  chan_passive_ = {};
+  discrepancy_timing_ = discrepancy_fault_ = false;
+  respond_pending_ = false;
+  ossd_ = {};
+  pdu_ = {};
+  seen_ = {};
+  sent_ = {};
+  accepted_ = {};
+  sent_head_ = accepted_head_ = 0;
+  req_hist_ = {};
+  corrupt_req_n_ = corrupt_resp_n_ = repeat_resp_ = repeat_req_ = foreign_ = 0;
+  delay_until_ = drop_until_ = TIME{};
+  delay_start_pending_ = drop_start_pending_ = false;
+  stopped_ = false;
+  fn_.reset();
+}
+
+void NordProfisafeModel::power_cycle() {
+  reset_volatile();
+  // The F-address is read at power-on: DIP 2-9, or P831 when the DIPs are 0
+  // (spec §6.4). 0 and 65535 are refused: the DIP-read fatal error 5726.
+  f_address_ = dip_ != 0 ? dip_ : p831_;
+  std::uint16_t code = 0;
+  if (dip_ > 255 || f_address_ == 0 || f_address_ == 65535) {
+    code = err::kDipRead;
+  } else {
+    code = ip_.check();
+  }
+  if (permanent_5792_) code = err::kSystemErrorMax;
+  config_fatal_ = code;
+  if (code) {
+    fatal_code_ = code;
+    raise_code(code);
+  }
+}
+
+void NordProfisafeModel::raise_code(std::uint16_t code) {
+  if (p841_ == code) return;
+  if (p841_ != 0) p842_ = p841_;
+  p841_ = code;
+  code_since_ = now_;
+}
+
+void NordProfisafeModel::inject_device_fault(std::uint16_t code, bool fatal) {
+  if (fatal) {
+    if (fatal_code_ == 0) fatal_code_ = code;
+    raise_code(code);
+    return;
+  }
+  QError& e = q_[kQInjected];
+  e.code = code;
+  // OSSD / clock / input diagnostics persist >= 10 s (spec §5.5).
+  e.hold = (code >= err::kOutput1 && code <= err::kInput2Diag) ? TIME(10s) : TIME{};
+  e.channel = (code >= err::kOutput1 && code <= err::kOutput3) ? code - err::kOutput1 : -1;
+  injected_cause_ = true;
+}
+
+void NordProfisafeModel::inject_system_error() {
+  ++p848_;
+  if (p848_ > 15) permanent_5792_ = true;
+  const std::uint16_t code = permanent_5792_ ? err::kSystemErrorMax : err::kSystemError;
+  fatal_code_ = code;
+  raise_code(code);
+}
+
+void NordProfisafeModel::corrupt_requests(int n, std::size_t byte, std::uint8_t mask) {
+  corrupt_req_n_ = n;
+  corrupt_req_byte_ = byte % kPdu;
+  corrupt_req_mask_ = mask;
+}
+
+void NordProfisafeModel::corrupt_responses(int n, std::size_t byte, std::uint8_t mask) {
+  corrupt_resp_n_ = n;
+  corrupt_resp_byte_ = byte % kPdu;
+  corrupt_resp_mask_ = mask;
+}
+
+bool NordProfisafeModel::module_fault() const {
+  for (int i = 0; i < kQCount; ++i) {
+    const QError& e = q_[i];
+    if (!e.active) continue;
+    if (ip_.p801 == 0) return true;
+    // Channel passivation (P801 = 1): violations are only reported, SO
+    // errors passivate their channel, everything else the module.
+    if (i <= kQSos) continue;
+    if (e.channel >= 0) continue;
+    return true;
+  }
+  return false;
+}
+
+bool NordProfisafeModel::device_fault() const { return fatal_code_ != 0 || module_fault(); }
+
+bool NordProfisafeModel::passivated() const {
+  return !fpar_ok_ || fatal_code_ != 0 || fault_fv_ || host_fv_ || ce_crc_ || wd_timeout_ ||
+         module_fault();
+}
+
+bool NordProfisafeModel::fail_safe_active() const { return passivated(); }
+
+bool NordProfisafeModel::q_cause(int q) const {
+  const std::uint8_t* r = requested_.data();
+  switch (q) {
+    case kQSls:
+    case kQSsr:
+    case kQSdiP:
+    case kQSdiN:
+    case kQSos:
+      return fn_.tripped(q - kQSls);
+    case kQSlsOff:
+      return get(r, nin::kSls) && ip_.p820[0] == 0;
+    case kQSsrOff:
+      return get(r, nin::kSsr) && ip_.p820[1] == 0;
+    case kQSdiPOff:
+      return get(r, nin::kSdiP) && ip_.p820[2] == 0;
+    case kQSdiNOff:
+      return get(r, nin::kSdiN) && ip_.p820[3] == 0;
+    case kQSosOff:
+      return get(r, nin::kSos) && ip_.p820[4] == 0;
+    case kQSo1Off:
+      return get(r, nin::kOssd1) && ip_.p802[2] == 0;
+    case kQSo2Off:
+      return get(r, nin::kOssd2) && ip_.p802[3] == 0;
+    case kQSo3Off:
+      return get(r, nin::kOssd3) && ip_.p802[4] == 0;
+    case kQSi1Off:
+      return si_[0] && ip_.p802[0] == 0;
+    case kQSi2Off:
+      return si_[1] && ip_.p802[1] == 0;
+    case kQSi1Clock:
+    case kQSi2Clock: {
+      const int in = q - kQSi1Clock;
+      return ip_.p806[in] != 0 && si_[in] && si_source_[in] != ip_.p806[in];
+    }
+    case kQDiscrepancy:
+      return discrepancy_fault_;
+    case kQInjected:
+      return injected_cause_;
+    default:
+      return false;
+  }
+}
+
+void NordProfisafeModel::update_q(TIME now) {
+  for (int i = 0; i < kQCount; ++i) {
+    QError& e = q_[i];
+    const bool c = q_cause(i);
+    if (c && !e.active) {
+      e.active = true;
+      e.onset = now;
+      raise_code(e.code);
+      if (ip_.p801 == 1 && e.channel >= 0) chan_passive_[e.channel] = true;
+    } else if (e.active && !c && now - e.onset >= e.hold) {
+      e.active = false;
+      if (p841_ == e.code) {
+        p842_ = p841_;
+        p841_ = 0;
+      }
+    }
+  }
+  // A violation's trip ends when its cause is gone (SDI/SOS: at once); the
+  // q error then still holds for its 10 s.
+  for (int f = 0; f < NordSafetyFunctions::kCount; ++f) {
+    if (fn_.tripped(f) && q_[kQSls + f].active && !fn_.cause_present(f, speed_rpm_))
+      fn_.clear_trip(f);
+  }
+}
+
+void NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> in) {
+  if (in.size() < kPdu) return;
+  std::array<std::uint8_t, kPdu> req;
+  std::copy_n(in.begin(), kPdu, req.begin());
+  const bool incoming_new = ((req[4] & cb::kToggleH) != 0) != last_toggle_;
+  if (incoming_new && repeat_req_ > 0) {
+    req = req_hist_[1];  // the request received two exchanges earlier
+    --repeat_req_;
+  }
+  if (incoming_new && corrupt_req_n_ > 0) {
+    req[corrupt_req_byte_] ^= corrupt_req_mask_;
+    --corrupt_req_n_;
+  }
+  const std::uint8_t control = req[4];
+  const bool toggle = (control & cb::kToggleH) != 0;
+  if (toggle == last_toggle_) return;  // not a new telegram
+  last_toggle_ = toggle;
+  req_hist_[2] = req_hist_[1];
+  req_hist_[1] = req_hist_[0];
+  req_hist_[0] = req;
+
+  const bool rcons = (control & cb::kRConsNr) != 0;
+  const std::uint32_t expected = rcons ? 0u : safety::next_cons_nr(cn_);
+  const bool ok = safety::check_pdu(req, 4, expected, crc1_);
+  cn_ = expected;  // the host counts on as well, valid or not
+  cons_nr_r_ = false;
+  respond_pending_ = true;
+  if (!ok) {
+    ce_crc_ = true;
+    fault_fv_ = true;
+    ++crc_errors_;
+    return;
+  }
+  t_valid_ = now;
+  if (rcons) {
+    ce_crc_ = wd_timeout_ = false;
+    cons_nr_r_ = true;
+  }
+  host_fv_ = (control & cb::kActivateFv) != 0;
+  std::copy_n(req.begin(), 4, requested_.begin());
+  Sent& a = accepted_[accepted_head_++ % kHist];
+  a.cn = cn_;
+  a.valid = true;
+  std::copy_n(req.begin(), 4, a.data.begin());
+  if ((control & cb::kOaReq) && !ce_crc_ && !wd_timeout_ && !module_fault() && fatal_code_ == 0)
+    fault_fv_ = false;
+  // Channel-passivation acknowledge In 3.7 (rising edge, cause gone).
+  const bool ack = get(requested_.data(), nin::kChannelAck);
+  if (ack && !chan_ack_prev_) {
+    for (int ch = 0; ch < 3; ++ch) {
+      bool cause = false;
+      for (const QError& e : q_)
+        if (e.active && e.channel == ch) cause = true;
+      if (!cause) chan_passive_[ch] = false;
+    }
+  }
+  chan_ack_prev_ = ack;
+}
+
+void NordProfisafeModel::evaluate(TIME now, TIME dt) {
+  if (fpar_ok_ && now - t_valid_ > wd_ && !wd_timeout_) {
+    wd_timeout_ = true;
+    fault_fv_ = true;
+    ++wd_expiries_;
+  }
+  // Input filter P805: a new level counts once it has been stable for P805.
+  for (int i = 0; i < 2; ++i) {
+    if (si_raw_[i] == si_[i]) {
+      si_changing_[i] = false;
+      continue;
+    }
+    if (!si_changing_[i]) {
+      si_changing_[i] = true;
+      si_change_since_[i] = now;
+    }
+    if (now - si_change_since_[i] >= std::chrono::milliseconds(ip_.p805_ms)) {
+      si_[i] = si_raw_[i];
+      si_changing_[i] = false;
+    }
+  }
+  // Dual-channel SI1/SI2 discrepancy (P800[-01] = 1): both must agree within
+  // P803; the error clears when both channels are off (spec §4.5 [AMBIG]).
+  if (ip_.p800[0] == 1) {
+    if (si_[0] != si_[1]) {
+      if (!discrepancy_timing_) {
+        discrepancy_timing_ = true;
+        discrepancy_since_ = now;
+      }
+      if (now - discrepancy_since_ > std::chrono::milliseconds(ip_.p803_ms))
+        discrepancy_fault_ = true;
+    } else {
+      discrepancy_timing_ = false;
+      if (!si_[0] && !si_[1]) discrepancy_fault_ = false;
+    }
+  }
+
+  if (passivated()) {
+    applied_ = {};
+  } else {
+    applied_ = requested_;
+  }
+  const std::uint8_t* a = applied_.data();
+  NordSafetyFunctions::Request rq;
+  rq.on = {get(a, nin::kSls), get(a, nin::kSsr), get(a, nin::kSdiP), get(a, nin::kSdiN),
+           get(a, nin::kSos)};
+  rq.sls_level =
+      static_cast<std::uint8_t>((get(a, nin::kSlsLevel1) << 1) | get(a, nin::kSlsLevel0));
+  fn_.step(now, dt, rq, speed_rpm_, position_inc_);
+  update_q(now);
+  if (fatal_code_ != 0 || module_fault()) fault_fv_ = true;
+
+  const bool pas = passivated();
+  bool cmd[3] = {get(a, nin::kOssd1), get(a, nin::kOssd2), get(a, nin::kOssd3)};
+  if (ip_.p800[1] == 1) cmd[0] = cmd[1] = cmd[0] && cmd[1];  // SO1+SO2 dual channel
+  for (int i = 0; i < 3; ++i)
+    ossd_[i] = !pas && cmd[i] && ip_.p802[2 + i] == 1 && !chan_passive_[i];
+}
+
+void NordProfisafeModel::build_response() {
+  std::array<std::uint8_t, 4> data{};
+  const bool pas = passivated();
+  if (!pas) {  // fail-safe values are all 0 (spec §2.4)
+    std::uint8_t* d = data.data();
+    const std::uint8_t* a = applied_.data();
+    put(d, nout::kOssd1Off, !ossd_[0]);
+    put(d, nout::kOssd2Off, !ossd_[1]);
+    put(d, nout::kOssd3Off, !ossd_[2]);
+    put(d, nout::kClock1Off, ip_.p802[5] != 1);
+    put(d, nout::kClock2Off, ip_.p802[6] != 1);
+    put(d, nout::kSosOk, fn_.ok(NordSafetyFunctions::kSos));
+    put(d, nout::kSlsOk, fn_.ok(NordSafetyFunctions::kSls));
+    put(d, nout::kSlsLevel0, get(a, nin::kSlsLevel0));
+    put(d, nout::kSlsLevel1, get(a, nin::kSlsLevel1));
+    put(d, nout::kSdiPOk, fn_.ok(NordSafetyFunctions::kSdiP));
+    put(d, nout::kSdiNOk, fn_.ok(NordSafetyFunctions::kSdiN));
+    put(d, nout::kSsm, fn_.ssm());
+    put(d, nout::kSi1, si_[0] && ip_.p802[0] == 1);
+    put(d, nout::kSi2, si_[1] && ip_.p802[1] == 1);
+    put(d, nout::kSsrOk, fn_.ok(NordSafetyFunctions::kSsr));
+  }
+  std::uint8_t status = last_toggle_ ? sbit::kToggleD : 0;
+  if (ce_crc_) status |= sbit::kCeCrc;
+  if (wd_timeout_) status |= sbit::kWdTimeout;
+  if (device_fault()) status |= sbit::kDeviceFault;
+  if (pas) status |= sbit::kFvActivated;
+  if (cons_nr_r_) status |= sbit::kConsNrR;
+
+  std::uint16_t seed = crc1_;
+  if (foreign_ > 0) {
+    seed = static_cast<std::uint16_t>(crc1_ ^ 0x5A5Au);  // another F-device's CRC1
+    --foreign_;
+  }
+  safety::write_pdu(pdu_, data, status, cn_, seed);
+  Sent& s = sent_[sent_head_++ % kHist];
+  s.cn = cn_;
+  s.valid = true;
+  s.data = data;
+  s.pdu = pdu_;
+  if (repeat_resp_ > 0 && sent_head_ >= 3) {
+    pdu_ = sent_[(sent_head_ - 3) % kHist].pdu;  // the response two exchanges earlier
+    --repeat_resp_;
+  }
+  if (corrupt_resp_n_ > 0) {
+    pdu_[corrupt_resp_byte_] ^= corrupt_resp_mask_;
+    --corrupt_resp_n_;
+  }
+}
+
+void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
+                              std::span<std::uint8_t> to_plc) {
+  now_ = now;
+  if (ip_.p811 > 0.0) {
+    const double revs_per_s = speed_rpm_ / 60.0 / ip_.p811;
+    position_inc_ += revs_per_s * ip_.pulses() * std::chrono::duration<double>(dt).count();
+  }
+  if (drop_start_pending_) {
+    drop_until_ = now + drop_for_;
+    drop_start_pending_ = false;
+  }
+  if (fpar_ok_ && now >= drop_until_) handle_request(now, from_plc);
+  evaluate(now, dt);
+  if (respond_pending_) {
+    build_response();
+    respond_pending_ = false;
+  }
+  if (delay_start_pending_) {
+    delay_until_ = now + delay_for_;
+    delay_start_pending_ = false;
+  } else if (now >= delay_until_) {
+    seen_ = pdu_;
+  }
+  const std::size_t n = std::min(to_plc.size(), kPdu);
+  std::copy_n(seen_.begin(), n, to_plc.begin());
+}
+
+io::RecordError NordProfisafeModel::read_record(std::uint16_t index, std::span<std::uint8_t> out,
+                                                std::size_t& length) {
+  length = 0;
+  if (index != safety::kNordDiagRecordIndex) return io::RecordError::InvalidIndex;
+  if (out.size() < 4) return io::RecordError::InvalidLength;
+  out[0] = static_cast<std::uint8_t>(p841_ >> 8);
+  out[1] = static_cast<std::uint8_t>(p841_);
+  out[2] = static_cast<std::uint8_t>(p842_ >> 8);
+  out[3] = static_cast<std::uint8_t>(p842_);
+  length = 4;
+  return io::RecordError::None;
+}
+
+io::RecordError NordProfisafeModel::write_record(std::uint16_t index,
+                                                 std::span<const std::uint8_t> data) {
+  if (index != safety::kFParamRecordIndex) return io::RecordError::InvalidIndex;
+  auto refuse = [this](std::uint16_t code) {
+    fpar_ok_ = false;
+    raise_code(code);
+    return static_cast<io::RecordError>(code);
+  };
+  if (data.size() != safety::kFParamBlockSize) {
+    if (fatal_code_ == 0) fatal_code_ = err::kParTelegram;  // 5725 is fatal
+    return refuse(err::kParTelegram);
+  }
+  std::span<const std::uint8_t, safety::kFParamBlockSize> block(data.data(),
+                                                                safety::kFParamBlockSize);
+  const safety::FParameters p = safety::decode(block);
+  if (safety::compute_crc1(block) != p.par_crc) return refuse(err::kParCrc);
+  if (p.par_version != 1) return refuse(err::kParVersion);
+  if (p.crc_length != 0) return refuse(err::kCrcLength);
+  if (p.block_id != 1 || p.check_ipar || (data[0] & 0xC0) || (data[1] & 0x07) ||
+      p.wd_time_ms > 10000)
+    return refuse(err::kParGeneral);
+  if (safety::sil_level(p.sil) > max_sil_) return refuse(err::kSilTooHigh);
+  if (p.source_add == 0 || p.source_add == 65535) return refuse(err::kSourceInvalid);
+  if (p.dest_add == 0 || p.dest_add > 255) return refuse(err::kDestInvalid);
+  if (p.dest_add != f_address_) return refuse(err::kDestMismatch);
+  if (p.wd_time_ms == 0) return refuse(err::kWatchdogZero);
+  if (p.ipar_crc != ip_.p840) return refuse(err::kIparCrc);
+
+  fpar_ok_ = true;
+  crc1_ = p.par_crc;
+  wd_ = std::chrono::milliseconds(p.wd_time_ms);
+  cn_ = 0;
+  last_toggle_ = false;
+  ce_crc_ = wd_timeout_ = cons_nr_r_ = false;
+  fault_fv_ = host_fv_ = true;
+  t_valid_ = now_;
+  requested_ = {};
+  if (p841_ >= err::kDestMismatch && p841_ <= err::kCrcLength) {
+    p842_ = p841_;
+    p841_ = 0;
+  }
+  return io::RecordError::None;
+}
+
+namespace {
+// Newest entry with number cn in a history ring.
+template <class Ring>
+bool find_newest(const Ring& ring, std::size_t head, std::uint32_t cn,
+                 std::span<std::uint8_t, 4> out) {
+  for (std::size_t i = 1; i <= ring.size() && i <= head; ++i) {
+    const auto& s = ring[(head - i) % ring.size()];
+    if (s.valid && s.cn == cn) {
+      std::copy(s.data.begin(), s.data.end(), out.begin());
+      return true;
+    }
+  }
+  return false;
+}
+}  // namespace
+
+bool NordProfisafeModel::sent_data(std::uint32_t cn, std::span<std::uint8_t, 4> out) const {
+  return find_newest(sent_, sent_head_, cn, out);
+}
+
+bool NordProfisafeModel::accepted_request(std::uint32_t cn, std::span<std::uint8_t, 4> out) const {
+  return find_newest(accepted_, accepted_head_, cn, out);
+}
+
+PLC_REGISTER_DEVICE_MODEL("nord_profisafe", NordProfisafeModel)
+
+}  // namespace plc::sim

@@ -1,0 +1,105 @@
+#include "plc/sim/nord_safety_functions.hpp"
+
+#include <chrono>
+#include <cmath>
+
+namespace plc::sim {
+
+namespace {
+TIME seconds(double s) {
+  return std::chrono::duration_cast<TIME>(std::chrono::duration<double>(s));
+}
+}  // namespace
+
+void NordSafetyFunctions::reset() {
+  st_ = {};
+  trip_ = {};
+  ok_ = {};
+  ssm_ = false;
+}
+
+bool NordSafetyFunctions::cause_present(int fn, double speed_rpm) const {
+  const double n = std::abs(speed_rpm);
+  switch (fn) {
+    case kSls:
+      return n > static_cast<double>(ip_.p823[trip_level_]);
+    case kSsr:
+      return n > static_cast<double>(ip_.p823[4]) || n < static_cast<double>(ip_.p823[5]);
+    default:
+      return false;
+  }
+}
+
+void NordSafetyFunctions::step(TIME now, TIME dt, const Request& rq, double speed_rpm,
+                               double position_inc) {
+  const double n = std::abs(speed_rpm);
+  const std::uint8_t lvl = rq.sls_level & 3u;
+  // P821 / P822 element per function (SLS by level).
+  const int act_idx[kCount] = {lvl, 4, 5, 6, 7};
+  const int react_idx[kCount] = {lvl, 4, 5, 6, -1};
+
+  for (int fn = 0; fn < kCount; ++fn) {
+    State& s = st_[fn];
+    const bool active = ip_.p820[fn] == 1 && rq.on[fn];
+    if (active && !s.requested) s.since = now;
+    s.requested = active;
+    if (!active) {
+      s.monitoring = false;
+      s.integ = TIME{};
+      ok_[fn] = false;
+      continue;
+    }
+    if (!s.monitoring && now - s.since >= seconds(ip_.p821_s[act_idx[fn]])) {
+      s.monitoring = true;
+      s.ref_pos = position_inc;
+      s.last_pos = position_inc;
+      s.wrong_way = 0.0;
+      s.integ = TIME{};
+    }
+    bool violating = false;
+    switch (fn) {
+      case kSls:
+        violating = n > static_cast<double>(ip_.p823[lvl]);
+        break;
+      case kSsr:
+        violating = n > static_cast<double>(ip_.p823[4]) || n < static_cast<double>(ip_.p823[5]);
+        break;
+      case kSdiP:
+      case kSdiN: {
+        const double d = position_inc - s.last_pos;
+        s.last_pos = position_inc;
+        if ((fn == kSdiP && d < 0) || (fn == kSdiN && d > 0)) s.wrong_way += std::abs(d);
+        violating = s.monitoring && s.wrong_way > static_cast<double>(ip_.p824[fn - kSdiP]);
+        break;
+      }
+      case kSos:
+        violating =
+            s.monitoring && std::abs(position_inc - s.ref_pos) > static_cast<double>(ip_.p824[2]);
+        break;
+      default:
+        break;
+    }
+    // Status bit: function active and within its limit (§2.4).
+    if (fn == kSdiP) {
+      ok_[fn] = speed_rpm >= 0.0 && !violating;
+    } else if (fn == kSdiN) {
+      ok_[fn] = speed_rpm <= 0.0 && !violating;
+    } else {
+      ok_[fn] = !violating;
+    }
+    if (!s.monitoring) continue;
+    if (violating) {
+      s.integ += dt;
+    } else {
+      s.integ = s.integ > dt ? s.integ - dt : TIME{};
+    }
+    const TIME reaction = react_idx[fn] < 0 ? TIME{} : seconds(ip_.p822_s[react_idx[fn]]);
+    if (violating && s.integ >= reaction && !trip_[fn]) {
+      trip_[fn] = true;
+      if (fn == kSls) trip_level_ = lvl;
+    }
+  }
+  ssm_ = n <= static_cast<double>(ip_.p823[6]);
+}
+
+}  // namespace plc::sim

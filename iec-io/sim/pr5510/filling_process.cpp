@@ -1,0 +1,65 @@
+#include "pr5510/filling_process.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace plc::sim {
+
+double SeededNoise::gaussian() {
+  if (has_spare_) {
+    has_spare_ = false;
+    return spare_;
+  }
+  double u = uniform();
+  if (u < 1e-300) u = 1e-300;
+  const double v = uniform();
+  const double r = std::sqrt(-2.0 * std::log(u));
+  spare_ = r * std::sin(6.283185307179586 * v);
+  has_spare_ = true;
+  return r * std::cos(6.283185307179586 * v);
+}
+
+FillingProcess::FillingProcess(const FillingConfig& c)
+    : cfg_(c),
+      noise_(c.seed),
+      flight_(static_cast<std::size_t>(std::max(0.0, c.fall_time_s) * 1000.0 + 0.5) + 1, 0.0),
+      load_(c.initial_load) {}
+
+void FillingProcess::drive(Valve& v, bool cmd) {
+  if (cmd && !v.cmd) v.factor = 1.0 + cfg_.flow_variation * noise_.uniform_pm1();
+  v.cmd = cmd;
+  if (cmd) v.factor *= 1.0 + cfg_.flow_wander * 0.0316227766 * noise_.uniform_pm1();
+  const double target = cmd ? 1.0 : 0.0;
+  if (cfg_.valve_time_s <= 0.0) {
+    v.open = target;
+  } else {
+    v.open += (target - v.open) * std::min(1.0, 0.001 / cfg_.valve_time_s);
+    if (!cmd && v.open < 1e-4) v.open = 0.0;
+  }
+}
+
+void FillingProcess::step_1ms(bool coarse, bool fine, bool discharge) {
+  drive(coarse_, coarse);
+  drive(fine_, fine);
+  drive(discharge_, discharge);
+  const double leaving = (coarse_.open * coarse_.factor * cfg_.coarse_rate +
+                          fine_.open * fine_.factor * cfg_.fine_rate) *
+                         flow_factor_ * 0.001;
+  // The ring holds what left the valves during the last fall_time: the
+  // oldest entry lands now.
+  const double landing = flight_[head_];
+  flight_[head_] = leaving;
+  head_ = (head_ + 1) % flight_.size();
+  load_ += landing;
+  landing_rate_ = landing * 1000.0;
+  if (discharge_.open > 0.0)
+    load_ -= std::min(load_, discharge_.open * cfg_.discharge_rate * 0.001);
+}
+
+double FillingProcess::in_flight() const {
+  double s = 0.0;
+  for (double x : flight_) s += x;
+  return s;
+}
+
+}  // namespace plc::sim

@@ -1,0 +1,89 @@
+// The physical side of the simulated PR5510: a weigh hopper fed by a
+// material stream through a coarse and a fine valve and emptied through a
+// discharge valve, seen by a load cell with noise.
+//
+// Why the pieces exist: batching accuracy is decided by what happens after
+// the PLC closes a valve (the valve's closing time and the material still
+// falling, "in flight"), by flow that varies from batch to batch, and by
+// measurement noise. All randomness comes from one seeded generator, so a
+// run is bit-for-bit reproducible. No allocation after construction.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace plc::sim {
+
+// xorshift64* with Box-Muller: portable, so the same seed gives the same
+// numbers with any standard library.
+class SeededNoise {
+ public:
+  explicit SeededNoise(std::uint64_t seed) : s_(seed ? seed : 0x9E3779B97F4A7C15ULL) {}
+  std::uint64_t next_u64() {
+    s_ ^= s_ >> 12;
+    s_ ^= s_ << 25;
+    s_ ^= s_ >> 27;
+    return s_ * 0x2545F4914F6CDD1DULL;
+  }
+  double uniform() { return static_cast<double>(next_u64() >> 11) * (1.0 / 9007199254740992.0); }
+  double uniform_pm1() { return 2.0 * uniform() - 1.0; }
+  double gaussian();
+
+ private:
+  std::uint64_t s_;
+  bool has_spare_ = false;
+  double spare_ = 0.0;
+};
+
+struct FillingConfig {
+  double coarse_rate = 5.0;      // kg/s through the coarse valve
+  double fine_rate = 0.5;        // kg/s through the fine valve
+  double discharge_rate = 25.0;  // kg/s out of the hopper
+  double flow_variation = 0.05;  // relative: each valve opening draws rate*(1 +- this)
+  double flow_wander = 0.02;     // relative random walk of the rate while open (per sqrt(s))
+  double fall_time_s = 0.25;     // valve to scale: material in flight
+  double valve_time_s = 0.03;    // valve opening/closing time constant
+  double noise_kg = 0.002;       // load-cell noise, 1 sigma
+  double impact_noise = 0.004;   // extra noise per kg/s landing (vibration)
+  double initial_load = 0.0;     // kg on the scale at power-on
+  std::uint64_t seed = 1;
+};
+
+class FillingProcess {
+ public:
+  explicit FillingProcess(const FillingConfig& c);
+
+  // Advance by exactly 1 ms with the valves as commanded.
+  void step_1ms(bool coarse, bool fine, bool discharge);
+
+  // Load on the scale (kg), without and with measurement noise.
+  [[nodiscard]] double load() const { return load_; }
+  [[nodiscard]] double measured() { return load_ + noise_.gaussian() * sigma(); }
+  // Material that has left the valves but not yet landed (kg).
+  [[nodiscard]] double in_flight() const;
+  [[nodiscard]] double landing_rate() const { return landing_rate_; }
+
+  // Test hooks: scale flow (e.g. a changing product), put or take material.
+  void set_flow_factor(double f) { flow_factor_ = f; }
+  void add_load(double kg) { load_ += kg; }
+
+ private:
+  struct Valve {
+    bool cmd = false;
+    double open = 0.0;    // 0..1
+    double factor = 1.0;  // this opening's rate factor
+  };
+  void drive(Valve& v, bool cmd);
+  [[nodiscard]] double sigma() const { return cfg_.noise_kg + cfg_.impact_noise * landing_rate_; }
+
+  FillingConfig cfg_;
+  SeededNoise noise_;
+  Valve coarse_, fine_, discharge_;
+  std::vector<double> flight_;  // kg leaving the valves per ms, ring buffer
+  std::size_t head_ = 0;
+  double load_ = 0.0;
+  double landing_rate_ = 0.0;  // kg/s
+  double flow_factor_ = 1.0;
+};
+
+}  // namespace plc::sim

@@ -1,0 +1,281 @@
+#include "pr5510/pr5510_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace plc::sim {
+
+using namespace std::chrono_literals;
+namespace wg = plc::weighing;
+
+namespace {
+constexpr TIME kCycle = std::chrono::milliseconds(wg::kDeviceCycleMs);
+}
+
+Pr5510Model::Pr5510Model(const Pr5510Config& c) : cfg_(c), process_(c.filling) {
+  digits_per_kg_ = std::pow(10.0, cfg_.decimals);
+  filtered_kg_ = cfg_.filling.initial_load;
+  power_cycle();
+}
+
+DINT Pr5510Model::fsd_digits() const {
+  return static_cast<DINT>(std::lround(cfg_.full_scale * digits_per_kg_));
+}
+
+void Pr5510Model::set_input(int n, bool on) {
+  if (n >= 1 && n <= 3) inputs_[static_cast<std::size_t>(n - 1)] = on;
+}
+
+void Pr5510Model::power_cycle() {
+  // Spec §7.1: Power_Fail and Cal_Changed are set at power-on. Tare, test
+  // mode, outputs and the window handshake are volatile; zero is kept.
+  st_ = {};
+  st_.PowerFail = true;
+  st_.CalChanged = true;
+  tare_ = 0;
+  pending_ = Pending::None;
+  write_in_progress_ = false;
+  outputs_ = 0;
+  rd_.fill(0);
+  // A code or command bit still set from before the restart must first go
+  // back to 0: only a fresh 0 -> 1 change triggers.
+  prev_w5_ = 0xFF;
+  prev_w7_ = 0xFF;
+  since_cycle_ = 0ns;
+}
+
+void Pr5510Model::step(TIME, TIME dt, std::span<const std::uint8_t> from_plc,
+                       std::span<std::uint8_t> to_plc) {
+  since_ms_ += dt;
+  const double alpha =
+      std::min(1.0, 1e-3 / std::chrono::duration<double>(cfg_.filter_time).count());
+  while (since_ms_ >= 1ms) {
+    since_ms_ -= 1ms;
+    process_.step_1ms(outputs_ & 1U, outputs_ & 2U, outputs_ & 4U);
+    filtered_kg_ += (process_.measured() - filtered_kg_) * alpha;
+  }
+  since_cycle_ += dt;
+  while (since_cycle_ >= kCycle) {
+    since_cycle_ -= kCycle;
+    if (cfg_.scale_interface && from_plc.size() >= wg::kWindowSize) device_cycle(from_plc);
+  }
+  if (to_plc.size() >= wg::kWindowSize) {
+    if (cfg_.scale_interface) {
+      std::copy(rd_.begin(), rd_.end(), to_plc.begin());
+    } else {
+      std::fill(to_plc.begin(), to_plc.end(), std::uint8_t{0});
+    }
+  }
+}
+
+void Pr5510Model::device_cycle(std::span<const std::uint8_t> w) {
+  ++cycles_;
+  update_weight_and_status();
+
+  // W[6]: outputs 1-3 are levels; they drive the valves from this cycle on.
+  outputs_ = w[wg::w::kOutputs] & 0x07;
+  st_.Out1 = outputs_ & 1U;
+  st_.Out2 = outputs_ & 2U;
+  st_.Out3 = outputs_ & 4U;
+
+  // W[7]: each function acts on the 0->1 edge between two samples (§3.3).
+  const std::uint8_t w7 = w[wg::w::kCommands];
+  const auto rising = static_cast<std::uint8_t>(w7 & ~prev_w7_);
+  prev_w7_ = w7;
+  for (unsigned b = 0; b < wg::kCommandBitCount; ++b) {
+    if (rising & (1U << b)) start_command(static_cast<wg::CommandBit>(b));
+  }
+
+  // W[5]: a change 0 -> code while Write_Active = 0 starts one write (§7.1).
+  const std::uint8_t w5 = w[wg::w::kWriteValueSelect];
+  if (w5 == 0) {
+    st_.WriteActive = false;     // the master has seen the acknowledgement
+    write_in_progress_ = false;  // a master that gives up gets no late ack
+  } else if (prev_w5_ == 0 && !st_.WriteActive) {
+    accept_write(w5, io::load<std::uint32_t>(w.data() + wg::w::kValue, wg::byte_order(cfg_.bus)));
+  }
+  prev_w5_ = w5;
+
+  run_pending();
+  serve_read(w[wg::w::kReadValueSelect]);
+  wg::encode_status(st_, rd_);
+}
+
+void Pr5510Model::update_weight_and_status() {
+  const double kg = st_.TestActive ? cfg_.test_value : filtered_kg_ - zero_offset_kg_;
+  const double exact = kg * digits_per_kg_;
+  const double d = std::max<double>(1.0, cfg_.division);
+  gross_ = static_cast<DINT>(std::lround(exact / d) * static_cast<long>(d));
+  gross100_ = std::llround(exact * 100.0);
+
+  // Standstill: the displayed weight stays within +- range for the time.
+  if (std::abs(gross_ - still_ref_) <= cfg_.standstill_range) {
+    still_for_ += kCycle;
+  } else {
+    still_ref_ = gross_;
+    still_for_ = 0ns;
+  }
+  st_.StandStill = still_for_ >= cfg_.standstill_time;
+
+  const DINT fsd = fsd_digits();
+  const bool above = gross_ >= fsd;
+  if (above && !st_.AboveFsd) last_error_ = wg::device_error::kOverFullScale;
+  st_.AboveFsd = above;
+  st_.Overload = gross_ >= fsd + static_cast<DINT>(std::lround(cfg_.overload * digits_per_kg_));
+  st_.BelowZero = exact <= -0.25 * d;
+  st_.CenterZero = std::abs(exact) <= 0.25 * d;
+  st_.Dimmed = st_.AboveFsd || st_.BelowZero;
+  st_.InsideZsr = std::abs(filtered_kg_) <= cfg_.zero_range;
+  st_.AduError = adu_error_;
+  st_.Inp1 = inputs_[0];
+  st_.Inp2 = inputs_[1];
+  st_.Inp3 = inputs_[2];
+  const DINT net = gross_ - tare_;
+  st_.Limit1 = limit_set_[0] && net >= limit_[0];
+  st_.Limit2 = limit_set_[1] && net >= limit_[1];
+  st_.Limit3 = limit_set_[2] && net >= limit_[2];
+}
+
+void Pr5510Model::start_command(wg::CommandBit c) {
+  ++commands_accepted_;
+  if (pending_ != Pending::None) {
+    // One command at a time: a second one while tare/zero waits fails
+    // with "taring was active" (error 46).
+    st_.CmdError = true;
+    last_error_ = wg::device_error::kTaringActive;
+    return;
+  }
+  st_.CmdError = false;  // cleared by the next accepted command ([INFERRED])
+  switch (c) {
+    case wg::CommandBit::SetZero:
+      pending_ = Pending::Zero;
+      break;
+    case wg::CommandBit::SetTare:
+      if (cfg_.legal_for_trade && gross_ < 0) {
+        finish_command(wg::device_error::kTareNegativeWm);
+        return;
+      }
+      pending_ = Pending::Tare;
+      break;
+    case wg::CommandBit::ResTare:
+      tare_ = 0;
+      st_.TareActive = false;
+      break;
+    case wg::CommandBit::SetTest:
+      st_.TestActive = true;
+      break;
+    case wg::CommandBit::ResTest:
+      st_.TestActive = false;
+      break;
+    case wg::CommandBit::ResPower:
+      st_.PowerFail = false;
+      break;
+  }
+  if (pending_ != Pending::None) {
+    st_.CmdBusy = true;  // device_cycle() runs it in this same cycle
+    pending_for_ = 0ns;
+  } else {
+    finish_command(wg::device_error::kNone);
+  }
+}
+
+void Pr5510Model::finish_command(std::uint8_t error) {
+  pending_ = Pending::None;
+  st_.CmdBusy = false;
+  if (error != wg::device_error::kNone) {
+    st_.CmdError = true;
+    last_error_ = error;
+  }
+  if (write_in_progress_) {
+    st_.WriteActive = true;  // also on failure, so the handshake ends
+    write_in_progress_ = false;
+  }
+}
+
+void Pr5510Model::run_pending() {
+  if (pending_ == Pending::None) return;
+  if (st_.StandStill) {
+    if (pending_ == Pending::Zero) {
+      if (std::abs(filtered_kg_) > cfg_.zero_range)
+        return finish_command(wg::device_error::kZeroOutsideRange);
+      zero_offset_kg_ = filtered_kg_;
+      // The displayed weight jumps to zero; restart the standstill window.
+      still_ref_ = 0;
+      gross_ = 0;
+    } else {
+      tare_ = gross_;
+      st_.TareActive = true;
+    }
+    return finish_command(wg::device_error::kNone);
+  }
+  pending_for_ += kCycle;
+  if (pending_for_ > cfg_.tare_timeout) finish_command(wg::device_error::kStandstillTimeout);
+}
+
+void Pr5510Model::accept_write(std::uint8_t code, std::uint32_t raw) {
+  if (code >= 0x70 && code <= 0x75) {
+    // Firmware commands (§5.4); Write_Value is ignored.
+    if (pending_ != Pending::None) {
+      // Refused because another command waits: acknowledge with the error.
+      start_command(static_cast<wg::CommandBit>(code - 0x70));
+      st_.WriteActive = true;
+      return;
+    }
+    write_in_progress_ = true;  // finish_command() acknowledges
+    start_command(static_cast<wg::CommandBit>(code - 0x70));
+    return;
+  }
+  ++commands_accepted_;
+  if (wg::is_defined_write_code(code)) {
+    reg_[code] = static_cast<std::int32_t>(raw);
+    reg_valid_[code] = 1;
+    if (code >= 0x18 && code <= 0x1A) {
+      limit_[code - 0x18u] = static_cast<std::int32_t>(raw);
+      limit_set_[code - 0x18u] = true;
+    }
+    st_.CmdError = false;
+  } else {
+    st_.CmdError = true;  // reserved or unused code ([INFERRED])
+  }
+  st_.WriteActive = true;
+}
+
+void Pr5510Model::serve_read(std::uint8_t code) {
+  const bool known = wg::is_defined_read_code(code);
+  if (!known && cfg_.strict_codes) return;  // no echo: the master times out
+  std::uint32_t v = 0;
+  switch (code) {
+    case 0x04:
+      v = wg::pack_format(
+          {cfg_.decimals, static_cast<std::uint8_t>(cfg_.unit), cfg_.division, last_error_},
+          cfg_.packed_order);
+      break;
+    case 0x05:
+      v = wg::pack_model({cfg_.model, cfg_.version}, cfg_.packed_order);
+      break;
+    case 0x08:
+      v = static_cast<std::uint32_t>(gross_);
+      break;
+    case 0x09:
+      v = static_cast<std::uint32_t>(gross_ - tare_);
+      break;
+    case 0x0A:
+      v = static_cast<std::uint32_t>(tare_);
+      break;
+    case 0x0C:
+      v = static_cast<std::uint32_t>(
+          static_cast<std::int32_t>(std::clamp<std::int64_t>(gross100_, INT32_MIN, INT32_MAX)));
+      break;
+    case 0x0E:
+      v = static_cast<std::uint32_t>(fsd_digits());
+      st_.CalChanged = false;  // §3.4: reading the full scale once resets it
+      break;
+    default:
+      if (known) v = static_cast<std::uint32_t>(reg_[code]);
+      break;
+  }
+  io::store<std::uint32_t>(rd_.data() + wg::r::kValue, v, wg::byte_order(cfg_.bus));
+  rd_[wg::r::kReadValueSelected] = code;
+}
+
+}  // namespace plc::sim

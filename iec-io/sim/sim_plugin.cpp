@@ -1,0 +1,92 @@
+#include "plc/io/sim_plugin.hpp"
+
+#include <time.h>
+
+#include <cstring>
+
+namespace plc::io {
+
+SimPlugin::~SimPlugin() { stop(); }
+
+void SimPlugin::configure(const ModelParams& params) {
+  step_ = params.get_time("step", step_);
+  if (step_.count() <= 0) throw ParamError("step", "step must be positive");
+  params.reject_unknown();
+}
+
+DeviceSizes SimPlugin::add_device(const DeviceSpec& spec) {
+  const DeviceModelFactory* f = DeviceModelRegistry::instance().find(spec.model);
+  if (!f) {
+    std::string known;
+    for (const auto& n : DeviceModelRegistry::instance().names())
+      known += (known.empty() ? "" : ", ") + n;
+    throw ParamError("model", "unknown device model '" + spec.model + "' (known: " + known + ")");
+  }
+  auto model = (*f)(spec.params);
+  devices_.push_back(std::make_unique<SimDevice>(std::move(model)));
+  names_.push_back(spec.name);
+  return {devices_.back()->inputs().size(), devices_.back()->outputs().size()};
+}
+
+void SimPlugin::start(ClockMode mode) {
+  if (mode == ClockMode::RealTime && !running_.exchange(true)) {
+    thread_ = std::thread([this] { run_realtime(); });
+  }
+}
+
+void SimPlugin::stop() {
+  if (running_.exchange(false) && thread_.joinable()) thread_.join();
+}
+
+void SimPlugin::step(TIME now, TIME dt) {
+  for (auto& d : devices_) d->step(now, dt);
+}
+
+// Steps on a fixed grid, but hands the models the time that really passed
+// (now = time since start, dt = since the previous step): a step that comes
+// late, because the machine or a lock held us up, shows as a longer dt, as a
+// late frame would on a real bus.
+void SimPlugin::run_realtime() {
+  auto mono = [] {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+  };
+  const std::int64_t step_ns = step_.count();
+  const std::int64_t t0 = mono();
+  std::int64_t prev = t0, next = t0;
+  while (running_.load(std::memory_order_relaxed)) {
+    const std::int64_t now = mono();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      step(TIME(now - t0), TIME(now - prev));
+    }
+    prev = now;
+    next += step_ns;
+    if (next < now) next = now + step_ns;  // fell behind: no burst of catch-up steps
+    timespec ts{static_cast<time_t>(next / 1'000'000'000), static_cast<long>(next % 1'000'000'000)};
+    clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
+  }
+}
+
+void SimPlugin::latch_inputs(std::size_t device, std::span<std::uint8_t> dst) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto src = devices_[device]->inputs();
+  std::memcpy(dst.data(), src.data(), std::min(src.size(), dst.size()));
+}
+
+void SimPlugin::publish_outputs(std::size_t device, std::span<const std::uint8_t> src) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto dst = devices_[device]->outputs();
+  std::memcpy(dst.data(), src.data(), std::min(src.size(), dst.size()));
+}
+
+SimDevice* SimPlugin::device(const std::string& name) {
+  for (std::size_t i = 0; i < names_.size(); ++i)
+    if (names_[i] == name) return devices_[i].get();
+  return nullptr;
+}
+
+PLC_REGISTER_PLUGIN("sim", SimPlugin)
+
+}  // namespace plc::io

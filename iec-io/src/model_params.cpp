@@ -1,0 +1,65 @@
+#include "plc/io/model_params.hpp"
+
+#include <charconv>
+#include <cmath>
+
+#include "plc/iec_literal.hpp"
+
+namespace plc::io {
+
+const std::string* ModelParams::find(const std::string& key) const {
+  auto it = values_.find(key);
+  if (it == values_.end()) return nullptr;
+  used_.insert(key);
+  return &it->second;
+}
+
+double ModelParams::get_double(const std::string& key, double def) const {
+  const std::string* v = find(key);
+  if (!v) return def;
+  double d = 0;
+  auto [p, ec] = std::from_chars(v->data(), v->data() + v->size(), d);
+  if (ec != std::errc() || p != v->data() + v->size() || !std::isfinite(d))
+    throw ParamError(key, "expected a number, got '" + *v + "'");
+  return d;
+}
+
+std::int64_t ModelParams::get_int(const std::string& key, std::int64_t def, std::int64_t min,
+                                  std::int64_t max) const {
+  const std::string* v = find(key);
+  if (!v) return def;
+  auto parsed = parse_iec_integer(*v);
+  if (!parsed) throw ParamError(key, "expected an integer, got '" + *v + "'");
+  if (*parsed < min || *parsed > max)
+    throw ParamError(key, "value " + *v + " out of range [" + std::to_string(min) + ", " +
+                              std::to_string(max) + "]");
+  return *parsed;
+}
+
+bool ModelParams::get_bool(const std::string& key, bool def) const {
+  const std::string* v = find(key);
+  if (!v) return def;
+  if (*v == "true" || *v == "TRUE" || *v == "1") return true;
+  if (*v == "false" || *v == "FALSE" || *v == "0") return false;
+  throw ParamError(key, "expected true or false, got '" + *v + "'");
+}
+
+TIME ModelParams::get_time(const std::string& key, TIME def) const {
+  const std::string* v = find(key);
+  if (!v) return def;
+  auto t = parse_iec_time(*v);
+  if (!t) throw ParamError(key, "expected a duration (e.g. 20ms, T#1s500ms), got '" + *v + "'");
+  return *t;
+}
+
+std::string ModelParams::get_string(const std::string& key, const std::string& def) const {
+  const std::string* v = find(key);
+  return v ? *v : def;
+}
+
+void ModelParams::reject_unknown() const {
+  for (const auto& [k, _] : values_)
+    if (!used_.count(k)) throw ParamError(k, "unknown parameter '" + k + "'");
+}
+
+}  // namespace plc::io

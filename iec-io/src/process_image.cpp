@@ -1,0 +1,61 @@
+#include "plc/io/process_image.hpp"
+
+#include <cstring>
+
+namespace plc::io {
+
+void ProcessImage::resize(const ImageSizes& s) {
+  i_.assign(s.inputs, 0);
+  q_.assign(s.outputs, 0);
+  m_.assign(s.memory, 0);
+}
+
+std::span<std::uint8_t> ProcessImage::area(Area a) {
+  switch (a) {
+    case Area::Input:
+      return i_;
+    case Area::Output:
+      return q_;
+    case Area::Memory:
+      return m_;
+  }
+  return {};
+}
+
+std::span<const std::uint8_t> ProcessImage::area(Area a) const {
+  return const_cast<ProcessImage*>(this)->area(a);
+}
+
+bool ProcessImage::contains(const IecAddress& a) const {
+  return std::size_t(a.byte) + a.width_bytes() <= area(a.area).size();
+}
+
+void ProcessImage::copy_from(const ProcessImage& o) {
+  std::memcpy(i_.data(), o.i_.data(), i_.size());
+  std::memcpy(q_.data(), o.q_.data(), q_.size());
+  std::memcpy(m_.data(), o.m_.data(), m_.size());
+}
+
+void merge_changes(std::span<std::uint8_t> dst, std::span<const std::uint8_t> before,
+                   std::span<const std::uint8_t> after) {
+  const std::size_t n = dst.size();
+  std::size_t i = 0;
+  // Eight bytes at a time; memcpy keeps it free of alignment assumptions.
+  for (; i + 8 <= n; i += 8) {
+    std::uint64_t d, b, a;
+    std::memcpy(&d, dst.data() + i, 8);
+    std::memcpy(&b, before.data() + i, 8);
+    std::memcpy(&a, after.data() + i, 8);
+    const std::uint64_t changed = a ^ b;
+    if (changed) {
+      d = (d & ~changed) | (a & changed);
+      std::memcpy(dst.data() + i, &d, 8);
+    }
+  }
+  for (; i < n; ++i) {
+    const std::uint8_t changed = after[i] ^ before[i];
+    dst[i] = static_cast<std::uint8_t>((dst[i] & ~changed) | (after[i] & changed));
+  }
+}
+
+}  // namespace plc::io

@@ -1,0 +1,52 @@
+#include "plc/io/sim_device.hpp"
+
+namespace plc::io {
+
+SimDevice::SimDevice(std::unique_ptr<DeviceModel> model)
+    : model_(std::move(model)),
+      inputs_(model_->input_size(), 0),
+      outputs_(model_->output_size(), 0),
+      silent_sink_(model_->input_size(), 0) {
+  link_.set_state(model_->answering() ? DeviceState::Online : DeviceState::Offline);
+}
+
+void SimDevice::serve_records() {
+  while (RecordRequest* r = link_.pop()) {
+    if (!model_->answering()) {
+      r->fail(RecordError::NotReachable);
+      continue;
+    }
+    if (r->kind() == RecordKind::Write) {
+      const RecordError e = model_->write_record(r->index(), r->data());
+      if (e == RecordError::None) {
+        r->complete(r->data().size());
+      } else {
+        r->fail(e, static_cast<std::uint16_t>(e));
+      }
+    } else {
+      std::size_t len = 0;
+      const RecordError e = model_->read_record(r->index(), r->buffer(), len);
+      if (e == RecordError::None) {
+        r->complete(len);
+      } else {
+        r->fail(e, static_cast<std::uint16_t>(e));
+      }
+    }
+  }
+}
+
+void SimDevice::step(TIME now, TIME dt) {
+  serve_records();
+  if (model_->answering()) {
+    model_->step(now, dt, outputs_, inputs_);
+    link_.set_state(DeviceState::Online);
+  } else {
+    // A silent device: the model still runs its physics, but its answer is
+    // not delivered. The PLC keeps the last valid inputs (as a bus master
+    // keeps the last valid frame) and sees the device Offline.
+    model_->step(now, dt, outputs_, silent_sink_);
+    link_.set_state(DeviceState::Offline);
+  }
+}
+
+}  // namespace plc::io

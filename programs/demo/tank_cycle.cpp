@@ -1,0 +1,5 @@
+#include "tank_cycle.hpp"
+
+namespace demo {
+PLC_REGISTER_PROGRAM(TankCycle)
+}

@@ -1,0 +1,77 @@
+#include "filling_cell.hpp"
+
+namespace cell {
+
+FillingCell::FillingCell() {
+  conveyor.Port.set_device_name("conveyor");
+  scale.port.set_device_name("scale");
+  guard.FMOD.port.set_device_name("safety");
+  guard.FMOD.F_Dest_Add = 1;  // the module's DIP address (cell.yaml: dip_address)
+  guard.FMOD.F_Source_Add = 10;
+  guard.FMOD.F_WD_Time = 100;
+  dose.Device = &scale;
+  dose.TargetWeight = target_kg;
+  dose.FineSwitchPoint = 2.0F;
+  dose.Preact = 0.15F;
+  dose.TolPlus = 0.05F;
+  dose.TolMinus = 0.05F;
+}
+
+void FillingCell::cycle(const ScanContext& ctx) {
+  // Safety first: request STO release while running; the conveyor may be
+  // powered only while the module exchanges good data and reports OSSD1 on.
+  guard.OSSD1 = run;
+  guard(ctx);
+  const bool safe = !guard.QBAD && guard.OSSD1_ON;
+
+  scale(ctx);
+  power.Enable = run && safe && step != Step::Fault;
+  power(ctx, conveyor);
+
+  switch (step) {
+    case Step::WaitSafety:
+      if (safe && run) step = Step::Enable;
+      break;
+    case Step::Enable:
+      if (power.Status) step = Step::Index;
+      break;
+    case Step::Index:
+      index.Distance = pitch;
+      index.Velocity = index_velocity;
+      index.Execute = !index.Done;
+      if (index.Done) step = Step::Fill;
+      break;
+    case Step::Fill:
+      dose.TargetWeight = target_kg;
+      dose.Execute = !dose.Done;
+      if (dose.Done) {
+        ++containers;
+        step = Step::Index;
+      }
+      break;
+    case Step::Fault:
+      // Acknowledge the drive and start over once the safety is good again.
+      reset.Execute = safe;
+      if (reset.Done || !conveyor.drive_fault()) {
+        reset.Execute = false;
+        step = Step::WaitSafety;
+      }
+      break;
+  }
+  index(ctx, conveyor);
+  dose(ctx);
+  reset(ctx, conveyor);
+
+  fault_edge(power.Error || index.Error || dose.Error);
+  if (fault_edge.Q) {
+    last_error = power.Error ? power.ErrorID : index.Error ? index.ErrorID : dose.ErrorID;
+    step = Step::Fault;
+  }
+  if (!safe && step != Step::WaitSafety && step != Step::Fault) step = Step::WaitSafety;
+  if (step != Step::Index) index.Execute = false;
+  if (step != Step::Fill) dose.Execute = false;
+}
+
+PLC_REGISTER_PROGRAM(FillingCell)
+
+}  // namespace cell

@@ -1,0 +1,107 @@
+// The cell configuration as loaded from YAML: plain data, each item with the
+// file position it came from, so every later check (unknown program type,
+// address outside the image, unknown device in a binding) can still point
+// at the line and key that caused it.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "plc/io/byte_order.hpp"
+#include "plc/io/model_params.hpp"
+#include "plc/io/plugin.hpp"
+#include "plc/io/process_image.hpp"
+#include "plc/types.hpp"
+
+namespace plc {
+
+struct Mark {
+  int line = 0, column = 0;  // 1-based; 0 = unknown
+};
+
+template <class T>
+struct Item {
+  T value{};
+  Mark mark;
+};
+
+// `file:line:column: message`, and plcrun exits with code 2.
+struct ConfigError : std::runtime_error {
+  ConfigError(const std::string& file, Mark mark, const std::string& message);
+  std::string file;
+  Mark mark;
+  std::string message;
+};
+
+struct Params {
+  io::ModelParams values;
+  std::map<std::string, Mark> marks;  // key -> where it is
+  Mark mark;                          // the params block itself
+};
+
+struct TaskConfig {
+  Item<std::string> name;
+  Item<TIME> period;
+  Item<int> priority;
+  std::vector<Item<std::string>> programs;
+  Item<double> watchdog;  // multiple of the period; 0 = off
+  Mark mark;
+};
+
+struct ProgramConfig {
+  Item<std::string> name;
+  Item<std::string> type;
+  std::vector<std::pair<Item<std::string>, Item<std::string>>>
+      bind;  // field path -> address/device
+  std::vector<std::pair<Item<std::string>, Item<std::string>>> init;  // field path -> value
+  Mark mark;
+};
+
+struct PluginConfig {
+  Item<std::string> name;
+  Item<std::string> type;
+  Params params;
+  Mark mark;
+};
+
+struct DeviceConfig {
+  Item<std::string> name;
+  Item<std::string> plugin;
+  Item<std::string> model;
+  Item<std::string> input;   // start address of its inputs, e.g. %IB0
+  Item<std::string> output;  // start address of its outputs, e.g. %QB0
+  Item<std::string> task;    // task that exchanges its data ("" = fastest)
+  Params params;
+  Mark mark;
+};
+
+struct SafeValueConfig {
+  Item<std::string> address;
+  Item<std::string> value;
+};
+
+struct CellConfig {
+  std::string file;
+  Item<std::string> cell;
+  Item<io::ClockMode> clock{io::ClockMode::Virtual, {}};
+  io::ImageSizes image;
+  Item<io::ByteOrder> byte_order{io::ByteOrder::Big, {}};
+  std::vector<TaskConfig> tasks;
+  std::vector<ProgramConfig> programs;
+  std::vector<PluginConfig> plugins;
+  std::vector<DeviceConfig> devices;
+  std::vector<SafeValueConfig> safe_values;
+  Mark image_mark;
+};
+
+// Parses a cell config file. Throws ConfigError for bad YAML, unknown keys,
+// missing or ill-typed values, and structural errors (duplicate names,
+// references to tasks/programs/plugins that are not declared).
+CellConfig load_cell_config(const std::string& path);
+CellConfig parse_cell_config(const std::string& yaml_text, const std::string& file_name);
+
+}  // namespace plc

@@ -1,0 +1,157 @@
+// The debugger's command layer: run control, breakpoints, watch, write and
+// force, trace, record/replay and goto, as text commands in and text out.
+// The console (plcrun --debug), command files (--commands) and the HMI
+// bridge all drive this one class.
+//
+// Virtual time: the debugger drives the scans itself; the cell starts paused
+// before its first scan, and the simulated devices stop with the clock.
+// Real time: the runtime runs in its own thread; pausing holds the tasks at
+// their next release while the fieldbus plugins keep exchanging the last
+// outputs, so devices do not time out.
+//
+// Forcing follows CODESYS: `write` sets a value once, at the start of the
+// next scan of the variable's task; `force` sets it every scan until
+// `unforce` (keeping the value, or restoring the one from before the force):
+// forced inputs are applied after the inputs are latched, forced outputs
+// and memory at the start of the scan and again before they are published,
+// forced program variables at the start and at the end of their task's scan.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <vector>
+
+#include "plc/debug/condition.hpp"
+#include "plc/debug/recording.hpp"
+#include "plc/debug/trace.hpp"
+#include "plc/runtime.hpp"
+
+namespace plc::debug {
+
+class Debugger final : public ScanHooks {
+ public:
+  using Factory = std::function<std::unique_ptr<Runtime>()>;
+  using Reader = std::function<std::optional<std::string>(const std::string& prompt)>;
+  using Writer = std::function<void(const std::string&)>;
+
+  struct Options {
+    io::ClockMode mode = io::ClockMode::Virtual;
+    std::string replay_file;                  // replay this recording instead of the plugins
+    TIME span{std::chrono::hours(24 * 365)};  // end of the session (virtual time)
+  };
+
+  // `factory` builds a fresh runtime of the cell (goto rebuilds with it).
+  // Throws std::runtime_error for a recording that cannot be replayed.
+  Debugger(Factory factory, Options options);
+  ~Debugger() override;
+
+  // Runs one command line and returns what it prints.
+  std::string execute(std::string_view line);
+  [[nodiscard]] bool quit_requested() const { return quit_; }
+  [[nodiscard]] std::string prompt() const;
+  // Async-signal-safe: interrupts a running `continue`/`run until` (Ctrl-C).
+  void interrupt() { interrupted_.store(true, std::memory_order_relaxed); }
+  // Where nested command loops (freeze points) read and print.
+  void set_io(Reader r, Writer w) {
+    reader_ = std::move(r);
+    writer_ = std::move(w);
+  }
+
+  Runtime& runtime() { return *rt_; }
+  [[nodiscard]] std::uint64_t scan_count() const { return scans_; }
+
+  // ScanHooks
+  void after_latch(TaskRuntime& t, io::ProcessImage& global) override;
+  void before_programs(TaskRuntime& t, const ScanContext& ctx) override;
+  void before_program(TaskRuntime& t, std::size_t index, const ScanContext& ctx) override;
+  void after_programs(TaskRuntime& t, const ScanContext& ctx) override;
+  void before_publish(TaskRuntime& t, io::ProcessImage& global) override;
+
+ private:
+  struct Breakpoint {
+    int id = 0;
+    std::string text;                        // as typed, for rebuilds and listing
+    std::optional<Condition> cond;           // scan-end condition (or freeze filter)
+    int task = -1;                           // evaluate after this task's scans (-1: every scan)
+    std::string before_program;              // freeze point: before this program ("" = scan end)
+    std::uint64_t hits = 0, hit_target = 1;  // stop on every hit_target-th hit
+    bool temporary = false;                  // `run until`
+  };
+  struct Force {
+    std::string name;    // as typed
+    VarInfo var;         // program variable, or image address in the global image
+    bool image = false;  // located/address force
+    std::uint64_t value = 0, original = 0;
+  };
+  struct Write {
+    std::string name;
+    VarInfo var;
+    bool image = false;
+    std::uint64_t value = 0;
+    int task = -1;
+  };
+
+  void build();  // (re)creates the runtime and re-resolves everything
+  void attach();
+  void detach();
+  std::string cmd_step(const std::vector<std::string>& a);
+  std::string cmd_continue(const std::vector<std::string>& a, bool until);
+  std::string cmd_break(const std::vector<std::string>& a);
+  std::string cmd_print(const std::vector<std::string>& a);
+  std::string cmd_write(const std::vector<std::string>& a, bool force);
+  std::string cmd_unforce(const std::vector<std::string>& a);
+  std::string cmd_trace(const std::vector<std::string>& a);
+  std::string cmd_record(const std::vector<std::string>& a);
+  std::string cmd_goto(const std::vector<std::string>& a);
+  std::string cmd_stats();
+  std::string cmd_watch(const std::vector<std::string>& a, bool add);
+  std::string help() const;
+  std::string stop_report(const std::string& why);
+  std::string watch_lines();
+  std::string forces_list();
+  std::string breaks_list();
+
+  // Resolves a path or an IEC address; error in `err`.
+  std::optional<VarInfo> resolve(const std::string& name, bool& image, std::string& err);
+  // Virtual time: run one scan (live or replayed); false when nothing can run.
+  bool one_scan();
+  void on_scan_end(const TaskRuntime& t, const ScanContext& ctx);
+  void freeze_loop(TaskRuntime& t, std::size_t index);
+  void realtime_wait_until_paused();
+
+  Factory factory_;
+  Options opt_;
+  std::unique_ptr<Runtime> rt_;
+  std::unique_ptr<Replayer> replayer_;
+  std::unique_ptr<Recorder> recorder_;
+  std::unique_ptr<Trace> trace_;
+  std::vector<std::string> trace_spec_;  // trace add/trigger/pre, replayed on rebuild
+  std::vector<Breakpoint> breaks_;
+  std::vector<Force> forces_;
+  std::vector<Write> writes_;
+  std::vector<std::string> watches_;
+  std::mutex mu_;  // tables above, shared with real-time scan threads
+  std::thread rt_thread_;
+  int next_break_id_ = 1;
+  std::uint64_t scans_ = 0;
+  TIME last_scan_time_{};
+  std::string last_scan_task_;
+  std::string describe_value(const std::string& name);
+  std::atomic<bool> stop_hit_{false};
+  std::string stop_reason_;
+  std::atomic<bool> interrupted_{false};
+  bool quit_ = false;
+  bool in_freeze_ = false;
+  int freeze_action_ = 0;  // 0 continue, 1 step (pause at scan end), 2 quit
+  Reader reader_;
+  Writer writer_;
+  std::string joined_line_;  // the command line being executed (conditions keep their spacing)
+};
+
+}  // namespace plc::debug

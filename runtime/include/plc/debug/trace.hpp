@@ -1,0 +1,119 @@
+// Trace chosen variables once per scan of a sampling task, to CSV or to VCD
+// (viewable in GTKWave), with an optional start trigger and a pre-trigger
+// ring buffer: the rows before the trigger are kept and written when it
+// fires, so the file shows what led up to the event.
+//
+// Sampling only copies raw values into preallocated blocks of rows; a writer
+// thread formats full blocks and writes them, so the scan thread pays about
+// a load and a store per variable. When the writer falls more than the
+// preallocated blocks behind: in virtual time (backpressure on, the default)
+// the sampling waits for it, which costs nothing but wall time; in real time
+// a new block is allocated rather than a row lost (counted in
+// overflow_blocks()).
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <cstdio>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "plc/debug/condition.hpp"
+#include "plc/runtime.hpp"
+
+namespace plc::debug {
+
+enum class TraceFormat { Csv, Vcd };
+
+class Trace {
+ public:
+  Trace(const VarRegistry& vars, io::ProcessImage& global, io::ByteOrder order)
+      : vars_(vars), global_(global), order_(order) {}
+  ~Trace() { stop(); }
+  Trace(const Trace&) = delete;
+  Trace& operator=(const Trace&) = delete;
+
+  // Set-up (while not running). Each returns an error message or "".
+  std::string add(const std::string& path_or_address);
+  void clear() { columns_.clear(); }
+  std::string set_trigger(const std::string& condition);  // "" clears it
+  void set_pretrigger(std::size_t rows) { pre_rows_ = rows; }
+  // Off for real time: never make a scan thread wait for the disk.
+  void set_backpressure(bool on) { backpressure_ = on; }
+  // Opens the file and arms the trace. The format follows the extension
+  // (.vcd -> VCD, else CSV) unless given.
+  std::string start(const std::string& file, std::optional<TraceFormat> format = std::nullopt);
+  // Writes what is buffered and closes the file.
+  void stop();
+
+  // The task whose scans are sampled: the owner of the first variable, or
+  // `fallback` (the fastest task) when no variable belongs to a task.
+  [[nodiscard]] int sampling_task(int fallback) const;
+  // Called after each scan of the sampling task.
+  void sample(const ScanContext& ctx);
+
+  [[nodiscard]] bool running() const { return file_ != nullptr; }
+  [[nodiscard]] bool triggered() const { return triggered_; }
+  [[nodiscard]] std::uint64_t rows_written() const { return rows_sampled_; }
+  [[nodiscard]] std::uint64_t overflow_blocks() const { return overflow_blocks_; }
+  [[nodiscard]] std::size_t columns() const { return columns_.size(); }
+  [[nodiscard]] std::string describe() const;
+
+ private:
+  struct Column {
+    VarInfo var;  // for addresses: points into the global image
+  };
+  struct Row {
+    std::int64_t time_ns;
+    std::uint64_t cycle;
+  };
+  static constexpr std::size_t kBlockRows = 256;
+  static constexpr std::size_t kBlocks = 8;
+  struct Block {
+    std::vector<Row> meta;
+    std::vector<std::uint64_t> raw;
+    std::size_t n = 0;
+  };
+  void capture(Row* meta, std::uint64_t* raw, const ScanContext& ctx);
+  void append(const Row& m, const std::uint64_t* raw);  // into the current block
+  void hand_off();                                      // current block -> writer
+  std::unique_ptr<Block> new_block() const;
+  void writer_loop();
+  void format_row(const Row& m, const std::uint64_t* row);
+  void flush_text();
+  void write_header();
+
+  const VarRegistry& vars_;
+  io::ProcessImage& global_;
+  io::ByteOrder order_;
+  std::vector<Column> columns_;
+  std::optional<Condition> trigger_;
+  std::size_t pre_rows_ = 0;
+  TraceFormat format_ = TraceFormat::Csv;
+  std::string file_name_;
+  std::FILE* file_ = nullptr;
+  bool triggered_ = false;
+  // Ring of pre_rows_+1 rows: meta and raw values (8 bytes per column).
+  std::vector<Row> meta_;
+  std::vector<std::uint64_t> raw_;
+  std::size_t ring_head_ = 0, ring_count_ = 0;
+  std::vector<std::uint64_t> last_;  // VCD: last written values
+  bool have_last_ = false;
+  std::string text_;  // writer thread only (and the header before it starts)
+  std::uint64_t rows_sampled_ = 0, overflow_blocks_ = 0;
+  std::unique_ptr<Block> cur_;
+  std::vector<std::unique_ptr<Block>> free_;
+  std::deque<std::unique_ptr<Block>> full_;
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::thread writer_;
+  bool closing_ = false;
+  bool backpressure_ = true;
+};
+
+}  // namespace plc::debug

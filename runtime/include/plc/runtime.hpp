@@ -1,0 +1,234 @@
+// The scan engine: tasks, clocks, the global process image, plugins,
+// programs and the variable registry of one cell.
+//
+// One scan of a task, as data (DESIGN.md "One scan, as data"):
+//   1 latch the inputs of the devices this task exchanges into the global %I,
+//     then copy the global image into the task's private image;
+//   2 (forced inputs: debugger)
+//   3 run the task's programs in order against the private image;
+//   4 (forced outputs: debugger)
+//   5 merge the bits the scan changed in %Q and %M back into the global
+//     image, then publish the outputs of the devices this task exchanges.
+//
+// Virtual time: the clock advances by the base tick (the GCD of all task
+// periods). At each tick the plugins step first, then every task released
+// at that tick runs, in order of priority (0 = highest), ties in config
+// order. Nothing sleeps; a run is reproducible bit for bit.
+//
+// Real time: one thread per task, CLOCK_MONOTONIC absolute sleeps to the
+// release times t0 + k*period, SCHED_FIFO where permitted. A scan that ends
+// after its next release counts an overrun and the missed releases are
+// skipped (never run back to back). A watchdog thread stops a task whose
+// scan exceeds `watchdog` x period and puts its outputs to their safe values.
+//
+// Watchdog in virtual time: a scan has no duration in virtual time, so the
+// watchdog there catches runaway programs by the CPU time the scan thread
+// spends in one scan (not wall time, which a busy machine stretches by
+// preempting us: that would make a reproducible run trip at random). The
+// watchdog thread requests the stop; the scan thread applies it when the
+// scan returns.
+#pragma once
+
+#include <time.h>
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "plc/cell_config.hpp"
+#include "plc/io/plugin.hpp"
+#include "plc/io/process_image.hpp"
+#include "plc/pi_mutex.hpp"
+#include "plc/program.hpp"
+#include "plc/task_stats.hpp"
+#include "plc/var_registry.hpp"
+
+namespace plc {
+
+struct DeviceRuntime {
+  std::string name;
+  std::string plugin_name;
+  io::Plugin* plugin = nullptr;
+  std::size_t index = 0;  // within its plugin
+  io::DeviceSizes sizes;
+  io::IecAddress in{io::Area::Input, io::AddrSize::Byte, 0, 0};
+  io::IecAddress out{io::Area::Output, io::AddrSize::Byte, 0, 0};
+  int task = -1;  // the task that exchanges its data
+};
+
+struct TaskRuntime {
+  std::string name;
+  TIME period{};
+  int priority = 0;
+  double watchdog = 0;  // multiple of the period, 0 = off
+  std::size_t order = 0;
+  std::vector<Program*> programs;
+  std::vector<std::string> program_names;
+  io::ProcessImage image, before;       // private copy; its %Q/%M at scan start
+  std::vector<DeviceRuntime*> devices;  // exchanged by this task
+  std::vector<std::uint8_t> owned_q;    // bit mask of the %Q bits this task writes
+  TaskStats stats;
+  std::atomic<bool> stopped{false};
+  std::atomic<std::int64_t> scan_started_ns{-1};  // steady/monotonic ns, -1 = idle
+  std::atomic<std::uint64_t> scan_seq{0};         // scans started (watchdog bookkeeping)
+  // Virtual time: the watchdog thread asks, the scan thread stops the task
+  // when the scan returns (so the image is only ever touched by one thread).
+  std::atomic<bool> trip_requested{false};
+  std::string trip_reason;
+  std::atomic<std::int64_t> step_budget{0};  // real time: scans allowed while paused
+  std::uint64_t paused_releases = 0;         // real time: releases skipped while paused
+  std::uint64_t cycle = 0;
+};
+
+// Called after every scan of every task, in the scan's thread (trace,
+// debugger, HMI snapshot). Must be quick and must not block.
+using ScanObserver = std::function<void(const TaskRuntime&, const ScanContext&)>;
+
+// Points inside a scan where the debugger (forcing, writes, freeze points,
+// recording and replay) acts. All run in the scan's thread; the two that get
+// the global image run under the image lock.
+class ScanHooks {
+ public:
+  virtual ~ScanHooks() = default;
+  // 1b: the task's devices are latched into the global image (forced inputs,
+  // recording, replay).
+  virtual void after_latch(TaskRuntime&, io::ProcessImage& /*global*/) {}
+  // 2: the private copy is taken, programs not yet run (writes, forces).
+  virtual void before_programs(TaskRuntime&, const ScanContext&) {}
+  // 3a: before program `index` of the task runs (freeze points).
+  virtual void before_program(TaskRuntime&, std::size_t /*index*/, const ScanContext&) {}
+  // 4: programs done, nothing merged yet (forces on program variables).
+  virtual void after_programs(TaskRuntime&, const ScanContext&) {}
+  // 5b: merged into the global image, not yet published (forced outputs).
+  virtual void before_publish(TaskRuntime&, io::ProcessImage& /*global*/) {}
+};
+
+class Runtime {
+ public:
+  // Builds the whole cell; throws ConfigError naming file:line:column.
+  explicit Runtime(const CellConfig& cfg);
+  ~Runtime();
+  Runtime(const Runtime&) = delete;
+  Runtime& operator=(const Runtime&) = delete;
+
+  // Runs for `span` of time (virtual or real) or until request_stop().
+  // Ends with every output at its safe value.
+  void run(io::ClockMode mode, TIME span);
+  // Async-signal-safe: asks run() to stop at the next tick/scan boundary.
+  void request_stop() { stop_requested_.store(true, std::memory_order_relaxed); }
+  [[nodiscard]] bool stop_requested() const {
+    return stop_requested_.load(std::memory_order_relaxed);
+  }
+
+  // Fine-grained virtual-time control (tests, debugger): start() the
+  // plugins, tick() one base tick at a time, finish() to go safe and stop.
+  void start(io::ClockMode mode);
+  void tick();
+  // Virtual time: run exactly the next due scan (stepping the devices first
+  // when a new tick begins); returns its task, or nullptr when every task
+  // has stopped. Ticks are closed eagerly, so between calls now() is the
+  // time of the next scan.
+  TaskRuntime* step_scan();
+  void finish();
+
+  // Real time: pause the logic at scan boundaries. While paused the tasks
+  // do not scan (no latch, no programs, no publish) and the plugins go on
+  // exchanging the last outputs, so devices do not time out. allow_scans()
+  // lets a paused task run n more scans (stepping).
+  void set_paused(bool p) { paused_.store(p, std::memory_order_release); }
+  [[nodiscard]] bool paused() const { return paused_.load(std::memory_order_acquire); }
+  void allow_scans(TaskRuntime& t, std::int64_t n) {
+    t.step_budget.fetch_add(n, std::memory_order_acq_rel);
+  }
+
+  // Several hook sets may be active (debugger, recorder, replayer); they run
+  // in the order they were added.
+  void add_hooks(ScanHooks* h) { hooks_.push_back(h); }
+  void remove_hooks(ScanHooks* h);
+  // Runs one scan of `t` at time `now` outside the virtual schedule (replay
+  // of a recording, which fixes the order and times of the scans itself).
+  void run_scan(TaskRuntime& t, TIME now);
+  // A hash of the cell's layout (tasks, devices and their addresses) that a
+  // recording must match to be replayed on it.
+  [[nodiscard]] std::uint64_t layout_hash() const;
+  // Replay: devices are neither stepped, latched nor published; inputs come
+  // from the hooks (after_latch) instead.
+  void set_plugins_enabled(bool on) { plugins_enabled_ = on; }
+
+  [[nodiscard]] TIME now() const { return now_; }
+  [[nodiscard]] TIME base_tick() const { return base_tick_; }
+  [[nodiscard]] TIME fastest_period() const { return fastest_period_; }
+  [[nodiscard]] io::ClockMode mode() const { return mode_; }
+
+  VarRegistry& vars() { return vars_; }
+  [[nodiscard]] const VarRegistry& vars() const { return vars_; }
+  [[nodiscard]] const std::vector<std::unique_ptr<TaskRuntime>>& tasks() const { return tasks_; }
+  [[nodiscard]] const TaskRuntime* task(const std::string& name) const;
+  io::ProcessImage& image() { return global_; }
+  [[nodiscard]] io::ByteOrder byte_order() const { return order_; }
+  io::Plugin* plugin(const std::string& name);
+  Program* program(const std::string& name);
+  [[nodiscard]] const std::vector<DeviceRuntime>& devices() const { return devices_; }
+  [[nodiscard]] const std::string& cell_name() const { return cell_name_; }
+
+  void add_scan_observer(ScanObserver o) { observers_.push_back(std::move(o)); }
+
+  // Per-task statistics as JSON (plcrun --stats-json).
+  [[nodiscard]] std::string stats_json() const;
+  // Wall-clock seconds spent inside run() (for the virtual/real speed ratio).
+  [[nodiscard]] double wall_seconds() const { return wall_seconds_; }
+
+ private:
+  void build(const CellConfig& cfg);
+  void scan(TaskRuntime& t, TIME now);
+  void trip(TaskRuntime& t, const std::string& reason, bool watchdog);
+  void apply_safe_outputs(const std::vector<std::uint8_t>* mask);
+  void publish_all();
+  void run_virtual(TIME span);
+  void run_realtime(TIME span);
+  void realtime_task_loop(TaskRuntime& t, std::int64_t t0_ns);
+  void watchdog_loop();
+  void start_watchdog();
+  void stop_watchdog();
+
+  std::string cell_name_;
+  io::ByteOrder order_ = io::ByteOrder::Big;
+  io::ProcessImage global_;
+  std::vector<std::uint8_t> safe_q_;
+  std::vector<std::pair<std::string, std::unique_ptr<io::Plugin>>> plugins_;
+  std::vector<std::pair<std::string, std::unique_ptr<Program>>> programs_;
+  std::vector<DeviceRuntime> devices_;
+  std::vector<std::unique_ptr<TaskRuntime>> tasks_;
+  std::vector<TaskRuntime*> exec_order_;  // by priority, then config order
+  VarRegistry vars_;
+  std::vector<ScanObserver> observers_;
+  std::vector<ScanHooks*> hooks_;
+  bool plugins_enabled_ = true;
+  std::atomic<bool> paused_{false};
+  bool tick_open_ = false;
+  std::size_t cursor_ = 0;  // next entry of exec_order_ in the open tick
+  void begin_tick();
+  void advance_cursor();
+  [[nodiscard]] bool due(const TaskRuntime& t) const;
+
+  io::ClockMode mode_ = io::ClockMode::Virtual;
+  bool started_ = false;
+  bool first_tick_ = true;
+  TIME now_{};
+  TIME base_tick_{};
+  TIME fastest_period_{};
+  PiMutex image_mutex_;
+  bool lock_image_ = false;  // only real time has concurrent tasks
+  std::atomic<bool> stop_requested_{false};
+  std::atomic<bool> rt_running_{false};
+  std::atomic<bool> watchdog_running_{false};
+  std::thread watchdog_thread_;
+  clockid_t scan_thread_cpu_clock_{};  // virtual time: the thread that calls tick()
+  double wall_seconds_ = 0;
+};
+
+}  // namespace plc

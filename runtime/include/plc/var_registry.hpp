@@ -1,0 +1,52 @@
+// The variable registry: every program variable and every FB field by path
+// (e.g. `Main.conveyor.t1.ET`) with its type, and for located variables
+// their IEC address. The debugger, trace, HMI bridge and retain all reach
+// variables through it.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "plc/io/byte_order.hpp"
+#include "plc/io/iec_address.hpp"
+#include "plc/types.hpp"
+
+namespace plc {
+
+struct VarInfo {
+  std::string path;
+  VarType type = VarType::BOOL;
+  // A plain variable: native storage inside its program object.
+  void* ptr = nullptr;
+  // A located variable: lives in the image copy of its task.
+  std::optional<io::IecAddress> address;
+  std::uint8_t* image_ptr = nullptr;
+  io::ByteOrder order = io::ByteOrder::Big;
+  int task = -1;  // index of the task whose programs own it (-1: none)
+};
+
+class VarRegistry {
+ public:
+  void add(VarInfo v);
+  [[nodiscard]] const VarInfo* find(std::string_view path) const;
+  [[nodiscard]] const std::vector<VarInfo>& all() const { return vars_; }
+
+  // Copies the value into/out of native storage of size_of(v.type) bytes
+  // (for located variables this converts from/to the image byte order).
+  static void read(const VarInfo& v, void* out);
+  static void write(const VarInfo& v, const void* in);
+  // IEC notation of the current value (TRUE, 16#047F, T#1s500ms, ...).
+  static std::string format(const VarInfo& v);
+  // Parses `text` and writes it; returns an error message or "".
+  static std::string write_text(const VarInfo& v, std::string_view text);
+
+ private:
+  std::vector<VarInfo> vars_;
+  std::unordered_map<std::string, std::size_t> index_;
+};
+
+}  // namespace plc

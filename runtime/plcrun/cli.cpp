@@ -1,0 +1,379 @@
+#include "cli.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <boost/program_options.hpp>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "debug_console.hpp"
+#include "plc/cell_config.hpp"
+#include "plc/debug/recording.hpp"
+#include "plc/debug/trace.hpp"
+#include "plc/iec_literal.hpp"
+#include "plc/runtime.hpp"
+
+namespace plc {
+namespace {
+
+namespace po = boost::program_options;
+
+Runtime* g_runtime = nullptr;
+debug::Debugger* g_debugger = nullptr;
+
+// First Ctrl-C: stop at the next scan boundary with outputs safe. Second:
+// leave at once (a program stuck in an endless loop never reaches a
+// boundary in virtual time).
+extern "C" void on_signal(int) {
+  static std::atomic<int> count{0};  // lock-free, so async-signal-safe
+  if (g_debugger) {                  // in the debugger Ctrl-C interrupts a run, never quits
+    g_debugger->interrupt();
+    return;
+  }
+  if (count.fetch_add(1) > 0) _exit(130);
+  if (g_runtime) g_runtime->request_stop();
+}
+
+std::string us(std::uint64_t ns) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1f us", double(ns) / 1000.0);
+  return b;
+}
+
+std::vector<std::string> split_csv(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+// A one-line live status (checked every 256 scans so the clock read stays
+// off the hot path).
+class StatusLine {
+ public:
+  StatusLine(Runtime& rt, bool tty) : rt_(rt), tty_(tty), t0_(std::chrono::steady_clock::now()) {
+    rt.add_scan_observer([this](const TaskRuntime&, const ScanContext&) {
+      if ((++calls_ & 255) == 0) maybe_print();
+    });
+  }
+  void done() {
+    if (tty_ && printed_) std::fputc('\n', stderr);
+  }
+
+ private:
+  void maybe_print() {
+    const auto now = std::chrono::steady_clock::now();
+    // A terminal gets a fresh line ten times a second; a log once a second.
+    if (now - last_ < (tty_ ? std::chrono::milliseconds(100) : std::chrono::milliseconds(1000)))
+      return;
+    last_ = now;
+    printed_ = true;
+    const double wall = std::chrono::duration<double>(now - t0_).count();
+    const double sim = std::chrono::duration<double>(rt_.now()).count();
+    // Built piecewise: GCC 12 warns falsely (-Wrestrict) on a chain of '+'.
+    std::string line = "[";
+    line += rt_.mode() == io::ClockMode::Virtual ? "virtual" : "realtime";
+    line += "] t=";
+    char b[64];
+    std::snprintf(b, sizeof b, "%.2f s", sim);
+    line += b;
+    for (const auto& t : rt_.tasks()) {
+      line += "  " + t->name + ": " + std::to_string(t->stats.scans) + " scans, avg " +
+              us(std::uint64_t(t->stats.scan_ns.mean())) + ", ovr " +
+              std::to_string(t->stats.overruns);
+    }
+    if (rt_.mode() == io::ClockMode::Virtual && wall > 0) {
+      std::snprintf(b, sizeof b, "  speed %.0fx", sim / wall);
+      line += b;
+    }
+    if (tty_) {
+      std::fprintf(stderr, "\r\033[K%s", line.c_str());
+    } else {
+      std::fprintf(stderr, "%s\n", line.c_str());
+    }
+    std::fflush(stderr);
+  }
+
+  Runtime& rt_;
+  bool tty_;
+  bool printed_ = false;
+  std::uint64_t calls_ = 0;
+  std::chrono::steady_clock::time_point t0_, last_{};
+};
+
+void print_summary(const Runtime& rt) {
+  const double sim = std::chrono::duration<double>(rt.now()).count();
+  std::printf("== summary: cell '%s', %s time ==\n", rt.cell_name().c_str(),
+              rt.mode() == io::ClockMode::Virtual ? "virtual" : "real");
+  std::printf("simulated time: %.3f s   wall time: %.3f s", sim, rt.wall_seconds());
+  if (rt.mode() == io::ClockMode::Virtual && rt.wall_seconds() > 0)
+    std::printf("   virtual-to-real speed: %.0fx", sim / rt.wall_seconds());
+  std::printf("\n");
+  for (const auto& t : rt.tasks()) {
+    const TaskStats& s = t->stats;
+    std::printf(
+        "task %-10s period %-10s cycles %-9llu overruns %llu (skipped %llu)\n", t->name.c_str(),
+        format_iec_time(t->period).c_str(), static_cast<unsigned long long>(s.scans),
+        static_cast<unsigned long long>(s.overruns), static_cast<unsigned long long>(s.skipped));
+    std::printf("  scan time   min %s  avg %s  p99 %s  max %s\n", us(s.scan_ns.min()).c_str(),
+                us(std::uint64_t(s.scan_ns.mean())).c_str(), us(s.scan_ns.percentile(0.99)).c_str(),
+                us(s.scan_ns.max()).c_str());
+    if (s.latency_ns.count())
+      std::printf("  wake latency min %s  avg %s  p99 %s  p99.9 %s  max %s\n",
+                  us(s.latency_ns.min()).c_str(), us(std::uint64_t(s.latency_ns.mean())).c_str(),
+                  us(s.latency_ns.percentile(0.99)).c_str(),
+                  us(s.latency_ns.percentile(0.999)).c_str(), us(s.latency_ns.max()).c_str());
+    if (!s.stop_reason.empty()) std::printf("  STOPPED: %s\n", s.stop_reason.c_str());
+  }
+}
+
+}  // namespace
+
+int plcrun_main(int argc, char** argv) {
+  po::options_description opts(
+      "Usage: plcrun CONFIG [options]\n\nRuns a cell (tasks, programs, devices) from its YAML "
+      "config.\n\nOptions");
+  // clang-format off
+  opts.add_options()
+    ("help,h", "show this help")
+    ("virtual", "virtual time: no sleeping, devices step in lockstep, reproducible (the default unless the config says clock: realtime)")
+    ("realtime", "real time: CLOCK_MONOTONIC absolute sleeps, SCHED_FIFO where permitted")
+    ("cycles", po::value<std::uint64_t>()->value_name("N"), "run N periods of the fastest task")
+    ("for", po::value<std::string>()->value_name("DURATION"), "run for a duration of (virtual or real) time, e.g. 10s, T#1m30s")
+    ("trace", po::value<std::string>()->value_name("FILE"), "write a trace, one row per scan: FILE.csv, or FILE.vcd for GTKWave")
+    ("trace-vars", po::value<std::string>()->value_name("PATH,..."), "variables or addresses to trace: PATH,%QW0,...")
+    ("trace-trigger", po::value<std::string>()->value_name("CONDITION"), "start tracing when this condition holds, e.g. 'Tank.step = 3'")
+    ("trace-pre", po::value<std::size_t>()->value_name("ROWS"), "rows kept from before the trigger (default 0)")
+    ("stats-json", po::value<std::string>()->value_name("FILE"), "write per-task statistics as JSON at the end")
+    ("list-vars", "print every variable path with its type (and address), then exit")
+    ("print-vars", po::value<std::string>()->value_name("PATH,..."), "print these variables' final values after the summary: PATH,PATH,...")
+    ("debug", "open the debugger console (pause, step, break, watch, force, trace, goto ...)")
+    ("commands", po::value<std::string>()->value_name("FILE"), "run debugger commands from FILE (then the console if --debug)")
+    ("record", po::value<std::string>()->value_name("FILE"), "record every scan's device inputs into FILE (for --replay)")
+    ("replay", po::value<std::string>()->value_name("FILE"), "replay a recording instead of the devices, checking the outputs")
+    ("quiet,q", "no live status line")
+    ("config", po::value<std::string>()->value_name("FILE"), "the cell config (YAML)");
+  // clang-format on
+  po::positional_options_description pos;
+  pos.add("config", 1);
+  po::variables_map vm;
+  try {
+    po::store(po::command_line_parser(argc, argv).options(opts).positional(pos).run(), vm);
+    po::notify(vm);
+  } catch (const po::error& e) {
+    std::cerr << "plcrun: " << e.what() << "\n(plcrun --help for usage)\n";
+    return 2;
+  }
+  if (vm.count("help")) {
+    std::cout << opts << "\n";
+    return 0;
+  }
+  if (!vm.count("config")) {
+    std::cerr << "plcrun: missing CONFIG (plcrun --help for usage)\n";
+    return 2;
+  }
+  if (vm.count("virtual") && vm.count("realtime")) {
+    std::cerr << "plcrun: --virtual and --realtime exclude each other\n";
+    return 2;
+  }
+  if (vm.count("cycles") && vm.count("for")) {
+    std::cerr << "plcrun: --cycles and --for exclude each other\n";
+    return 2;
+  }
+  if (vm.count("trace") != vm.count("trace-vars")) {
+    std::cerr << "plcrun: --trace and --trace-vars go together\n";
+    return 2;
+  }
+
+  std::unique_ptr<Runtime> rt;
+  io::ClockMode mode = io::ClockMode::Virtual;
+  CellConfig cfg;
+  try {
+    cfg = load_cell_config(vm["config"].as<std::string>());
+    mode = cfg.clock.value;
+    rt = std::make_unique<Runtime>(cfg);
+  } catch (const ConfigError& e) {
+    std::cerr << e.what() << "\n";
+    return 2;
+  }
+  if (vm.count("virtual")) mode = io::ClockMode::Virtual;
+  if (vm.count("realtime")) mode = io::ClockMode::RealTime;
+
+  if (vm.count("list-vars")) {
+    for (const VarInfo& v : rt->vars().all()) {
+      std::cout << v.path << " " << to_string(v.type);
+      if (v.address) std::cout << " " << v.address->to_string();
+      std::cout << "\n";
+    }
+    return 0;
+  }
+
+  // Default span: 10 s in virtual time; in real time until Ctrl-C.
+  TIME span = mode == io::ClockMode::Virtual ? TIME(std::chrono::seconds(10))
+                                             : TIME(std::chrono::hours(24 * 365));
+  if (vm.count("cycles"))
+    span = rt->fastest_period() * static_cast<std::int64_t>(vm["cycles"].as<std::uint64_t>());
+  if (vm.count("for")) {
+    const auto t = parse_iec_time(vm["for"].as<std::string>());
+    if (!t || t->count() <= 0) {
+      std::cerr << "plcrun: --for: '" << vm["for"].as<std::string>()
+                << "' is not a positive duration (e.g. 10s)\n";
+      return 2;
+    }
+    span = *t;
+  }
+
+  if (vm.count("replay") && mode == io::ClockMode::RealTime) {
+    std::cerr << "plcrun: --replay runs in virtual time\n";
+    return 2;
+  }
+  if (vm.count("replay") && vm.count("record")) {
+    std::cerr << "plcrun: --replay and --record exclude each other\n";
+    return 2;
+  }
+
+  if (vm.count("debug") || vm.count("commands")) {
+    rt.reset();  // the debugger builds (and for goto rebuilds) its own
+    debug::Debugger::Options o;
+    o.mode = mode;
+    o.span = span;
+    if (vm.count("replay")) o.replay_file = vm["replay"].as<std::string>();
+    std::unique_ptr<debug::Debugger> dbg;
+    try {
+      dbg = std::make_unique<debug::Debugger>([&cfg] { return std::make_unique<Runtime>(cfg); }, o);
+    } catch (const std::exception& e) {
+      std::cerr << "plcrun: " << e.what() << "\n";
+      return 2;
+    }
+    g_debugger = dbg.get();
+    struct sigaction sa {};
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, nullptr);
+    sigaction(SIGTERM, &sa, nullptr);
+    const std::string file = vm.count("commands") ? vm["commands"].as<std::string>() : "";
+    if (!run_debug_session(*dbg, file, vm.count("debug") != 0)) {
+      std::cerr << "plcrun: cannot read command file '" << file << "'\n";
+      g_debugger = nullptr;
+      return 2;
+    }
+    g_debugger = nullptr;
+    return 0;
+  }
+
+  std::unique_ptr<debug::Replayer> replayer;
+  std::unique_ptr<debug::Recorder> recorder;
+  try {
+    if (vm.count("replay"))
+      replayer = std::make_unique<debug::Replayer>(*rt, vm["replay"].as<std::string>());
+    if (vm.count("record"))
+      recorder = std::make_unique<debug::Recorder>(*rt, vm["record"].as<std::string>());
+  } catch (const std::exception& e) {
+    std::cerr << "plcrun: " << e.what() << "\n";
+    return 2;
+  }
+
+  std::unique_ptr<debug::Trace> trace;
+  if (vm.count("trace")) {
+    trace = std::make_unique<debug::Trace>(rt->vars(), rt->image(), rt->byte_order());
+    trace->set_backpressure(mode == io::ClockMode::Virtual);
+    std::string err;
+    for (const auto& v : split_csv(vm["trace-vars"].as<std::string>()))
+      if (err.empty()) err = trace->add(v);
+    if (err.empty() && vm.count("trace-trigger"))
+      err = trace->set_trigger(vm["trace-trigger"].as<std::string>());
+    if (vm.count("trace-pre")) trace->set_pretrigger(vm["trace-pre"].as<std::size_t>());
+    if (err.empty()) err = trace->start(vm["trace"].as<std::string>());
+    if (!err.empty()) {
+      std::cerr << "plcrun: trace: " << err << " (plcrun CONFIG --list-vars lists the variables)\n";
+      return 2;
+    }
+    int fastest = 0;
+    for (const auto& t : rt->tasks())
+      if (t->period == rt->fastest_period()) {
+        fastest = static_cast<int>(t->order);
+        break;
+      }
+    const int task = trace->sampling_task(fastest);
+    debug::Trace* tr = trace.get();
+    rt->add_scan_observer([tr, task](const TaskRuntime& t, const ScanContext& ctx) {
+      if (static_cast<int>(t.order) == task) tr->sample(ctx);
+    });
+  }
+  std::unique_ptr<StatusLine> status;
+  if (!vm.count("quiet")) status = std::make_unique<StatusLine>(*rt, isatty(STDERR_FILENO) != 0);
+
+  g_runtime = rt.get();
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+
+  std::fprintf(stderr, "plcrun: running cell '%s' in %s time%s\n", rt->cell_name().c_str(),
+               mode == io::ClockMode::Virtual ? "virtual" : "real",
+               mode == io::ClockMode::RealTime ? " (Ctrl-C stops, outputs go safe)" : "");
+  std::fflush(stderr);
+  int rc = 0;
+  try {
+    if (replayer) {
+      // The recording fixes which scans run, in which order, at which time.
+      rt->start(io::ClockMode::Virtual);
+      while (!rt->stop_requested() && replayer->step()) {
+      }
+      rt->finish();
+      std::printf("replay: %llu scans, %llu with different outputs%s%s\n",
+                  static_cast<unsigned long long>(replayer->scans()),
+                  static_cast<unsigned long long>(replayer->mismatches()),
+                  replayer->first_mismatch() >= 0
+                      ? (", first at scan " + std::to_string(replayer->first_mismatch())).c_str()
+                      : "",
+                  replayer->error().empty() ? "" : (" (" + replayer->error() + ")").c_str());
+      if (replayer->mismatches() || !replayer->error().empty()) rc = 1;
+    } else {
+      rt->run(mode, span);
+    }
+  } catch (const io::PluginStartError& e) {
+    std::cerr << "plcrun: " << e.what() << "\n";
+    rc = 1;
+  }
+  if (recorder) {
+    std::printf("recorded %llu scans into %s\n", static_cast<unsigned long long>(recorder->scans()),
+                vm["record"].as<std::string>().c_str());
+    recorder->close();
+  }
+  g_runtime = nullptr;
+  if (status) status->done();
+  if (trace) trace->stop();
+  print_summary(*rt);
+  if (vm.count("print-vars")) {
+    std::printf("final values:\n");
+    for (const auto& p : split_csv(vm["print-vars"].as<std::string>())) {
+      const VarInfo* v = rt->vars().find(p);
+      std::printf("  %s = %s\n", p.c_str(),
+                  v ? VarRegistry::format(*v).c_str() : "<unknown variable>");
+    }
+  }
+  if (rt->stop_requested()) std::printf("stopped by signal; outputs at their safe values\n");
+  for (const auto& t : rt->tasks())
+    if (!t->stats.stop_reason.empty()) rc = 1;
+  if (vm.count("stats-json")) {
+    std::ofstream f(vm["stats-json"].as<std::string>());
+    if (!f) {
+      std::cerr << "plcrun: cannot write " << vm["stats-json"].as<std::string>() << "\n";
+      return 2;
+    }
+    f << rt->stats_json();
+  }
+  return rc;
+}
+
+}  // namespace plc

@@ -1,0 +1,312 @@
+// YAML cell-config loader. Every error names file:line:column and the key.
+#include "plc/cell_config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "plc/iec_literal.hpp"
+
+namespace plc {
+
+ConfigError::ConfigError(const std::string& f, Mark m, const std::string& msg)
+    : std::runtime_error(f + ":" + std::to_string(m.line) + ":" + std::to_string(m.column) + ": " +
+                         msg),
+      file(f),
+      mark(m),
+      message(msg) {}
+
+namespace {
+
+Mark mark_of(const YAML::Node& n) {
+  const YAML::Mark m = n.Mark();
+  if (m.line < 0) return {};
+  return {m.line + 1, m.column + 1};
+}
+
+class Loader {
+ public:
+  explicit Loader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(Mark m, const std::string& msg) const { throw ConfigError(file_, m, msg); }
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& msg) const {
+    fail(mark_of(n), msg);
+  }
+
+  void expect_map(const YAML::Node& n, const std::string& what) const {
+    if (!n.IsMap()) fail(n, what + " must be a mapping (key: value)");
+  }
+
+  // Rejects keys not in `allowed`, naming the key and the allowed ones.
+  void check_keys(const YAML::Node& n, const std::set<std::string>& allowed,
+                  const std::string& what) const {
+    for (auto it = n.begin(); it != n.end(); ++it) {
+      const std::string key = it->first.Scalar();
+      if (!allowed.count(key)) {
+        std::string list;
+        for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+        fail(it->first,
+             "unknown key '" + key + "' in " + what + " (expected one of: " + list + ")");
+      }
+    }
+  }
+
+  const YAML::Node require(const YAML::Node& n, const std::string& key,
+                           const std::string& what) const {
+    const YAML::Node v = n[key];
+    if (!v) fail(n, "missing key '" + key + "' in " + what);
+    return v;
+  }
+
+  Item<std::string> scalar(const YAML::Node& v, const std::string& key) const {
+    if (!v.IsScalar()) fail(v, "key '" + key + "' must be a single value");
+    return {v.Scalar(), mark_of(v)};
+  }
+
+  Item<TIME> time(const YAML::Node& v, const std::string& key) const {
+    auto s = scalar(v, key);
+    auto t = parse_iec_time(s.value);
+    if (!t) fail(v, "key '" + key + "': '" + s.value + "' is not a duration (e.g. 1ms, T#10ms)");
+    return {*t, s.mark};
+  }
+
+  Item<std::int64_t> integer(const YAML::Node& v, const std::string& key, std::int64_t min,
+                             std::int64_t max) const {
+    auto s = scalar(v, key);
+    auto i = parse_iec_integer(s.value);
+    if (!i) fail(v, "key '" + key + "': '" + s.value + "' is not an integer");
+    if (*i < min || *i > max)
+      fail(v, "key '" + key + "': " + s.value + " out of range [" + std::to_string(min) + ", " +
+                  std::to_string(max) + "]");
+    return {*i, s.mark};
+  }
+
+  Params params(const YAML::Node& v, const std::string& key) const {
+    Params p;
+    p.mark = mark_of(v);
+    if (!v.IsMap()) fail(v, "key '" + key + "' must be a mapping of parameter: value");
+    for (auto it = v.begin(); it != v.end(); ++it) {
+      const std::string k = it->first.Scalar();
+      if (!it->second.IsScalar()) fail(it->second, "parameter '" + k + "' must be a single value");
+      p.values.set(k, it->second.Scalar());
+      p.marks[k] = mark_of(it->first);
+    }
+    return p;
+  }
+
+  std::vector<std::pair<Item<std::string>, Item<std::string>>> string_map(
+      const YAML::Node& v, const std::string& key) const {
+    std::vector<std::pair<Item<std::string>, Item<std::string>>> out;
+    if (!v.IsMap()) fail(v, "key '" + key + "' must be a mapping");
+    for (auto it = v.begin(); it != v.end(); ++it) {
+      if (!it->second.IsScalar())
+        fail(it->second, "'" + it->first.Scalar() + "' must be a single value");
+      out.push_back(
+          {{it->first.Scalar(), mark_of(it->first)}, {it->second.Scalar(), mark_of(it->second)}});
+    }
+    return out;
+  }
+
+  template <class F>
+  void each(const YAML::Node& root, const std::string& key, F f) const {
+    const YAML::Node list = root[key];
+    if (!list) return;
+    if (!list.IsSequence()) fail(list, "key '" + key + "' must be a list (items start with '- ')");
+    for (const auto& item : list) f(item);
+  }
+
+  CellConfig load(const YAML::Node& root) {
+    CellConfig c;
+    c.file = file_;
+    if (!root || root.IsNull()) fail(Mark{1, 1}, "the config is empty");
+    expect_map(root, "the cell config");
+    check_keys(root,
+               {"cell", "clock", "image", "tasks", "programs", "plugins", "devices", "safe_values"},
+               "the cell config");
+    if (root["cell"]) c.cell = scalar(root["cell"], "cell");
+    if (const auto n = root["clock"]) {
+      auto s = scalar(n, "clock");
+      if (s.value == "virtual")
+        c.clock = {io::ClockMode::Virtual, s.mark};
+      else if (s.value == "realtime")
+        c.clock = {io::ClockMode::RealTime, s.mark};
+      else
+        fail(n, "key 'clock': '" + s.value + "' is not virtual or realtime");
+    }
+    if (const auto n = root["image"]) {
+      expect_map(n, "image");
+      check_keys(n, {"inputs", "outputs", "memory", "byte_order"}, "image");
+      c.image_mark = mark_of(n);
+      constexpr std::int64_t kMax = 1 << 20;
+      if (n["inputs"]) c.image.inputs = std::size_t(integer(n["inputs"], "inputs", 0, kMax).value);
+      if (n["outputs"])
+        c.image.outputs = std::size_t(integer(n["outputs"], "outputs", 0, kMax).value);
+      if (n["memory"]) c.image.memory = std::size_t(integer(n["memory"], "memory", 0, kMax).value);
+      if (const auto b = n["byte_order"]) {
+        auto s = scalar(b, "byte_order");
+        if (s.value == "big")
+          c.byte_order = {io::ByteOrder::Big, s.mark};
+        else if (s.value == "little")
+          c.byte_order = {io::ByteOrder::Little, s.mark};
+        else
+          fail(b, "key 'byte_order': '" + s.value + "' is not big or little");
+      }
+    }
+    each(root, "tasks", [&](const YAML::Node& n) { c.tasks.push_back(task(n)); });
+    each(root, "programs", [&](const YAML::Node& n) { c.programs.push_back(program(n)); });
+    each(root, "plugins", [&](const YAML::Node& n) { c.plugins.push_back(plugin(n)); });
+    each(root, "devices", [&](const YAML::Node& n) { c.devices.push_back(device(n)); });
+    if (const auto n = root["safe_values"]) {
+      for (auto& [a, v] : string_map(n, "safe_values")) c.safe_values.push_back({a, v});
+    }
+    if (c.tasks.empty()) fail(root, "the cell config declares no tasks (key 'tasks')");
+    cross_check(c);
+    return c;
+  }
+
+  TaskConfig task(const YAML::Node& n) {
+    TaskConfig t;
+    t.mark = mark_of(n);
+    expect_map(n, "a task");
+    check_keys(n, {"name", "period", "priority", "programs", "watchdog"}, "task");
+    t.name = scalar(require(n, "name", "task"), "name");
+    t.period = time(require(n, "period", "task '" + t.name.value + "'"), "period");
+    if (t.period.value.count() <= 0) fail(n["period"], "key 'period': must be positive");
+    if (t.period.value.count() % 1000 != 0)
+      fail(n["period"], "key 'period': must be a whole number of microseconds");
+    t.priority = {0, t.mark};
+    if (n["priority"]) {
+      auto p = integer(n["priority"], "priority", 0, 48);
+      t.priority = {int(p.value), p.mark};
+    }
+    t.watchdog = {10.0, t.mark};
+    if (n["watchdog"]) {
+      auto s = scalar(n["watchdog"], "watchdog");
+      auto d = parse_iec_real(s.value);
+      if (!d || *d < 0)
+        fail(n["watchdog"],
+             "key 'watchdog': '" + s.value + "' is not a multiple of the period >= 0 (0 = off)");
+      if (*d > 0 && *d < 1)
+        fail(n["watchdog"], "key 'watchdog': a multiple below 1 would trip on every scan");
+      t.watchdog = {*d, s.mark};
+    }
+    const YAML::Node progs = require(n, "programs", "task '" + t.name.value + "'");
+    if (!progs.IsSequence()) fail(progs, "key 'programs' must be a list of program names");
+    for (const auto& p : progs) t.programs.push_back(scalar(p, "programs"));
+    return t;
+  }
+
+  ProgramConfig program(const YAML::Node& n) {
+    ProgramConfig p;
+    p.mark = mark_of(n);
+    expect_map(n, "a program");
+    check_keys(n, {"name", "type", "bind", "init"}, "program");
+    p.name = scalar(require(n, "name", "program"), "name");
+    p.type = scalar(require(n, "type", "program '" + p.name.value + "'"), "type");
+    if (n["bind"]) p.bind = string_map(n["bind"], "bind");
+    if (n["init"]) p.init = string_map(n["init"], "init");
+    return p;
+  }
+
+  PluginConfig plugin(const YAML::Node& n) {
+    PluginConfig p;
+    p.mark = mark_of(n);
+    expect_map(n, "a plugin");
+    check_keys(n, {"name", "type", "params"}, "plugin");
+    p.name = scalar(require(n, "name", "plugin"), "name");
+    p.type = n["type"] ? scalar(n["type"], "type") : Item<std::string>{p.name.value, p.name.mark};
+    if (n["params"]) p.params = params(n["params"], "params");
+    return p;
+  }
+
+  DeviceConfig device(const YAML::Node& n) {
+    DeviceConfig d;
+    d.mark = mark_of(n);
+    expect_map(n, "a device");
+    check_keys(n, {"name", "plugin", "model", "input", "output", "task", "params"}, "device");
+    d.name = scalar(require(n, "name", "device"), "name");
+    const std::string what = "device '" + d.name.value + "'";
+    d.plugin = scalar(require(n, "plugin", what), "plugin");
+    if (n["model"]) d.model = scalar(n["model"], "model");
+    d.input = n["input"] ? scalar(n["input"], "input") : Item<std::string>{"", d.mark};
+    d.output = n["output"] ? scalar(n["output"], "output") : Item<std::string>{"", d.mark};
+    if (n["task"]) d.task = scalar(n["task"], "task");
+    if (n["params"]) d.params = params(n["params"], "params");
+    return d;
+  }
+
+  template <class T>
+  void unique_names(const std::vector<T>& v, const std::string& what) const {
+    std::set<std::string> seen;
+    for (const auto& x : v)
+      if (!seen.insert(x.name.value).second)
+        fail(x.name.mark, "duplicate " + what + " name '" + x.name.value + "'");
+  }
+
+  void cross_check(const CellConfig& c) const {
+    unique_names(c.tasks, "task");
+    unique_names(c.programs, "program");
+    unique_names(c.plugins, "plugin");
+    unique_names(c.devices, "device");
+    std::map<std::string, std::string> program_task;
+    for (const auto& t : c.tasks) {
+      for (const auto& p : t.programs) {
+        bool found = false;
+        for (const auto& pc : c.programs) found |= pc.name.value == p.value;
+        if (!found)
+          fail(p.mark, "task '" + t.name.value + "' runs unknown program '" + p.value +
+                           "' (declare it under 'programs')");
+        auto [it, fresh] = program_task.emplace(p.value, t.name.value);
+        if (!fresh)
+          fail(p.mark, "program '" + p.value + "' is already run by task '" + it->second + "'");
+      }
+    }
+    for (const auto& d : c.devices) {
+      bool found = false;
+      for (const auto& p : c.plugins) found |= p.name.value == d.plugin.value;
+      if (!found)
+        fail(d.plugin.mark, "device '" + d.name.value + "' uses unknown plugin '" + d.plugin.value +
+                                "' (declare it under 'plugins')");
+      if (!d.task.value.empty()) {
+        bool t_found = false;
+        for (const auto& t : c.tasks) t_found |= t.name.value == d.task.value;
+        if (!t_found)
+          fail(d.task.mark,
+               "device '" + d.name.value + "' names unknown task '" + d.task.value + "'");
+      }
+    }
+  }
+
+ private:
+  std::string file_;
+};
+
+}  // namespace
+
+CellConfig parse_cell_config(const std::string& text, const std::string& file_name) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(file_name, {e.mark.line + 1, e.mark.column + 1},
+                      "YAML syntax error: " + e.msg);
+  }
+  Loader l(file_name);
+  try {
+    return l.load(root);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(file_name, {e.mark.line + 1, e.mark.column + 1}, e.msg);
+  }
+}
+
+CellConfig load_cell_config(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError(path, {}, "cannot open the config file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_cell_config(ss.str(), path);
+}
+
+}  // namespace plc

@@ -1,0 +1,847 @@
+#include "plc/debug/debugger.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+#include "plc/iec_literal.hpp"
+
+namespace plc::debug {
+namespace {
+
+std::vector<std::string> words(std::string_view s) {
+  std::vector<std::string> out;
+  std::string cur;
+  for (char c : s) {
+    if (std::isspace(static_cast<unsigned char>(c)) || c == ',') {
+      if (!cur.empty()) out.push_back(std::move(cur));
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  if (!cur.empty()) out.push_back(std::move(cur));
+  return out;
+}
+
+// The text after the first `n` words (conditions keep their spaces).
+std::string rest_after(std::string_view line, std::size_t n) {
+  std::size_t i = 0;
+  for (std::size_t w = 0; w < n; ++w) {
+    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+  }
+  while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+  std::string r(line.substr(i));
+  while (!r.empty() && std::isspace(static_cast<unsigned char>(r.back()))) r.pop_back();
+  return r;
+}
+
+std::string seconds(TIME t) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6fs", std::chrono::duration<double>(t).count());
+  return b;
+}
+
+std::optional<std::uint64_t> count_arg(const std::string& s) {
+  auto v = parse_iec_unsigned(s);
+  if (!v || *v == 0) return std::nullopt;
+  return *v;
+}
+
+VarType type_for(io::AddrSize s) {
+  static const VarType types[] = {VarType::BOOL, VarType::BYTE, VarType::WORD, VarType::DWORD,
+                                  VarType::LWORD};
+  return types[static_cast<int>(s)];
+}
+
+}  // namespace
+
+Debugger::Debugger(Factory factory, Options options)
+    : factory_(std::move(factory)), opt_(std::move(options)) {
+  build();
+}
+
+Debugger::~Debugger() { detach(); }
+
+void Debugger::detach() {
+  if (!rt_) return;
+  if (rt_thread_.joinable()) {
+    rt_->request_stop();
+    rt_->set_paused(false);
+    rt_thread_.join();
+  }
+  if (trace_) trace_->stop();
+  recorder_.reset();
+  replayer_.reset();
+  rt_->remove_hooks(this);
+  if (opt_.mode == io::ClockMode::Virtual) rt_->finish();
+  rt_.reset();
+}
+
+void Debugger::build() {
+  detach();
+  rt_ = factory_();
+  if (!opt_.replay_file.empty()) replayer_ = std::make_unique<Replayer>(*rt_, opt_.replay_file);
+  rt_->add_hooks(this);
+  rt_->add_scan_observer(
+      [this](const TaskRuntime& t, const ScanContext& ctx) { on_scan_end(t, ctx); });
+  scans_ = 0;
+  // Re-resolve everything that points into the old runtime.
+  std::string err;
+  for (Breakpoint& b : breaks_) {
+    b.hits = 0;
+    if (b.cond)
+      b.cond =
+          Condition::compile(b.cond->text(), rt_->vars(), rt_->image(), rt_->byte_order(), err);
+  }
+  for (Force& f : forces_) {
+    bool image = false;
+    if (auto v = resolve(f.name, image, err)) f.var = *v;
+  }
+  writes_.clear();
+  trace_ = std::make_unique<Trace>(rt_->vars(), rt_->image(), rt_->byte_order());
+  trace_->set_backpressure(opt_.mode == io::ClockMode::Virtual);
+  for (const std::string& spec : trace_spec_) {
+    auto w = words(spec);
+    if (w[0] == "add")
+      trace_->add(w[1]);
+    else if (w[0] == "trigger")
+      trace_->set_trigger(rest_after(spec, 1));
+    else if (w[0] == "pre")
+      trace_->set_pretrigger(std::stoul(w[1]));
+  }
+  if (opt_.mode == io::ClockMode::Virtual) {
+    rt_->start(io::ClockMode::Virtual);
+  } else {
+    rt_thread_ = std::thread([this] { rt_->run(io::ClockMode::RealTime, opt_.span); });
+  }
+}
+
+std::optional<VarInfo> Debugger::resolve(const std::string& name, bool& image, std::string& err) {
+  if (!name.empty() && name[0] == '%') {
+    auto r = io::parse_iec_address(name);
+    if (!r.address) {
+      err = r.error;
+      return std::nullopt;
+    }
+    if (!rt_->image().contains(*r.address)) {
+      err = name + " lies outside the image";
+      return std::nullopt;
+    }
+    VarInfo v;
+    v.path = r.address->to_string();
+    v.type = type_for(r.address->size);
+    v.address = *r.address;
+    v.image_ptr = rt_->image().at(*r.address);
+    v.order = rt_->byte_order();
+    image = true;
+    return v;
+  }
+  const VarInfo* v = rt_->vars().find(name);
+  if (!v) {
+    err = "unknown variable '" + name + "' (plcrun CONFIG --list-vars lists them)";
+    return std::nullopt;
+  }
+  VarInfo out = *v;
+  image = v->address.has_value();
+  if (image) out.image_ptr = rt_->image().at(*v->address);  // act on the global image
+  return out;
+}
+
+// ---------------------------------------------------------------- hooks
+
+void Debugger::after_latch(TaskRuntime&, io::ProcessImage&) {
+  std::lock_guard<std::mutex> lock(mu_);
+  for (const Force& f : forces_)
+    if (f.image && f.var.address->area == io::Area::Input) VarRegistry::write(f.var, &f.value);
+}
+
+void Debugger::before_programs(TaskRuntime& t, const ScanContext&) {
+  std::lock_guard<std::mutex> lock(mu_);
+  auto in_task_image = [&t](VarInfo v) {
+    v.image_ptr = t.image.at(*v.address);
+    return v;
+  };
+  for (auto it = writes_.begin(); it != writes_.end();) {
+    if (it->image ? true : it->task == static_cast<int>(t.order)) {
+      if (it->image) {
+        const VarInfo v = in_task_image(it->var);
+        VarRegistry::write(v, &it->value);
+        if (v.address->area != io::Area::Input) VarRegistry::write(it->var, &it->value);
+      } else {
+        VarRegistry::write(it->var, &it->value);
+      }
+      it = writes_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  for (const Force& f : forces_) {
+    if (f.image) {
+      if (f.var.address->area != io::Area::Input)
+        VarRegistry::write(in_task_image(f.var), &f.value);
+    } else if (f.var.task == static_cast<int>(t.order)) {
+      VarRegistry::write(f.var, &f.value);
+    }
+  }
+}
+
+void Debugger::before_program(TaskRuntime& t, std::size_t index, const ScanContext&) {
+  if (opt_.mode != io::ClockMode::Virtual || in_freeze_ || !reader_) return;
+  const std::string& prog = t.program_names[index];
+  bool freeze = false;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    for (Breakpoint& b : breaks_) {
+      if (b.before_program != prog || (b.cond && !b.cond->holds())) continue;
+      if (++b.hits % b.hit_target == 0) freeze = true;
+    }
+  }
+  if (freeze) freeze_loop(t, index);
+}
+
+void Debugger::after_programs(TaskRuntime& t, const ScanContext&) {
+  std::lock_guard<std::mutex> lock(mu_);
+  for (const Force& f : forces_)
+    if (!f.image && f.var.task == static_cast<int>(t.order)) VarRegistry::write(f.var, &f.value);
+}
+
+void Debugger::before_publish(TaskRuntime&, io::ProcessImage&) {
+  std::lock_guard<std::mutex> lock(mu_);
+  for (const Force& f : forces_)
+    if (f.image && f.var.address->area != io::Area::Input) VarRegistry::write(f.var, &f.value);
+}
+
+void Debugger::on_scan_end(const TaskRuntime& t, const ScanContext& ctx) {
+  std::lock_guard<std::mutex> lock(mu_);
+  ++scans_;
+  last_scan_time_ = ctx.now;
+  last_scan_task_ = t.name;
+  if (trace_ && trace_->running()) {
+    int fastest = 0;
+    for (const auto& task : rt_->tasks())
+      if (task->period == rt_->fastest_period()) {
+        fastest = static_cast<int>(task->order);
+        break;
+      }
+    if (trace_->sampling_task(fastest) == static_cast<int>(t.order)) trace_->sample(ctx);
+  }
+  for (Breakpoint& b : breaks_) {
+    if (!b.before_program.empty() || !b.cond) continue;
+    if (b.task >= 0 && b.task != static_cast<int>(t.order)) continue;
+    if (!b.cond->holds()) continue;
+    if (++b.hits % b.hit_target != 0) continue;
+    if (!stop_hit_.load()) {
+      // The reason is written before stop_hit_ is published: in real time
+      // the console thread reads it as soon as it sees stop_hit_.
+      stop_reason_ = (b.temporary ? "condition '" + b.text + "' holds"
+                                  : "breakpoint " + std::to_string(b.id) + " (" + b.text +
+                                        ") hit, " + std::to_string(b.hits) + " hit(s)") +
+                     ", after a scan of task '" + t.name + "'";
+      if (opt_.mode == io::ClockMode::RealTime) rt_->set_paused(true);
+      stop_hit_.store(true);
+    }
+  }
+}
+
+void Debugger::freeze_loop(TaskRuntime& t, std::size_t index) {
+  in_freeze_ = true;
+  freeze_action_ = 0;
+  if (writer_)
+    writer_("frozen before program '" + t.program_names[index] + "' of task '" + t.name +
+            "' in scan " + std::to_string(scans_ + 1) + " (t=" + seconds(rt_->now()) + ")\n" +
+            watch_lines());
+  while (true) {
+    auto line = reader_("[frozen before " + t.program_names[index] + "] > ");
+    if (!line) break;
+    const auto w = words(*line);
+    if (w.empty()) continue;
+    if (w[0] == "continue" || w[0] == "c") break;
+    if (w[0] == "step" || w[0] == "s") {
+      freeze_action_ = 1;
+      break;
+    }
+    if (w[0] == "quit" || w[0] == "q") {
+      quit_ = true;
+      break;
+    }
+    if (w[0] == "goto" || w[0] == "run" || w[0] == "record") {
+      if (writer_) writer_("not inside a freeze point: 'continue' or 'step' first\n");
+      continue;
+    }
+    const std::string out = execute(*line);
+    if (writer_ && !out.empty()) writer_(out);
+  }
+  in_freeze_ = false;
+  if (freeze_action_ == 1 || quit_) {
+    stop_reason_ = quit_ ? "quit" : "stepped from the freeze point to the end of the scan";
+    stop_hit_ = true;
+  }
+}
+
+// ---------------------------------------------------------------- run control
+
+bool Debugger::one_scan() {
+  if (replayer_) return replayer_->step();
+  if (rt_->now() >= opt_.span) return false;
+  return rt_->step_scan() != nullptr;
+}
+
+std::string Debugger::stop_report(const std::string& why) {
+  std::string s = why + "\n  at scan " + std::to_string(scans_);
+  if (scans_ > 0)
+    s += " (the last: task '" + last_scan_task_ + "' at t=" + seconds(last_scan_time_) + ")";
+  if (replayer_) {
+    s += ", replay " + std::to_string(replayer_->scans()) + " scans, " +
+         std::to_string(replayer_->mismatches()) + " output mismatch(es)";
+    if (replayer_->first_mismatch() >= 0)
+      s += ", first at scan " + std::to_string(replayer_->first_mismatch());
+    if (!replayer_->error().empty()) s += " (" + replayer_->error() + ")";
+  }
+  return s + "\n" + watch_lines();
+}
+
+std::string Debugger::watch_lines() {
+  std::string s;
+  for (const std::string& w : watches_) s += "  " + describe_value(w);
+  return s;
+}
+
+void Debugger::realtime_wait_until_paused() {
+  while (!stop_hit_.load() && !interrupted_.load())
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  rt_->set_paused(true);
+  // The scan thread that stopped us holds mu_ until its on_scan_end is
+  // over; taking it here means stop_reason_ and the counters are complete.
+  std::lock_guard<std::mutex> lock(mu_);
+}
+
+std::string Debugger::cmd_step(const std::vector<std::string>& a) {
+  std::string task_name;
+  std::uint64_t n = 1;
+  std::size_t i = 1;
+  if (a.size() > 1 && a[1] == "task") {
+    if (a.size() < 3) return "usage: step task NAME [N]\n";
+    task_name = a[2];
+    i = 3;
+  }
+  if (a.size() > i) {
+    auto c = count_arg(a[i]);
+    if (!c) return "step: '" + a[i] + "' is not a positive count\n";
+    n = *c;
+  }
+  const TaskRuntime* target = nullptr;
+  if (!task_name.empty()) {
+    target = rt_->task(task_name);
+    if (!target) return "step: unknown task '" + task_name + "'\n";
+  }
+  if (opt_.mode == io::ClockMode::RealTime) {
+    rt_->set_paused(true);
+    std::vector<std::pair<const TaskRuntime*, std::uint64_t>> goal;
+    for (const auto& t : rt_->tasks()) {
+      if (target && t.get() != target) continue;
+      goal.emplace_back(t.get(), t->stats.scans + n);
+      rt_->allow_scans(*t, static_cast<std::int64_t>(n));
+    }
+    interrupted_ = false;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    for (bool done = false;
+         !done && !interrupted_ && std::chrono::steady_clock::now() < deadline;) {
+      done = true;
+      for (const auto& [t, g] : goal) done &= t->stats.scans >= g || t->stopped.load();
+      if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return stop_report("stepped " + std::to_string(n) + " scan(s) of " +
+                       (target ? "task '" + task_name + "'" : "each task"));
+  }
+  // Virtual time: stepping ignores breakpoints (as TwinCAT's single cycle).
+  std::uint64_t done = 0;
+  std::string why;
+  while (done < n) {
+    const std::uint64_t before = target ? target->stats.scans : 0;
+    if (!one_scan()) {
+      why = "; the session has ended (no more scans)";
+      break;
+    }
+    if (!target || target->stats.scans > before) ++done;
+    if (quit_) break;
+  }
+  stop_hit_ = false;
+  return stop_report("stepped " + std::to_string(done) + " scan(s)" +
+                     (target ? " of task '" + task_name + "'" : "") + why);
+}
+
+std::string Debugger::cmd_continue(const std::vector<std::string>& a, bool until) {
+  std::optional<TIME> for_time;
+  int temp_id = 0;
+  if (until) {
+    if (a.size() < 3) return "usage: run until CONDITION\n";
+    std::string err;
+    auto cond = Condition::compile(rest_after(joined_line_, 2), rt_->vars(), rt_->image(),
+                                   rt_->byte_order(), err);
+    if (!cond) return "run until: " + err + "\n";
+    Breakpoint b;
+    b.id = temp_id = -1;
+    b.text = cond->text();
+    b.task = cond->task();
+    b.cond = std::move(cond);
+    b.temporary = true;
+    std::lock_guard<std::mutex> lock(mu_);
+    breaks_.push_back(std::move(b));
+  } else if (a.size() >= 3 && a[1] == "for") {
+    for_time = parse_iec_time(a[2]);
+    if (!for_time) return "continue for: '" + a[2] + "' is not a duration\n";
+  }
+  stop_hit_ = false;
+  interrupted_ = false;
+  std::string why;
+  if (opt_.mode == io::ClockMode::RealTime) {
+    rt_->set_paused(false);
+    if (!until) return "running (pause, or a breakpoint, stops it)\n";
+    realtime_wait_until_paused();
+    why = stop_hit_ ? stop_reason_ : "interrupted";
+  } else {
+    const TIME end = for_time ? rt_->now() + *for_time : opt_.span;
+    while (true) {
+      if (stop_hit_) {
+        why = stop_reason_;
+        break;
+      }
+      if (interrupted_) {
+        why = "interrupted";
+        break;
+      }
+      if (quit_) break;
+      if (for_time && rt_->now() >= end) {
+        why = "ran for " + format_iec_time(*for_time);
+        break;
+      }
+      if (!one_scan()) {
+        why = replayer_ ? "the recording has ended"
+                        : "the session has ended (end of --for span or all tasks stopped)";
+        break;
+      }
+    }
+  }
+  if (temp_id) {
+    std::lock_guard<std::mutex> lock(mu_);
+    std::erase_if(breaks_, [](const Breakpoint& b) { return b.temporary; });
+  }
+  stop_hit_ = false;
+  return stop_report("stopped: " + why);
+}
+
+std::string Debugger::cmd_break(const std::vector<std::string>& a) {
+  if (a.size() < 2) return breaks_list();
+  Breakpoint b;
+  std::string cond_text;
+  if (a[1] == "before") {
+    if (a.size() < 3) return "usage: break before PROGRAM [if CONDITION] [hits N]\n";
+    bool found = false;
+    for (const auto& t : rt_->tasks())
+      for (const auto& p : t->program_names) found |= p == a[2];
+    if (!found) return "break: no task runs a program named '" + a[2] + "'\n";
+    b.before_program = a[2];
+    if (a.size() > 3 && a[3] == "if")
+      cond_text = rest_after(joined_line_, 4);
+    else if (a.size() > 3 && a[3] != "hits")
+      return "usage: break before PROGRAM [if CONDITION] [hits N]\n";
+  } else {
+    cond_text = rest_after(joined_line_, 1);
+  }
+  // A trailing "hits N": stop on every N-th hit.
+  auto ww = words(cond_text);
+  if (ww.size() >= 2 && ww[ww.size() - 2] == "hits") {
+    auto c = count_arg(ww.back());
+    if (!c) return "break: 'hits' needs a positive count\n";
+    b.hit_target = *c;
+    cond_text.resize(cond_text.rfind("hits"));
+    while (!cond_text.empty() && std::isspace(static_cast<unsigned char>(cond_text.back())))
+      cond_text.pop_back();
+  } else if (b.before_program.empty() && a.size() > 2 && a[a.size() - 2] == "hits") {
+    auto c = count_arg(a.back());
+    if (!c) return "break: 'hits' needs a positive count\n";
+    b.hit_target = *c;
+  }
+  if (!cond_text.empty()) {
+    std::string err;
+    b.cond = Condition::compile(cond_text, rt_->vars(), rt_->image(), rt_->byte_order(), err);
+    if (!b.cond) return "break: " + err + "\n";
+    b.task = b.cond->task();
+  } else if (b.before_program.empty()) {
+    return "usage: break CONDITION [hits N] | break before PROGRAM [if CONDITION] [hits N]\n";
+  }
+  b.id = next_break_id_++;
+  b.text = b.before_program.empty()
+               ? cond_text
+               : "before " + b.before_program + (cond_text.empty() ? "" : " if " + cond_text);
+  if (!b.before_program.empty() && opt_.mode == io::ClockMode::RealTime)
+    return "break before: freeze points need virtual time (they would stall a real-time task)\n";
+  std::string out = "breakpoint " + std::to_string(b.id) + ": " + b.text +
+                    (b.hit_target > 1 ? " (every " + std::to_string(b.hit_target) + " hits)" : "") +
+                    "\n";
+  std::lock_guard<std::mutex> lock(mu_);
+  breaks_.push_back(std::move(b));
+  return out;
+}
+
+std::string Debugger::breaks_list() {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (breaks_.empty()) return "no breakpoints\n";
+  std::string s;
+  for (const Breakpoint& b : breaks_)
+    if (!b.temporary)
+      s += "  " + std::to_string(b.id) + ": " + b.text + "  hits " + std::to_string(b.hits) +
+           (b.hit_target > 1 ? " (stops every " + std::to_string(b.hit_target) + ")" : "") + "\n";
+  return s;
+}
+
+// ---------------------------------------------------------------- values
+
+// "NAME = VALUE  (TYPE ADDRESS[, image: V][, forced])": program variables
+// as their program saw them in its last scan; for located variables the
+// global image too when it differs (a force or another task changed it).
+std::string Debugger::describe_value(const std::string& name) {
+  bool image = false;
+  std::string err;
+  auto g = resolve(name, image, err);
+  if (!g) return name + ": " + err + "\n";
+  const VarInfo* reg = rt_->vars().find(name);
+  const std::string seen = VarRegistry::format(reg ? *reg : *g);
+  std::string extra;
+  if (reg && image) {
+    const std::string global = VarRegistry::format(*g);
+    if (global != seen) extra += ", image: " + global;
+  }
+  bool forced = false;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    for (const Force& f : forces_)
+      forced |= f.name == name || (f.image && image && f.var.address == g->address);
+  }
+  return name + " = " + seen + "  (" + to_string(g->type) +
+         (g->address ? " " + g->address->to_string() : "") + extra + (forced ? ", forced" : "") +
+         ")\n";
+}
+
+std::string Debugger::cmd_print(const std::vector<std::string>& a) {
+  if (a.size() < 2) return "usage: print PATH|ADDRESS ...\n";
+  std::string s;
+  for (std::size_t i = 1; i < a.size(); ++i) s += describe_value(a[i]);
+  return s;
+}
+
+std::string Debugger::cmd_write(const std::vector<std::string>& a, bool force) {
+  const char* what = force ? "force" : "write";
+  if (a.size() < 3) return std::string("usage: ") + what + " PATH|ADDRESS VALUE\n";
+  bool image = false;
+  std::string err;
+  auto v = resolve(a[1], image, err);
+  if (!v) return std::string(what) + ": " + err + "\n";
+  if (v->type == VarType::STRING)
+    return std::string(what) + ": STRING variables cannot be written from the debugger\n";
+  std::uint64_t value = 0;
+  const std::string value_text = rest_after(joined_line_, 2);
+  err = parse_value(v->type, value_text, &value);
+  if (!err.empty()) return std::string(what) + " " + a[1] + ": " + err + "\n";
+  std::lock_guard<std::mutex> lock(mu_);
+  if (!force) {
+    if (in_freeze_) {
+      // Inside a freeze point the scan is under way: write straight into the
+      // task's view (program variable, or located variable's task image).
+      const VarInfo* reg = rt_->vars().find(a[1]);
+      VarRegistry::write(reg ? *reg : *v, &value);
+      if (image) VarRegistry::write(*v, &value);
+      return "wrote " + a[1] + " := " + format_value(v->type, &value) + " (now, inside the scan)\n";
+    }
+    writes_.push_back({a[1], *v, image, value, image ? -1 : v->task});
+    return "will write " + a[1] + " := " + format_value(v->type, &value) +
+           " at the start of the next scan\n";
+  }
+  std::uint64_t original = 0;
+  VarRegistry::read(*v, &original);
+  for (Force& f : forces_)
+    if (f.name == a[1]) {
+      f.value = value;
+      return "force " + a[1] + " := " + format_value(v->type, &value) + " (changed)\n";
+    }
+  forces_.push_back({a[1], *v, image, value, original});
+  return "force " + a[1] + " := " + format_value(v->type, &value) + " (every scan until unforce)\n";
+}
+
+std::string Debugger::cmd_unforce(const std::vector<std::string>& a) {
+  if (a.size() < 2) return "usage: unforce PATH|ADDRESS|all [restore]\n";
+  const bool restore = a.size() > 2 && a[2] == "restore";
+  std::lock_guard<std::mutex> lock(mu_);
+  std::string s;
+  for (auto it = forces_.begin(); it != forces_.end();) {
+    if (a[1] == "all" || it->name == a[1]) {
+      if (restore)
+        writes_.push_back(
+            {it->name, it->var, it->image, it->original, it->image ? -1 : it->var.task});
+      s += "unforced " + it->name +
+           (restore ? ", restoring " + format_value(it->var.type, &it->original)
+                    : ", keeping the value") +
+           "\n";
+      it = forces_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  return s.empty() ? "unforce: '" + a[1] + "' is not forced\n" : s;
+}
+
+std::string Debugger::forces_list() {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (forces_.empty()) return "no forces\n";
+  std::string s;
+  for (const Force& f : forces_)
+    s += "  " + f.name + " := " + format_value(f.var.type, &f.value) +
+         "  (before: " + format_value(f.var.type, &f.original) + ")\n";
+  return s;
+}
+
+std::string Debugger::cmd_watch(const std::vector<std::string>& a, bool add) {
+  if (a.size() < 2) {
+    if (watches_.empty()) return "no watches\n";
+    return watch_lines();
+  }
+  std::string s;
+  for (std::size_t i = 1; i < a.size(); ++i) {
+    if (add) {
+      bool image = false;
+      std::string err;
+      if (!resolve(a[i], image, err)) {
+        s += "watch: " + err + "\n";
+        continue;
+      }
+      if (std::find(watches_.begin(), watches_.end(), a[i]) == watches_.end())
+        watches_.push_back(a[i]);
+    } else {
+      std::erase(watches_, a[i]);
+    }
+  }
+  return s + (add ? watch_lines() : "");
+}
+
+// ---------------------------------------------------------------- trace, record, goto
+
+std::string Debugger::cmd_trace(const std::vector<std::string>& a) {
+  if (a.size() < 2 || a[1] == "status") return "trace: " + trace_->describe() + "\n";
+  const std::string& sub = a[1];
+  std::lock_guard<std::mutex> lock(mu_);
+  if (sub == "add") {
+    if (a.size() < 3) return "usage: trace add PATH|ADDRESS ...\n";
+    std::string s;
+    for (std::size_t i = 2; i < a.size(); ++i) {
+      const std::string err = trace_->add(a[i]);
+      if (!err.empty())
+        s += "trace add: " + err + "\n";
+      else
+        trace_spec_.push_back("add " + a[i]);
+    }
+    return s + "trace: " + trace_->describe() + "\n";
+  }
+  if (sub == "clear") {
+    if (trace_->running()) return "trace: stop it first\n";
+    trace_->clear();
+    std::erase_if(trace_spec_, [](const std::string& s) { return s.rfind("add ", 0) == 0; });
+    return "trace: cleared\n";
+  }
+  if (sub == "trigger") {
+    const std::string cond = rest_after(joined_line_, 2);
+    const std::string err = trace_->set_trigger(cond == "off" ? "" : cond);
+    if (!err.empty()) return "trace trigger: " + err + "\n";
+    std::erase_if(trace_spec_, [](const std::string& s) { return s.rfind("trigger", 0) == 0; });
+    if (cond != "off" && !cond.empty()) trace_spec_.push_back("trigger " + cond);
+    return "trace: " + trace_->describe() + "\n";
+  }
+  if (sub == "pre") {
+    auto n = a.size() > 2 ? parse_iec_unsigned(a[2]) : std::nullopt;
+    if (!n || *n > 1'000'000) return "usage: trace pre ROWS (0 .. 1000000)\n";
+    trace_->set_pretrigger(*n);
+    std::erase_if(trace_spec_, [](const std::string& s) { return s.rfind("pre ", 0) == 0; });
+    trace_spec_.push_back("pre " + std::to_string(*n));
+    return "trace: " + trace_->describe() + "\n";
+  }
+  if (sub == "start") {
+    if (a.size() < 3) return "usage: trace start FILE.csv|FILE.vcd\n";
+    const std::string err = trace_->start(a[2]);
+    return err.empty() ? "trace: " + trace_->describe() + "\n" : "trace start: " + err + "\n";
+  }
+  if (sub == "stop") {
+    const std::uint64_t rows = trace_->rows_written();
+    trace_->stop();
+    return "trace: stopped, " + std::to_string(rows) + " rows written\n";
+  }
+  return "trace: unknown subcommand '" + sub +
+         "' (add, clear, trigger, pre, start, stop, status)\n";
+}
+
+std::string Debugger::cmd_record(const std::vector<std::string>& a) {
+  if (a.size() < 2)
+    return recorder_ ? "recording, " + std::to_string(recorder_->scans()) + " scans so far\n"
+                     : "not recording\n";
+  if (a[1] == "stop") {
+    if (!recorder_) return "not recording\n";
+    const std::uint64_t n = recorder_->scans();
+    recorder_.reset();
+    return "recording stopped, " + std::to_string(n) + " scans\n";
+  }
+  if (replayer_) return "record: this session replays a recording already\n";
+  if (recorder_) return "record: already recording (record stop first)\n";
+  try {
+    recorder_ = std::make_unique<Recorder>(*rt_, a[1]);
+  } catch (const std::exception& e) {
+    return std::string("record: ") + e.what() + "\n";
+  }
+  std::string note;
+  if (scans_ > 0)
+    note = "note: the recording starts at scan " + std::to_string(scans_) +
+           " with a snapshot of the state the programs declare in PLC_REFLECT (all library blocks "
+           "declare theirs); state a program keeps undeclared is not in it and would show as "
+           "differences in the replay. A recording from scan 0 (goto 0 first) needs no snapshot.\n";
+  return "recording every scan's inputs into " + a[1] + "\n" + note;
+}
+
+std::string Debugger::cmd_goto(const std::vector<std::string>& a) {
+  if (opt_.mode != io::ClockMode::Virtual) return "goto needs virtual time\n";
+  if (a.size() < 2) return "usage: goto SCAN\n";
+  auto n = parse_iec_unsigned(a[1]);
+  if (!n) return "goto: '" + a[1] + "' is not a scan number\n";
+  std::string note;
+  if (*n < scans_) {
+    // Backwards: rebuild the cell and run forward from the start (the
+    // simulation, or the recording, reproduces the same scans exactly).
+    if (recorder_) note += "; recording stopped";
+    if (trace_ && trace_->running()) note += "; trace stopped";
+    build();
+    note = "; re-ran from the start" + note;
+  }
+  while (scans_ < *n)
+    if (!one_scan()) {
+      note += "; the session ends at scan " + std::to_string(scans_);
+      break;
+    }
+  stop_hit_ = false;
+  return stop_report("at scan " + std::to_string(scans_) + note);
+}
+
+std::string Debugger::cmd_stats() {
+  std::string s;
+  char b[256];
+  for (const auto& t : rt_->tasks()) {
+    const TaskStats& st = t->stats;
+    std::snprintf(b, sizeof b,
+                  "task %s: period %s, %llu scans, %llu overruns (%llu skipped)%s\n"
+                  "  scan time us: min %.1f avg %.1f p99 %.1f max %.1f\n",
+                  t->name.c_str(), format_iec_time(t->period).c_str(),
+                  static_cast<unsigned long long>(st.scans),
+                  static_cast<unsigned long long>(st.overruns),
+                  static_cast<unsigned long long>(st.skipped),
+                  st.stop_reason.empty() ? "" : (", STOPPED: " + st.stop_reason).c_str(),
+                  st.scan_ns.min() / 1e3, st.scan_ns.mean() / 1e3,
+                  st.scan_ns.percentile(0.99) / 1e3, st.scan_ns.max() / 1e3);
+    s += b;
+    if (st.latency_ns.count()) {
+      std::snprintf(
+          b, sizeof b,
+          "  wake latency us: min %.1f avg %.1f p99 %.1f max %.1f; %llu releases paused\n",
+          st.latency_ns.min() / 1e3, st.latency_ns.mean() / 1e3,
+          st.latency_ns.percentile(0.99) / 1e3, st.latency_ns.max() / 1e3,
+          static_cast<unsigned long long>(t->paused_releases));
+      s += b;
+    }
+  }
+  return s;
+}
+
+// ---------------------------------------------------------------- dispatch
+
+std::string Debugger::prompt() const {
+  if (opt_.mode == io::ClockMode::RealTime)
+    return std::string("[realtime ") + (rt_->paused() ? "paused" : "running") + "] > ";
+  return "[scan " + std::to_string(scans_) + " t=" + seconds(last_scan_time_) + "] > ";
+}
+
+std::string Debugger::help() const {
+  return R"(commands (virtual time: the cell is paused between commands):
+  step [N]                  run N scans (default 1) of any task, ignoring breakpoints
+  step task NAME [N]        run until task NAME has done N more scans
+  continue [for DURATION]   run until a breakpoint, Ctrl-C, the end, or for a duration
+  run until CONDITION       run until CONDITION holds at the end of a scan
+  pause                     real time: hold the logic (plugins keep exchanging)
+  break CONDITION [hits N]  stop at the end of a scan where CONDITION holds (every N-th hit)
+  break before PROG [if CONDITION] [hits N]
+                            freeze inside the scan, before program PROG runs (virtual time)
+  breaks | delete ID|all    list | remove breakpoints
+  print NAME...             value in IEC notation (NAME: variable path or %I/%Q/%M address)
+  watch [NAME...] | unwatch NAME...
+                            values printed at every stop
+  write NAME VALUE          set once, at the start of the next scan
+  force NAME VALUE          set every scan (inputs after latch, outputs before publish)
+  unforce NAME|all [restore]  release (keep the value, or restore the one before the force)
+  forces                    list forced variables
+  trace add NAME... | trace trigger CONDITION|off | trace pre ROWS
+  trace start FILE.csv|FILE.vcd | trace stop | trace [status]
+  record FILE | record stop  record every scan's device inputs for replay (plcrun --replay)
+  goto SCAN                 go to scan SCAN, also backwards (re-runs from the start)
+  stats | status            task statistics | where the session is
+  help | quit
+conditions: ST syntax, e.g.  Tank.step = 3 AND Tank.level > 16#5000 OR NOT %IX0.1
+)";
+}
+
+std::string Debugger::execute(std::string_view line_in) {
+  joined_line_ = std::string(line_in);
+  const auto a = words(line_in);
+  if (a.empty() || a[0][0] == '#') return {};
+  const std::string& c = a[0];
+  if (c == "help" || c == "h" || c == "?") return help();
+  if (c == "quit" || c == "q" || c == "exit") {
+    quit_ = true;
+    return {};
+  }
+  if (c == "step" || c == "s") return cmd_step(a);
+  if (c == "continue" || c == "c") return cmd_continue(a, false);
+  if (c == "run" && a.size() > 1 && a[1] == "until") return cmd_continue(a, true);
+  if (c == "pause") {
+    if (opt_.mode == io::ClockMode::Virtual)
+      return "paused (in virtual time the cell is paused between commands)\n";
+    rt_->set_paused(true);
+    return "paused: the logic is held at its next release; the fieldbus keeps exchanging\n";
+  }
+  if (c == "break" || c == "b") return cmd_break(a);
+  if (c == "breaks") return breaks_list();
+  if (c == "delete" || c == "d") {
+    if (a.size() < 2) return "usage: delete ID|all\n";
+    std::lock_guard<std::mutex> lock(mu_);
+    const std::size_t before = breaks_.size();
+    if (a[1] == "all")
+      breaks_.clear();
+    else
+      std::erase_if(breaks_, [&](const Breakpoint& b) { return std::to_string(b.id) == a[1]; });
+    return before == breaks_.size()
+               ? "delete: no breakpoint " + a[1] + "\n"
+               : "deleted " + std::to_string(before - breaks_.size()) + " breakpoint(s)\n";
+  }
+  if (c == "print" || c == "p") return cmd_print(a);
+  if (c == "watch") return cmd_watch(a, true);
+  if (c == "unwatch") return cmd_watch(a, false);
+  if (c == "write") return cmd_write(a, false);
+  if (c == "force") return cmd_write(a, true);
+  if (c == "unforce") return cmd_unforce(a);
+  if (c == "forces") return forces_list();
+  if (c == "trace") return cmd_trace(a);
+  if (c == "record") return cmd_record(a);
+  if (c == "goto") return cmd_goto(a);
+  if (c == "stats") return cmd_stats();
+  if (c == "status" || c == "where") return stop_report("status");
+  return "unknown command '" + c + "' (help lists them)\n";
+}
+
+}  // namespace plc::debug

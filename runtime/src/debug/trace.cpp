@@ -1,0 +1,341 @@
+#include "plc/debug/trace.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+#include "plc/iec_literal.hpp"
+
+namespace plc::debug {
+namespace {
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// VCD identifiers: short strings of printable characters.
+std::string vcd_id(std::size_t i) {
+  std::string id;
+  do {
+    id += static_cast<char>(33 + i % 94);
+    i /= 94;
+  } while (i);
+  return id;
+}
+
+int vcd_width(VarType t) {
+  switch (t) {
+    case VarType::BOOL:
+      return 1;
+    case VarType::REAL:
+    case VarType::LREAL:
+      return 0;  // real
+    default:
+      return static_cast<int>(size_of(t) * 8);
+  }
+}
+
+// A path component as a VCD identifier: brackets would read as bit selects.
+std::string vcd_name(std::string s) {
+  for (char& c : s)
+    if (c == '[' || c == ']' || c == '%') c = '_';
+  while (!s.empty() && s.back() == '_') s.pop_back();
+  return s;
+}
+
+}  // namespace
+
+std::string Trace::add(const std::string& p) {
+  if (running()) return "stop the trace before changing it";
+  Column c;
+  if (!p.empty() && p[0] == '%') {
+    auto r = io::parse_iec_address(p);
+    if (!r.address) return r.error;
+    if (!global_.contains(*r.address)) return p + " lies outside the image";
+    static const VarType types[] = {VarType::BOOL, VarType::BYTE, VarType::WORD, VarType::DWORD,
+                                    VarType::LWORD};
+    c.var.path = r.address->to_string();
+    c.var.type = types[static_cast<int>(r.address->size)];
+    c.var.address = *r.address;
+    c.var.image_ptr = global_.at(*r.address);
+    c.var.order = order_;
+  } else {
+    const VarInfo* v = vars_.find(p);
+    if (!v) return "unknown variable '" + p + "'";
+    if (v->type == VarType::STRING) return "'" + p + "' is a STRING; traces hold numbers and bits";
+    c.var = *v;
+  }
+  columns_.push_back(std::move(c));
+  return {};
+}
+
+std::string Trace::set_trigger(const std::string& text) {
+  if (running()) return "stop the trace before changing it";
+  if (text.empty()) {
+    trigger_.reset();
+    return {};
+  }
+  std::string err;
+  trigger_ = Condition::compile(text, vars_, global_, order_, err);
+  return trigger_ ? "" : err;
+}
+
+int Trace::sampling_task(int fallback) const {
+  for (const Column& c : columns_)
+    if (c.var.task >= 0) return c.var.task;
+  return fallback;
+}
+
+std::string Trace::start(const std::string& file, std::optional<TraceFormat> format) {
+  if (running()) return "the trace is already running (trace stop first)";
+  if (columns_.empty()) return "no variables to trace (trace add PATH)";
+  format_ = format ? *format : (ends_with(file, ".vcd") ? TraceFormat::Vcd : TraceFormat::Csv);
+  file_ = std::fopen(file.c_str(), "w");
+  if (!file_) return "cannot write '" + file + "'";
+  file_name_ = file;
+  const std::size_t slots = pre_rows_ + 1;
+  meta_.assign(slots, {});
+  raw_.assign(slots * columns_.size(), 0);
+  last_.assign(columns_.size(), 0);
+  have_last_ = false;
+  ring_head_ = ring_count_ = 0;
+  rows_sampled_ = overflow_blocks_ = 0;
+  triggered_ = !trigger_;
+  text_.clear();
+  text_.reserve(1 << 16);
+  write_header();
+  flush_text();
+  free_.clear();
+  full_.clear();
+  for (std::size_t i = 0; i < kBlocks; ++i) free_.push_back(new_block());
+  cur_ = new_block();
+  closing_ = false;
+  writer_ = std::thread([this] { writer_loop(); });
+  return {};
+}
+
+void Trace::write_header() {
+  if (format_ == TraceFormat::Csv) {
+    text_ += "time_ns,cycle";
+    for (const Column& c : columns_) text_ += "," + c.var.path;
+    text_ += "\n";
+    return;
+  }
+  // No $date: two runs of the same cell must give identical files.
+  text_ += "$version softplc trace $end\n$timescale 1ns $end\n";
+  std::vector<std::string> open;  // current scope path
+  for (std::size_t i = 0; i < columns_.size(); ++i) {
+    std::vector<std::string> parts;
+    std::string path = columns_[i].var.path, part;
+    for (char ch : path) {
+      if (ch == '.') {
+        parts.push_back(vcd_name(part));
+        part.clear();
+      } else {
+        part += ch;
+      }
+    }
+    const std::string leaf = vcd_name(part);
+    std::size_t common = 0;
+    while (common < open.size() && common < parts.size() && open[common] == parts[common]) ++common;
+    while (open.size() > common) {
+      text_ += "$upscope $end\n";
+      open.pop_back();
+    }
+    for (std::size_t k = common; k < parts.size(); ++k) {
+      text_ += "$scope module " + parts[k] + " $end\n";
+      open.push_back(parts[k]);
+    }
+    const int w = vcd_width(columns_[i].var.type);
+    if (w == 0) {
+      text_ += "$var real 64 " + vcd_id(i) + " " + leaf + " $end\n";
+    } else {
+      text_ += std::string("$var ") + (w == 1 ? "wire" : "integer") + " " + std::to_string(w) +
+               " " + vcd_id(i) + " " + leaf + " $end\n";
+    }
+  }
+  while (!open.empty()) {
+    text_ += "$upscope $end\n";
+    open.pop_back();
+  }
+  text_ += "$enddefinitions $end\n";
+}
+
+std::unique_ptr<Trace::Block> Trace::new_block() const {
+  auto b = std::make_unique<Block>();
+  b->meta.resize(kBlockRows);
+  b->raw.resize(kBlockRows * columns_.size());
+  return b;
+}
+
+void Trace::capture(Row* meta, std::uint64_t* raw, const ScanContext& ctx) {
+  *meta = {ctx.now.count(), ctx.cycle};
+  for (std::size_t i = 0; i < columns_.size(); ++i) {
+    std::uint64_t v = 0;
+    VarRegistry::read(columns_[i].var, &v);
+    raw[i] = v;
+  }
+}
+
+void Trace::append(const Row& m, const std::uint64_t* raw) {
+  const std::size_t nc = columns_.size();
+  cur_->meta[cur_->n] = m;
+  std::copy(raw, raw + nc, cur_->raw.data() + cur_->n * nc);
+  if (++cur_->n == kBlockRows) hand_off();
+  ++rows_sampled_;
+}
+
+void Trace::hand_off() {
+  std::unique_lock<std::mutex> lock(mu_);
+  full_.push_back(std::move(cur_));
+  cv_.notify_one();
+  if (backpressure_) cv_.wait(lock, [this] { return !free_.empty(); });
+  if (!free_.empty()) {
+    cur_ = std::move(free_.back());
+    free_.pop_back();
+  } else {
+    ++overflow_blocks_;  // the writer is behind: grow rather than lose rows
+    lock.unlock();
+    cur_ = new_block();
+    lock.lock();
+  }
+  cur_->n = 0;
+  cv_.notify_one();
+}
+
+void Trace::sample(const ScanContext& ctx) {
+  if (!running()) return;
+  const std::size_t nc = columns_.size();
+  if (!triggered_) {
+    const std::size_t slots = pre_rows_ + 1;
+    const std::size_t slot = (ring_head_ + ring_count_) % slots;
+    capture(&meta_[slot], raw_.data() + slot * nc, ctx);
+    if (ring_count_ < slots)
+      ++ring_count_;
+    else
+      ring_head_ = (ring_head_ + 1) % slots;
+    if (trigger_ && trigger_->holds()) {
+      triggered_ = true;
+      for (std::size_t k = 0; k < ring_count_; ++k) {
+        const std::size_t s = (ring_head_ + k) % slots;
+        append(meta_[s], raw_.data() + s * nc);
+      }
+      ring_count_ = 0;
+    }
+    return;
+  }
+  Row m;
+  capture(&m, raw_.data(), ctx);  // slot 0 of the ring is free once triggered
+  append(m, raw_.data());
+}
+
+void Trace::writer_loop() {
+  std::unique_lock<std::mutex> lock(mu_);
+  while (true) {
+    cv_.wait(lock, [this] { return closing_ || !full_.empty(); });
+    while (!full_.empty()) {
+      std::unique_ptr<Block> b = std::move(full_.front());
+      full_.pop_front();
+      lock.unlock();
+      for (std::size_t r = 0; r < b->n; ++r)
+        format_row(b->meta[r], b->raw.data() + r * columns_.size());
+      flush_text();
+      lock.lock();
+      b->n = 0;
+      free_.push_back(std::move(b));
+      cv_.notify_all();  // a sampler may wait for a free block
+    }
+    if (closing_) return;
+  }
+}
+
+void Trace::format_row(const Row& m, const std::uint64_t* row) {
+  if (format_ == TraceFormat::Csv) {
+    text_ += std::to_string(m.time_ns);
+    text_ += ',';
+    text_ += std::to_string(m.cycle);
+    for (std::size_t i = 0; i < columns_.size(); ++i) {
+      text_ += ',';
+      text_ += format_value(columns_[i].var.type, &row[i]);
+    }
+    text_ += '\n';
+    return;
+  }
+  bool stamped = false;
+  for (std::size_t i = 0; i < columns_.size(); ++i) {
+    if (have_last_ && last_[i] == row[i]) continue;
+    if (!stamped) {
+      text_ += '#';
+      text_ += std::to_string(m.time_ns);
+      text_ += '\n';
+      stamped = true;
+    }
+    last_[i] = row[i];
+    const VarType t = columns_[i].var.type;
+    const int w = vcd_width(t);
+    if (w == 1) {
+      text_ += (row[i] & 1) ? '1' : '0';
+    } else if (w == 0) {
+      double d;
+      if (t == VarType::REAL) {
+        float f;
+        std::memcpy(&f, &row[i], sizeof f);
+        d = f;
+      } else {
+        std::memcpy(&d, &row[i], sizeof d);
+      }
+      char buf[48];
+      std::snprintf(buf, sizeof buf, "r%.17g ", d);
+      text_ += buf;
+    } else {
+      // Binary without leading zeros, as VCD allows.
+      char buf[72];
+      int n = 0;
+      buf[n++] = 'b';
+      const std::uint64_t v = w == 64 ? row[i] : row[i] & ((1ULL << w) - 1);
+      const int top = v ? 63 - __builtin_clzll(v) : 0;
+      for (int b = top; b >= 0; --b) buf[n++] = ((v >> b) & 1U) ? '1' : '0';
+      buf[n++] = ' ';
+      text_.append(buf, std::size_t(n));
+    }
+    text_ += vcd_id(i);
+    text_ += '\n';
+  }
+  have_last_ = true;
+  if (text_.size() > (1 << 16)) flush_text();
+}
+
+void Trace::flush_text() {
+  if (file_ && !text_.empty()) std::fwrite(text_.data(), 1, text_.size(), file_);
+  text_.clear();
+}
+
+void Trace::stop() {
+  if (!file_) return;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (cur_ && cur_->n) full_.push_back(std::move(cur_));
+    closing_ = true;
+  }
+  cv_.notify_one();
+  if (writer_.joinable()) writer_.join();
+  flush_text();
+  std::fclose(file_);
+  file_ = nullptr;
+}
+
+std::string Trace::describe() const {
+  std::string s = std::to_string(columns_.size()) + " variable(s)";
+  for (const Column& c : columns_) s += " " + c.var.path;
+  s += trigger_ ? "; trigger: " + trigger_->text() : "; no trigger";
+  s += "; pre-trigger rows: " + std::to_string(pre_rows_);
+  if (running())
+    s += "; running into " + file_name_ +
+         (triggered_ ? " (triggered, " : " (waiting for trigger, ") +
+         std::to_string(rows_sampled_) + " rows)";
+  else
+    s += "; stopped";
+  return s;
+}
+
+}  // namespace plc::debug

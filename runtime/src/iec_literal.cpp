@@ -1,0 +1,321 @@
+#include "plc/iec_literal.hpp"
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+
+namespace plc {
+namespace {
+
+std::string upper(std::string_view s) {
+  std::string u(s);
+  for (char& c : u) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return u;
+}
+
+std::string_view strip_type_prefix(std::string_view s) {
+  // "INT#5", "WORD#16#FF", "TIME#1s": drop a leading TYPE# if the prefix is
+  // alphabetic (a base prefix like 16# is digits).
+  const auto hash = s.find('#');
+  if (hash == std::string_view::npos || hash == 0) return s;
+  for (std::size_t i = 0; i < hash; ++i)
+    if (!std::isalpha(static_cast<unsigned char>(s[i])) && s[i] != '_') return s;
+  return s.substr(hash + 1);
+}
+
+}  // namespace
+
+std::optional<TIME> parse_iec_time(std::string_view s) {
+  std::string u = upper(s);
+  std::string_view v = u;
+  if (v.rfind("TIME#", 0) == 0)
+    v.remove_prefix(5);
+  else if (v.rfind("LTIME#", 0) == 0)
+    v.remove_prefix(6);
+  else if (v.rfind("T#", 0) == 0)
+    v.remove_prefix(2);
+  else if (v.rfind("LT#", 0) == 0)
+    v.remove_prefix(3);
+  bool neg = false;
+  if (!v.empty() && v[0] == '-') {
+    neg = true;
+    v.remove_prefix(1);
+  }
+  if (v.empty()) return std::nullopt;
+  long double total_ns = 0;
+  bool any = false;
+  while (!v.empty()) {
+    // number (may have a fraction and underscores)
+    std::string num;
+    std::size_t i = 0;
+    while (i < v.size() &&
+           (std::isdigit(static_cast<unsigned char>(v[i])) || v[i] == '.' || v[i] == '_')) {
+      if (v[i] != '_') num.push_back(v[i]);
+      ++i;
+    }
+    if (num.empty()) return std::nullopt;
+    v.remove_prefix(i);
+    long double unit = 0;
+    if (v.rfind("MS", 0) == 0) {
+      unit = 1e6L;
+      v.remove_prefix(2);
+    } else if (v.rfind("US", 0) == 0) {
+      unit = 1e3L;
+      v.remove_prefix(2);
+    } else if (v.rfind("NS", 0) == 0) {
+      unit = 1.0L;
+      v.remove_prefix(2);
+    } else if (v.rfind("D", 0) == 0) {
+      unit = 86400e9L;
+      v.remove_prefix(1);
+    } else if (v.rfind("H", 0) == 0) {
+      unit = 3600e9L;
+      v.remove_prefix(1);
+    } else if (v.rfind("M", 0) == 0) {
+      unit = 60e9L;
+      v.remove_prefix(1);
+    } else if (v.rfind("S", 0) == 0) {
+      unit = 1e9L;
+      v.remove_prefix(1);
+    } else
+      return std::nullopt;
+    char* end = nullptr;
+    const long double x = std::strtold(num.c_str(), &end);
+    if (end != num.c_str() + num.size()) return std::nullopt;
+    total_ns += x * unit;
+    any = true;
+    if (!v.empty() && v[0] == '_') v.remove_prefix(1);
+  }
+  if (!any || total_ns > static_cast<long double>(std::numeric_limits<std::int64_t>::max()))
+    return std::nullopt;
+  const auto ns = static_cast<std::int64_t>(std::llround(total_ns));
+  return TIME(neg ? -ns : ns);
+}
+
+std::optional<std::uint64_t> parse_iec_unsigned(std::string_view s0) {
+  std::string u = upper(strip_type_prefix(s0));
+  if (u == "TRUE") return 1;
+  if (u == "FALSE") return 0;
+  int base = 10;
+  std::string_view v = u;
+  if (v.rfind("16#", 0) == 0) {
+    base = 16;
+    v.remove_prefix(3);
+  } else if (v.rfind("8#", 0) == 0) {
+    base = 8;
+    v.remove_prefix(2);
+  } else if (v.rfind("2#", 0) == 0) {
+    base = 2;
+    v.remove_prefix(2);
+  } else if (v.rfind("0X", 0) == 0) {
+    base = 16;
+    v.remove_prefix(2);
+  }
+  std::string digits;
+  for (char c : v)
+    if (c != '_') digits.push_back(c);
+  if (digits.empty()) return std::nullopt;
+  std::uint64_t x = 0;
+  auto [p, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), x, base);
+  if (ec != std::errc() || p != digits.data() + digits.size()) return std::nullopt;
+  return x;
+}
+
+std::optional<std::int64_t> parse_iec_integer(std::string_view s0) {
+  std::string_view s = strip_type_prefix(s0);
+  bool neg = false;
+  if (!s.empty() && (s[0] == '-' || s[0] == '+')) {
+    neg = s[0] == '-';
+    s.remove_prefix(1);
+  }
+  auto u = parse_iec_unsigned(s);
+  if (!u) return std::nullopt;
+  if (neg) {
+    if (*u > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()) + 1)
+      return std::nullopt;
+    return static_cast<std::int64_t>(0 - *u);
+  }
+  if (*u > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+    return std::nullopt;
+  return static_cast<std::int64_t>(*u);
+}
+
+std::optional<double> parse_iec_real(std::string_view s0) {
+  std::string digits;
+  for (char c : strip_type_prefix(s0))
+    if (c != '_') digits.push_back(c);
+  if (digits.empty()) return std::nullopt;
+  char* end = nullptr;
+  const double d = std::strtod(digits.c_str(), &end);
+  if (end != digits.c_str() + digits.size() || !std::isfinite(d)) return std::nullopt;
+  return d;
+}
+
+std::string format_iec_time(TIME t) {
+  std::int64_t ns = t.count();
+  std::string out = "T#";
+  if (ns < 0) {
+    out += '-';
+    ns = -ns;
+  }
+  if (ns == 0) return out + "0s";
+  struct Unit {
+    std::int64_t size;
+    const char* name;
+  };
+  static constexpr Unit units[] = {{86400'000'000'000LL, "d"},
+                                   {3600'000'000'000LL, "h"},
+                                   {60'000'000'000LL, "m"},
+                                   {1'000'000'000LL, "s"},
+                                   {1'000'000LL, "ms"},
+                                   {1'000LL, "us"},
+                                   {1LL, "ns"}};
+  for (const Unit& u : units) {
+    if (ns >= u.size) {
+      out += std::to_string(ns / u.size);
+      out += u.name;
+      ns %= u.size;
+    }
+  }
+  return out;
+}
+
+namespace {
+
+template <class T>
+std::string store_int(std::string_view text, void* dst) {
+  if constexpr (std::is_signed_v<T>) {
+    auto v = parse_iec_integer(text);
+    if (!v) return "not an integer: '" + std::string(text) + "'";
+    if (*v < std::numeric_limits<T>::min() || *v > std::numeric_limits<T>::max())
+      return "out of range: " + std::string(text);
+    *static_cast<T*>(dst) = static_cast<T>(*v);
+  } else {
+    auto v = parse_iec_unsigned(text);
+    if (!v) return "not an unsigned integer: '" + std::string(text) + "'";
+    if (*v > std::numeric_limits<T>::max()) return "out of range: " + std::string(text);
+    *static_cast<T*>(dst) = static_cast<T>(*v);
+  }
+  return {};
+}
+
+std::string hex(std::uint64_t v, int digits) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "16#%0*llX", digits, static_cast<unsigned long long>(v));
+  return buf;
+}
+
+std::string real_text(double d, int precision) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", precision, d);
+  std::string s = buf;
+  if (s.find_first_of(".eEni") == std::string::npos) s += ".0";
+  return s;
+}
+
+}  // namespace
+
+std::string parse_value(VarType type, std::string_view text, void* dst) {
+  switch (type) {
+    case VarType::BOOL: {
+      const std::string u = upper(text);
+      if (u == "TRUE" || u == "1")
+        *static_cast<bool*>(dst) = true;
+      else if (u == "FALSE" || u == "0")
+        *static_cast<bool*>(dst) = false;
+      else
+        return "not a BOOL (TRUE/FALSE): '" + std::string(text) + "'";
+      return {};
+    }
+    case VarType::SINT:
+      return store_int<std::int8_t>(text, dst);
+    case VarType::INT:
+      return store_int<std::int16_t>(text, dst);
+    case VarType::DINT:
+      return store_int<std::int32_t>(text, dst);
+    case VarType::LINT:
+      return store_int<std::int64_t>(text, dst);
+    case VarType::USINT:
+    case VarType::BYTE:
+      return store_int<std::uint8_t>(text, dst);
+    case VarType::UINT:
+    case VarType::WORD:
+      return store_int<std::uint16_t>(text, dst);
+    case VarType::UDINT:
+    case VarType::DWORD:
+      return store_int<std::uint32_t>(text, dst);
+    case VarType::ULINT:
+    case VarType::LWORD:
+      return store_int<std::uint64_t>(text, dst);
+    case VarType::REAL: {
+      auto d = parse_iec_real(text);
+      if (!d) return "not a REAL: '" + std::string(text) + "'";
+      *static_cast<float*>(dst) = static_cast<float>(*d);
+      return {};
+    }
+    case VarType::LREAL: {
+      auto d = parse_iec_real(text);
+      if (!d) return "not an LREAL: '" + std::string(text) + "'";
+      *static_cast<double*>(dst) = *d;
+      return {};
+    }
+    case VarType::TIME: {
+      auto t = parse_iec_time(text);
+      if (!t) return "not a TIME (e.g. T#1s500ms): '" + std::string(text) + "'";
+      *static_cast<TIME*>(dst) = *t;
+      return {};
+    }
+    case VarType::STRING: {
+      std::string_view v = text;
+      if (v.size() >= 2 && v.front() == '\'' && v.back() == '\'') v = v.substr(1, v.size() - 2);
+      static_cast<STRING*>(dst)->assign(v);
+      return {};
+    }
+  }
+  return "unknown type";
+}
+
+std::string format_value(VarType type, const void* src) {
+  switch (type) {
+    case VarType::BOOL:
+      return *static_cast<const bool*>(src) ? "TRUE" : "FALSE";
+    case VarType::SINT:
+      return std::to_string(*static_cast<const std::int8_t*>(src));
+    case VarType::INT:
+      return std::to_string(*static_cast<const std::int16_t*>(src));
+    case VarType::DINT:
+      return std::to_string(*static_cast<const std::int32_t*>(src));
+    case VarType::LINT:
+      return std::to_string(*static_cast<const std::int64_t*>(src));
+    case VarType::USINT:
+      return std::to_string(*static_cast<const std::uint8_t*>(src));
+    case VarType::UINT:
+      return std::to_string(*static_cast<const std::uint16_t*>(src));
+    case VarType::UDINT:
+      return std::to_string(*static_cast<const std::uint32_t*>(src));
+    case VarType::ULINT:
+      return std::to_string(*static_cast<const std::uint64_t*>(src));
+    case VarType::BYTE:
+      return hex(*static_cast<const std::uint8_t*>(src), 2);
+    case VarType::WORD:
+      return hex(*static_cast<const std::uint16_t*>(src), 4);
+    case VarType::DWORD:
+      return hex(*static_cast<const std::uint32_t*>(src), 8);
+    case VarType::LWORD:
+      return hex(*static_cast<const std::uint64_t*>(src), 16);
+    case VarType::REAL:
+      return real_text(*static_cast<const float*>(src), 9);
+    case VarType::LREAL:
+      return real_text(*static_cast<const double*>(src), 17);
+    case VarType::TIME:
+      return format_iec_time(*static_cast<const TIME*>(src));
+    case VarType::STRING:
+      return "'" + std::string(static_cast<const STRING*>(src)->view()) + "'";
+  }
+  return "?";
+}
+
+}  // namespace plc

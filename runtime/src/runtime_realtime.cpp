@@ -1,0 +1,197 @@
+// Real-time execution: one SCHED_FIFO thread per task on absolute
+// CLOCK_MONOTONIC deadlines, a watchdog thread, and the overrun policy.
+#include <fcntl.h>
+#include <pthread.h>
+#include <sched.h>
+#include <sys/mman.h>
+#include <sys/prctl.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "plc/release_schedule.hpp"
+#include "plc/runtime.hpp"
+
+namespace plc {
+namespace {
+
+std::int64_t mono_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+void sleep_until_ns(std::int64_t t) {
+  timespec ts{static_cast<time_t>(t / 1'000'000'000), static_cast<long>(t % 1'000'000'000)};
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  }
+}
+
+// IEC priority 0 (highest) .. 48 maps to SCHED_FIFO 49 .. 1: below the
+// default priority (50) of PREEMPT_RT's interrupt threads, so a busy PLC task
+// cannot starve the network interrupts its own fieldbus needs.
+int fifo_priority(int iec_priority) { return std::clamp(49 - iec_priority, 1, 49); }
+
+}  // namespace
+
+void Runtime::run_realtime(TIME span) {
+  // Memory locked and timer slack at 1 ns: page faults and the kernel's
+  // default 50 us slack would otherwise show up directly as wake-up jitter.
+  if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0)
+    std::fprintf(stderr, "plcrun: warning: mlockall failed (%s): page faults may add latency\n",
+                 std::strerror(errno));
+  prctl(PR_SET_TIMERSLACK, 1UL, 0, 0, 0);
+  // Keep the CPUs out of deep idle states while we run (as cyclictest does):
+  // waking from them costs tens of microseconds. The request holds while the
+  // file stays open.
+  const int dma_fd = ::open("/dev/cpu_dma_latency", O_RDWR | O_CLOEXEC);
+  if (dma_fd >= 0) {
+    const std::int32_t zero = 0;
+    if (::write(dma_fd, &zero, sizeof zero) != sizeof zero) {
+      std::fprintf(stderr,
+                   "plcrun: warning: /dev/cpu_dma_latency not set: idle states may add latency\n");
+    }
+  }
+
+  rt_running_.store(true);
+  const std::int64_t t0 = mono_ns() + 5'000'000;  // common phase for all tasks
+  const std::int64_t end = t0 + span.count();
+  std::vector<std::thread> threads;
+  for (auto& t : tasks_) threads.emplace_back([this, &t, t0] { realtime_task_loop(*t, t0); });
+  start_watchdog();
+
+  while (!stop_requested() && mono_ns() < end) {
+    const std::int64_t next = std::min(end, mono_ns() + 10'000'000);
+    sleep_until_ns(next);
+    bool any = false;
+    for (const auto& t : tasks_) any |= !t->stopped.load();
+    if (!any) break;
+  }
+  rt_running_.store(false);
+  for (std::size_t i = 0; i < threads.size(); ++i) {
+    TaskRuntime& t = *tasks_[i];
+    // A task the watchdog stopped may be stuck in its scan forever; it no
+    // longer touches the image, so leave it behind rather than hang.
+    if (t.stats.watchdog_tripped && t.scan_started_ns.load() >= 0) {
+      threads[i].detach();
+    } else {
+      threads[i].join();
+    }
+  }
+  stop_watchdog();
+  if (dma_fd >= 0) ::close(dma_fd);
+  now_ = TIME(std::max<std::int64_t>(0, std::min(mono_ns(), end) - t0));
+}
+
+void Runtime::realtime_task_loop(TaskRuntime& t, std::int64_t t0) {
+  sched_param sp{};
+  sp.sched_priority = fifo_priority(t.priority);
+  if (const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp); rc != 0) {
+    static std::atomic<bool> warned{false};
+    if (!warned.exchange(true))
+      std::fprintf(stderr,
+                   "plcrun: warning: SCHED_FIFO not permitted (%s); tasks run at normal priority "
+                   "and wake-up latency will be higher (run as root or grant CAP_SYS_NICE)\n",
+                   std::strerror(rc));
+  }
+  const std::int64_t period = t.period.count();
+  std::int64_t k = 0;
+  while (rt_running_.load(std::memory_order_relaxed) &&
+         !t.stopped.load(std::memory_order_relaxed)) {
+    const std::int64_t release = t0 + k * period;
+    sleep_until_ns(release);
+    if (!rt_running_.load(std::memory_order_relaxed) || t.stopped.load(std::memory_order_relaxed))
+      break;
+    const std::int64_t wake = mono_ns();
+    // Paused (debugger): skip the scan entirely; the plugins keep
+    // exchanging the last outputs. A step budget lets single scans through.
+    if (paused() && t.step_budget.load(std::memory_order_acquire) <= 0) {
+      ++t.paused_releases;
+      k = next_release(k, t0, period, mono_ns()).index;
+      continue;
+    }
+    if (paused()) t.step_budget.fetch_sub(1, std::memory_order_acq_rel);
+    t.stats.latency_ns.record(wake - release);
+    scan(t, TIME(k * period));
+    const NextRelease n = next_release(k, t0, period, mono_ns());
+    if (n.overrun) {
+      ++t.stats.overruns;
+      t.stats.skipped += n.skipped;
+    }
+    k = n.index;
+  }
+}
+
+void Runtime::start_watchdog() {
+  bool any = false;
+  for (const auto& t : tasks_) any |= t->watchdog > 0;
+  if (!any || watchdog_running_.exchange(true)) return;
+  watchdog_thread_ = std::thread([this] { watchdog_loop(); });
+}
+
+void Runtime::stop_watchdog() {
+  if (watchdog_running_.exchange(false) && watchdog_thread_.joinable()) watchdog_thread_.join();
+}
+
+void Runtime::watchdog_loop() {
+  const bool virtual_time = mode_ == io::ClockMode::Virtual;
+  std::int64_t fastest = INT64_MAX;
+  for (const auto& t : tasks_) fastest = std::min<std::int64_t>(fastest, t->period.count());
+  const std::int64_t poll =
+      std::clamp<std::int64_t>(fastest / 4, virtual_time ? 1'000'000 : 100'000, 10'000'000);
+  if (!virtual_time) {
+    sched_param sp{};
+    sp.sched_priority = 50;  // above every task (max task priority is 49)
+    pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
+  }
+  // Virtual time: per task, the scan we are watching and the scan thread's
+  // CPU time when we first saw it running.
+  struct Seen {
+    std::uint64_t seq = 0;
+    std::int64_t cpu0 = 0;
+  };
+  std::vector<Seen> seen(tasks_.size());
+  auto cpu_now = [this] {
+    timespec ts{};
+    clock_gettime(scan_thread_cpu_clock_, &ts);
+    return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+  };
+  while (watchdog_running_.load(std::memory_order_relaxed)) {
+    const std::int64_t now = mono_ns();
+    for (std::size_t i = 0; i < tasks_.size(); ++i) {
+      TaskRuntime& t = *tasks_[i];
+      if (t.watchdog <= 0 || t.stopped.load() || t.trip_requested.load()) continue;
+      const std::int64_t limit = std::int64_t(t.watchdog * double(t.period.count()));
+      const std::int64_t started = t.scan_started_ns.load(std::memory_order_acquire);
+      if (started < 0) continue;
+      if (virtual_time) {
+        const std::uint64_t seq = t.scan_seq.load(std::memory_order_relaxed);
+        if (seq != seen[i].seq) {
+          seen[i] = {seq, cpu_now()};
+          continue;
+        }
+        const std::int64_t used = cpu_now() - seen[i].cpu0;
+        if (used > limit) {
+          t.trip_reason = "watchdog: scan used more than " + std::to_string(used / 1000) +
+                          " us of CPU, limit " + std::to_string(limit / 1000) + " us";
+          t.trip_requested.store(true, std::memory_order_release);
+          std::fprintf(stderr,
+                       "plcrun: task '%s' exceeded its watchdog; it stops when the scan returns\n",
+                       t.name.c_str());
+        }
+      } else if (now - started > limit) {
+        trip(t,
+             "watchdog: scan running for " + std::to_string((now - started) / 1000) +
+                 " us, limit " + std::to_string(limit / 1000) + " us",
+             true);
+      }
+    }
+    sleep_until_ns(now + poll);
+  }
+}
+
+}  // namespace plc

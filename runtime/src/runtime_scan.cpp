@@ -1,0 +1,246 @@
+// One scan of a task, and what happens when a task must stop: watchdog,
+// exceptions, and the final safe state.
+#include <chrono>
+#include <cstdio>
+#include <mutex>
+
+#include "plc/runtime.hpp"
+
+namespace plc {
+namespace {
+
+std::int64_t steady_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+template <class M>
+struct MaybeLock {
+  MaybeLock(M& m, bool on) : m_(m), on_(on) {
+    if (on_) m_.lock();
+  }
+  ~MaybeLock() {
+    if (on_) m_.unlock();
+  }
+  M& m_;
+  bool on_;
+};
+
+}  // namespace
+
+void Runtime::scan(TaskRuntime& t, TIME now) {
+  const std::int64_t start = steady_ns();
+  t.scan_seq.fetch_add(1, std::memory_order_relaxed);
+  t.scan_started_ns.store(start, std::memory_order_release);
+  {
+    // 1: latch this task's devices into the global %I, take a private copy.
+    MaybeLock lock(image_mutex_, lock_image_);
+    auto gi = global_.area(io::Area::Input);
+    if (plugins_enabled_)
+      for (DeviceRuntime* d : t.devices)
+        if (d->sizes.input_bytes)
+          d->plugin->latch_inputs(d->index, gi.subspan(d->in.byte, d->sizes.input_bytes));
+    for (ScanHooks* h : hooks_) h->after_latch(t, global_);
+    t.image.copy_from(global_);
+  }
+  auto q = t.image.area(io::Area::Output);
+  auto m = t.image.area(io::Area::Memory);
+  std::copy(q.begin(), q.end(), t.before.area(io::Area::Output).begin());
+  std::copy(m.begin(), m.end(), t.before.area(io::Area::Memory).begin());
+
+  // 3: the programs.
+  const ScanContext ctx{now, t.period, t.cycle};
+  for (ScanHooks* h : hooks_) h->before_programs(t, ctx);
+  try {
+    for (std::size_t i = 0; i < t.programs.size(); ++i) {
+      for (ScanHooks* h : hooks_) h->before_program(t, i, ctx);
+      t.programs[i]->cycle(ctx);
+    }
+  } catch (const std::exception& e) {
+    trip(t, std::string("program threw: ") + e.what(), false);
+  } catch (...) {
+    trip(t, "program threw a non-standard exception", false);
+  }
+  if (t.trip_requested.load(std::memory_order_acquire)) trip(t, t.trip_reason, true);
+  for (ScanHooks* h : hooks_) h->after_programs(t, ctx);
+
+  {
+    // 5: merge what this scan changed, publish this task's devices.
+    MaybeLock lock(image_mutex_, lock_image_);
+    if (!t.stopped.load(std::memory_order_acquire)) {
+      io::merge_changes(global_.area(io::Area::Output), t.before.area(io::Area::Output), q);
+      io::merge_changes(global_.area(io::Area::Memory), t.before.area(io::Area::Memory), m);
+      for (ScanHooks* h : hooks_) h->before_publish(t, global_);
+      auto gq = global_.area(io::Area::Output);
+      if (plugins_enabled_)
+        for (DeviceRuntime* d : t.devices)
+          if (d->sizes.output_bytes)
+            d->plugin->publish_outputs(d->index, gq.subspan(d->out.byte, d->sizes.output_bytes));
+    }
+  }
+  const std::int64_t end = steady_ns();
+  t.scan_started_ns.store(-1, std::memory_order_release);
+  t.stats.scan_ns.record(end - start);
+  ++t.stats.scans;
+  for (const auto& o : observers_) o(t, ctx);
+  ++t.cycle;
+}
+
+void Runtime::trip(TaskRuntime& t, const std::string& reason, bool watchdog) {
+  if (t.stopped.exchange(true)) return;
+  t.stats.watchdog_tripped = watchdog;
+  t.stats.faulted = !watchdog;
+  t.stats.stop_reason = reason;
+  {
+    MaybeLock lock(image_mutex_, lock_image_);
+    apply_safe_outputs(&t.owned_q);
+    publish_all();
+  }
+  std::fprintf(stderr,
+               "plcrun: task '%s' stopped at %.6f s: %s; its outputs are at their safe values\n",
+               t.name.c_str(), std::chrono::duration<double>(now_).count(), reason.c_str());
+}
+
+void Runtime::apply_safe_outputs(const std::vector<std::uint8_t>* mask) {
+  auto q = global_.area(io::Area::Output);
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    const std::uint8_t mk = mask ? (*mask)[i] : 0xFF;
+    q[i] = static_cast<std::uint8_t>((q[i] & ~mk) | (safe_q_[i] & mk));
+  }
+}
+
+void Runtime::publish_all() {
+  if (!plugins_enabled_) return;
+  auto gq = global_.area(io::Area::Output);
+  for (auto& d : devices_)
+    if (d.sizes.output_bytes)
+      d.plugin->publish_outputs(d.index, gq.subspan(d.out.byte, d.sizes.output_bytes));
+}
+
+void Runtime::start(io::ClockMode mode) {
+  if (started_) return;
+  mode_ = mode;
+  lock_image_ = mode == io::ClockMode::RealTime;
+  for (auto& [name, p] : plugins_) {
+    if (!plugins_enabled_) break;
+    try {
+      p->start(mode);
+    } catch (const std::exception& e) {
+      throw io::PluginStartError("plugin '" + name + "' failed to start: " + e.what());
+    }
+  }
+  // Devices see the safe outputs until the first scan publishes.
+  publish_all();
+  started_ = true;
+  if (mode == io::ClockMode::Virtual) {
+    pthread_getcpuclockid(pthread_self(), &scan_thread_cpu_clock_);
+    start_watchdog();
+  }
+  first_tick_ = true;
+}
+
+void Runtime::remove_hooks(ScanHooks* h) { std::erase(hooks_, h); }
+
+void Runtime::run_scan(TaskRuntime& t, TIME now) {
+  now_ = now;
+  if (!t.stopped.load(std::memory_order_relaxed)) scan(t, now);
+}
+
+std::uint64_t Runtime::layout_hash() const {
+  std::uint64_t h = 1469598103934665603ULL;  // FNV-1a
+  auto mix = [&h](const std::string& s) {
+    for (unsigned char c : s) h = (h ^ c) * 1099511628211ULL;
+    h = (h ^ 0xFF) * 1099511628211ULL;
+  };
+  for (const auto& t : tasks_) mix(t->name + "/" + std::to_string(t->period.count()));
+  for (const auto& d : devices_)
+    mix(d.name + "/" + std::to_string(d.in.byte) + "+" + std::to_string(d.sizes.input_bytes) + "/" +
+        std::to_string(d.out.byte) + "+" + std::to_string(d.sizes.output_bytes) + "/" +
+        std::to_string(d.task));
+  return h;
+}
+
+bool Runtime::due(const TaskRuntime& t) const {
+  return !t.stopped.load(std::memory_order_relaxed) && now_.count() % t.period.count() == 0;
+}
+
+void Runtime::begin_tick() {
+  if (plugins_enabled_)
+    for (auto& [_, p] : plugins_) p->step(now_, first_tick_ ? TIME(0) : base_tick_);
+  first_tick_ = false;
+  tick_open_ = true;
+  cursor_ = 0;
+}
+
+// Moves the cursor to the next task due in the open tick; closes the tick
+// (and advances the clock) when none is left.
+void Runtime::advance_cursor() {
+  while (cursor_ < exec_order_.size() && !due(*exec_order_[cursor_])) ++cursor_;
+  if (cursor_ == exec_order_.size()) {
+    tick_open_ = false;
+    now_ += base_tick_;
+  }
+}
+
+void Runtime::tick() {
+  if (!tick_open_) begin_tick();
+  for (advance_cursor(); tick_open_; advance_cursor()) scan(*exec_order_[cursor_++], now_);
+}
+
+TaskRuntime* Runtime::step_scan() {
+  for (;;) {
+    bool alive = false;
+    for (const auto& t : tasks_) alive |= !t->stopped.load(std::memory_order_relaxed);
+    if (!alive) return nullptr;
+    if (!tick_open_) begin_tick();
+    advance_cursor();
+    if (!tick_open_) continue;
+    TaskRuntime* t = exec_order_[cursor_++];
+    scan(*t, now_);
+    advance_cursor();
+    return t;
+  }
+}
+
+void Runtime::finish() {
+  if (!started_) return;
+  stop_watchdog();
+  for (auto& t : tasks_) t->stopped.store(true);
+  {
+    MaybeLock lock(image_mutex_, lock_image_);
+    apply_safe_outputs(nullptr);
+    publish_all();
+  }
+  if (mode_ == io::ClockMode::Virtual && plugins_enabled_) {
+    // Let the devices see the safe outputs once before the plugins stop.
+    for (auto& [_, p] : plugins_) p->step(now_, TIME(0));
+  }
+  if (plugins_enabled_)
+    for (auto& [_, p] : plugins_) p->stop();
+  started_ = false;
+}
+
+void Runtime::run(io::ClockMode mode, TIME span) {
+  const auto w0 = std::chrono::steady_clock::now();
+  start(mode);
+  if (mode == io::ClockMode::Virtual) {
+    run_virtual(span);
+  } else {
+    run_realtime(span);
+  }
+  finish();
+  wall_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
+}
+
+void Runtime::run_virtual(TIME span) {
+  const TIME end = now_ + span;
+  while (now_ < end && !stop_requested()) {
+    bool any = false;
+    for (const auto& t : tasks_) any |= !t->stopped.load(std::memory_order_relaxed);
+    if (!any) break;
+    tick();
+  }
+}
+
+}  // namespace plc

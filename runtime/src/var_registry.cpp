@@ -1,0 +1,121 @@
+#include "plc/var_registry.hpp"
+
+#include <cstring>
+
+#include "plc/iec_literal.hpp"
+
+namespace plc {
+
+void VarRegistry::add(VarInfo v) {
+  index_.emplace(v.path, vars_.size());
+  vars_.push_back(std::move(v));
+}
+
+const VarInfo* VarRegistry::find(std::string_view path) const {
+  auto it = index_.find(std::string(path));
+  return it == index_.end() ? nullptr : &vars_[it->second];
+}
+
+namespace {
+
+template <class U>
+void load_native(const std::uint8_t* p, io::ByteOrder o, void* out) {
+  const U v = io::load<U>(p, o);
+  std::memcpy(out, &v, sizeof v);
+}
+template <class U>
+void store_native(std::uint8_t* p, io::ByteOrder o, const void* in) {
+  U v;
+  std::memcpy(&v, in, sizeof v);
+  io::store<U>(p, v, o);
+}
+
+}  // namespace
+
+void VarRegistry::read(const VarInfo& v, void* out) {
+  if (!v.address) {
+    if (v.type == VarType::STRING) {
+      *static_cast<STRING*>(out) = *static_cast<const STRING*>(v.ptr);
+    } else {
+      std::memcpy(out, v.ptr, size_of(v.type));
+    }
+    return;
+  }
+  const std::uint8_t* p = v.image_ptr;
+  switch (size_of(v.type)) {
+    case 1:
+      if (v.type == VarType::BOOL) {
+        *static_cast<bool*>(out) = (*p >> v.address->bit) & 1U;
+      } else {
+        std::memcpy(out, p, 1);
+      }
+      break;
+    case 2:
+      load_native<std::uint16_t>(p, v.order, out);
+      break;
+    case 4:
+      load_native<std::uint32_t>(p, v.order, out);
+      break;
+    case 8:
+      load_native<std::uint64_t>(p, v.order, out);
+      break;
+    default:
+      break;
+  }
+}
+
+void VarRegistry::write(const VarInfo& v, const void* in) {
+  if (!v.address) {
+    if (v.type == VarType::STRING) {
+      *static_cast<STRING*>(v.ptr) = *static_cast<const STRING*>(in);
+    } else {
+      std::memcpy(v.ptr, in, size_of(v.type));
+    }
+    return;
+  }
+  std::uint8_t* p = v.image_ptr;
+  switch (size_of(v.type)) {
+    case 1:
+      if (v.type == VarType::BOOL) {
+        const bool b = *static_cast<const bool*>(in);
+        const auto m = static_cast<std::uint8_t>(1U << v.address->bit);
+        *p = static_cast<std::uint8_t>(b ? (*p | m) : (*p & ~m));
+      } else {
+        std::memcpy(p, in, 1);
+      }
+      break;
+    case 2:
+      store_native<std::uint16_t>(p, v.order, in);
+      break;
+    case 4:
+      store_native<std::uint32_t>(p, v.order, in);
+      break;
+    case 8:
+      store_native<std::uint64_t>(p, v.order, in);
+      break;
+    default:
+      break;
+  }
+}
+
+std::string VarRegistry::format(const VarInfo& v) {
+  alignas(8) unsigned char buf[sizeof(STRING)];
+  if (v.type == VarType::STRING) {
+    auto* s = new (buf) STRING();
+    read(v, s);
+    return format_value(v.type, s);
+  }
+  read(v, buf);
+  return format_value(v.type, buf);
+}
+
+std::string VarRegistry::write_text(const VarInfo& v, std::string_view text) {
+  alignas(8) unsigned char buf[sizeof(STRING)];
+  void* tmp = buf;
+  if (v.type == VarType::STRING) tmp = new (buf) STRING();
+  std::string err = parse_value(v.type, text, tmp);
+  if (err.empty()) write(v, tmp);
+  return err;
+}
+
+}  // namespace plc

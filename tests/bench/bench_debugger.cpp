@@ -1,0 +1,143 @@
+// Debugger costs per scan (issue 6): 10 active conditional breakpoints, and
+// tracing 100 variables (CSV and VCD), against the same cell without a
+// debugger, in one run. Costs are CPU time of the scan thread (the trace's
+// formatting runs on a writer thread; its throughput is the *_wall figure).
+// Prints `name: value unit` lines.
+#include <benchmark/benchmark.h>
+
+#include <array>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <string>
+
+#include "plc/debug/debugger.hpp"
+#include "plc/program.hpp"
+
+namespace {
+
+using namespace plc;
+
+// 100 variables that change every scan (a fixed-seed xorshift).
+class HundredVars : public ProgramBase<HundredVars> {
+ public:
+  std::array<DINT, 50> i{};
+  std::array<REAL, 25> r{};
+  std::array<BOOL, 25> b{};
+  std::uint32_t x = 2463534242u;
+  void cycle(const ScanContext&) override {
+    for (auto& v : i) v = DINT(next() % 100000);
+    for (auto& v : r) v = REAL(next() % 1000) * 0.5F;
+    for (auto& v : b) v = (next() & 1U) != 0;
+  }
+  std::uint32_t next() {
+    x ^= x << 13;
+    x ^= x >> 17;
+    x ^= x << 5;
+    return x;
+  }
+  PLC_REFLECT(i, r, b)
+};
+PLC_REGISTER_PROGRAM(HundredVars)
+
+const char* kCell = R"(
+tasks: [{name: main, period: 1ms, watchdog: 0, programs: [P]}]
+programs: [{name: P, type: HundredVars}]
+)";
+
+std::unique_ptr<debug::Debugger> make_debugger() {
+  static CellConfig cfg = parse_cell_config(kCell, "bench.yaml");
+  return std::make_unique<debug::Debugger>([] { return std::make_unique<Runtime>(cfg); },
+                                           debug::Debugger::Options{});
+}
+
+void BM_ScanNoDebugger(benchmark::State& state) {
+  Runtime rt(parse_cell_config(kCell, "bench.yaml"));
+  rt.start(io::ClockMode::Virtual);
+  for (auto _ : state) rt.step_scan();
+  rt.finish();
+}
+BENCHMARK(BM_ScanNoDebugger)->MinTime(1.0);
+
+void BM_ScanDebuggerIdle(benchmark::State& state) {
+  auto d = make_debugger();
+  for (auto _ : state) d->runtime().step_scan();
+}
+BENCHMARK(BM_ScanDebuggerIdle)->MinTime(1.0);
+
+void BM_TenBreakpoints(benchmark::State& state) {
+  auto d = make_debugger();
+  for (int k = 0; k < 10; ++k)  // never true: they are evaluated every scan
+    d->execute("break P.i[" + std::to_string(k) + "] > 2000000 AND P.r[" + std::to_string(k) +
+               "] < -1.0");
+  for (auto _ : state) d->runtime().step_scan();
+}
+BENCHMARK(BM_TenBreakpoints)->MinTime(1.0);
+
+void trace_bench(benchmark::State& state, const char* file) {
+  auto d = make_debugger();
+  std::string add = "trace add";
+  for (int k = 0; k < 50; ++k) add += " P.i[" + std::to_string(k) + "]";
+  for (int k = 0; k < 25; ++k) add += " P.r[" + std::to_string(k) + "]";
+  for (int k = 0; k < 25; ++k) add += " P.b[" + std::to_string(k) + "]";
+  d->execute(add);
+  d->execute(std::string("trace start ") + file);
+  for (auto _ : state) d->runtime().step_scan();
+  d->execute("trace stop");
+  std::remove(file);
+}
+void BM_Trace100Csv(benchmark::State& state) { trace_bench(state, "/tmp/plc_bench_trace.csv"); }
+void BM_Trace100Vcd(benchmark::State& state) { trace_bench(state, "/tmp/plc_bench_trace.vcd"); }
+BENCHMARK(BM_Trace100Csv)->MinTime(1.0);
+BENCHMARK(BM_Trace100Vcd)->MinTime(1.0);
+
+// Collects ns per iteration (CPU time) by benchmark name.
+class Collector : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    ConsoleReporter::ReportRuns(runs);
+    for (const Run& r : runs) {
+      per_scan[r.benchmark_name()] = r.GetAdjustedCPUTime();
+      wall[r.benchmark_name()] = r.GetAdjustedRealTime();
+    }
+  }
+  std::map<std::string, double> per_scan, wall;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  Collector c;
+  c.SetOutputStream(&std::cerr);  // the table on stderr, the figures on stdout
+  c.SetErrorStream(&std::cerr);
+  benchmark::RunSpecifiedBenchmarks(&c);
+  benchmark::Shutdown();
+  auto get = [&](const char* prefix) {
+    for (const auto& [k, v] : c.per_scan)
+      if (k.rfind(prefix, 0) == 0) return v;
+    return 0.0;
+  };
+  const double base = get("BM_ScanNoDebugger");
+  const double idle = get("BM_ScanDebuggerIdle");
+  const double bp = get("BM_TenBreakpoints");
+  const double csv = get("BM_Trace100Csv");
+  const double vcd = get("BM_Trace100Vcd");
+  std::printf("scan_100_vars_no_debugger: %.0f ns\n", base);
+  std::printf("debugger_idle_overhead: %.0f ns/scan\n", idle - base);
+  std::printf("breakpoints_10_cost: %.0f ns/scan\n", bp - idle);
+  std::printf("breakpoint_cost_each: %.1f ns/scan\n", (bp - idle) / 10);
+  std::printf("trace_100_vars_csv_cost: %.0f ns/scan\n", csv - idle);
+  std::printf("trace_100_vars_vcd_cost: %.0f ns/scan\n", vcd - idle);
+  // Wall time per scan with the trace: in virtual time the scan waits for
+  // the writer thread when it falls behind (backpressure), so this is the
+  // formatting throughput, paid on the other core.
+  auto wall = [&](const char* prefix) {
+    for (const auto& [k, v] : c.wall)
+      if (k.rfind(prefix, 0) == 0) return v;
+    return 0.0;
+  };
+  std::printf("trace_100_vars_csv_wall: %.0f ns/scan\n", wall("BM_Trace100Csv"));
+  std::printf("trace_100_vars_vcd_wall: %.0f ns/scan\n", wall("BM_Trace100Vcd"));
+  return 0;
+}

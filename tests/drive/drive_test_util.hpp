@@ -1,0 +1,53 @@
+// Virtual-time harness for the drive tests: one simulated E1 in lockstep
+// with the scan (the sim plugin's order: scan, then device step).
+#pragma once
+
+#include <functional>
+#include <memory>
+
+#include "hiwin_e1/hiwin_e1_model.hpp"
+#include "plc/fb/drive/drive_axis.hpp"
+#include "plc/io/sim_device.hpp"
+#include "plc/scan_context.hpp"
+
+namespace plc::drive::test {
+
+using namespace std::chrono_literals;
+
+struct Bench {
+  explicit Bench(sim::HiwinE1Config cfg = {}, UINT telegram = 111) {
+    cfg.telegram = static_cast<TelegramType>(telegram);
+    auto m = std::make_unique<sim::HiwinE1Model>(cfg);
+    model = m.get();
+    dev = std::make_unique<io::SimDevice>(std::move(m));
+    axis.Telegram = telegram;
+    dev->bind(axis.Port);
+    dev->step(ctx.now, period);  // first frame from the drive
+  }
+  // One scan: the program (body), then the drive steps one period.
+  void scan(const std::function<void()>& body) {
+    body();
+    ctx.now += period;
+    ++ctx.cycle;
+    dev->step(ctx.now, period);
+  }
+  // Scans until pred() or max scans; returns true if pred() became true.
+  bool run_until(const std::function<void()>& body, const std::function<bool()>& pred,
+                 int max_scans = 10000) {
+    for (int i = 0; i < max_scans; ++i) {
+      scan(body);
+      if (pred()) return true;
+    }
+    return false;
+  }
+  void run(const std::function<void()>& body, int scans) {
+    for (int i = 0; i < scans; ++i) scan(body);
+  }
+  ScanContext ctx{TIME{}, 1ms, 0};
+  TIME period = 1ms;
+  sim::HiwinE1Model* model = nullptr;
+  std::unique_ptr<io::SimDevice> dev;
+  DriveAxis axis;
+};
+
+}  // namespace plc::drive::test

@@ -1,0 +1,62 @@
+// Every drive block and the axis reflect their fields for the debugger,
+// trace and HMI (DESIGN.md "FB shape"); the axis' DevicePort is found by path.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "plc/fb/drive/abs_encoder_init.hpp"
+#include "plc/fb/drive/mc_blocks.hpp"
+#include "plc/fb/drive/sina_para.hpp"
+#include "plc/fb/drive/sina_pos.hpp"
+#include "plc/fb/drive/sina_speed.hpp"
+#include "plc/field_visitor.hpp"
+
+namespace plc::drive {
+
+struct Cell {
+  DriveAxis axis1;
+  MC_Power power;
+  MC_Reset reset;
+  MC_MoveAbsolute mabs;
+  MC_MoveRelative mrel;
+  MC_MoveVelocity mvel;
+  MC_Home home;
+  MC_Stop stop;
+  MC_Halt halt;
+  MC_ReadStatus rs;
+  MC_ReadActualPosition rp;
+  SinaPos pos;
+  SinaSpeed speed;
+  SinaPara para;
+  AbsEncoderInit abs;
+  PLC_REFLECT(axis1, power, reset, mabs, mrel, mvel, home, stop, halt, rs, rp, pos, speed, para,
+              abs)
+};
+
+TEST(Reflection, AllBlocksListTheirFields) {
+  Cell c;
+  const auto v = collect_fields("Cell", c);
+  ASSERT_EQ(v.ports.size(), 1u);
+  EXPECT_EQ(v.ports[0].path, "Cell.axis1.Port");
+  auto has = [&](const std::string& p) {
+    return std::any_of(v.fields.begin(), v.fields.end(),
+                       [&](const auto& f) { return f.path == p; });
+  };
+  EXPECT_TRUE(has("Cell.axis1.ZSW1"));
+  EXPECT_TRUE(has("Cell.axis1.State"));
+  EXPECT_TRUE(has("Cell.pos.Status"));
+  EXPECT_TRUE(has("Cell.pos.DiagID"));
+  EXPECT_TRUE(has("Cell.mabs.CommandAborted"));
+  EXPECT_TRUE(has("Cell.para.ValuesRead[63]"));
+  EXPECT_TRUE(has("Cell.para.ErrorText"));
+  EXPECT_TRUE(has("Cell.abs.Status"));
+}
+
+TEST(Reflection, UnboundAxisIsOffline) {
+  DriveAxis a;
+  a.begin(ScanContext{});
+  EXPECT_EQ(a.CommError, kErrOffline);
+  EXPECT_EQ(a.State, AxisState::ErrorStop);
+}
+
+}  // namespace plc::drive

@@ -1,0 +1,82 @@
+// SinaSpeed over telegram 3 against the simulated E1.
+#include <gtest/gtest.h>
+
+#include "drive_test_util.hpp"
+#include "plc/fb/drive/scaling.hpp"
+#include "plc/fb/drive/sina_speed.hpp"
+
+namespace plc::drive::test {
+
+struct SinaSpeedTest : ::testing::Test {
+  Bench b{sim::HiwinE1Config{}, 3};
+  SinaSpeed fb;
+  void body() { fb(b.ctx, b.axis); }
+  bool until(const std::function<bool()>& p, int n = 10000) {
+    return b.run_until([&] { body(); }, p, n);
+  }
+  void run(int n) {
+    b.run([&] { body(); }, n);
+  }
+};
+
+TEST_F(SinaSpeedTest, SpeedSetpointScaledToNsollB) {
+  fb.EnableAxis = true;
+  ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));
+  EXPECT_EQ(fb.Status, kStatusRunning);
+  fb.SpeedSp = 1500;  // 50 % of RefSpeed 3000 rpm
+  body();
+  EXPECT_EQ(b.axis.NSOLL_B, 0x20000000);
+  EXPECT_EQ(io::load_be<std::int32_t>(b.dev->outputs(), Telegram3Out::kNsollB), 0x20000000);
+  run(5);
+  EXPECT_FALSE(fb.SpeedReached);  // ramping (Pt534: 100 ms to 3000 rpm)
+  ASSERT_TRUE(until([&] { return fb.SpeedReached; }, 500));
+  run(20);
+  EXPECT_NEAR(fb.ActVelocity, 1500, 30);
+  EXPECT_TRUE(fb.InTolerance);
+  // 1500 rpm with 10000 CU/rev = 250000 CU/s; ramp Pt534 100 ms for 3000 rpm.
+  EXPECT_NEAR(b.model->velocity(), 250000, 500);
+  // G1_XIST1 counts the position.
+  const auto x0 = b.axis.G1_XIST1;
+  run(100);
+  EXPECT_NEAR(static_cast<double>(b.axis.G1_XIST1 - x0), 25000, 300);
+  fb.SpeedSp = -3000;
+  run(300);
+  EXPECT_NEAR(fb.ActVelocity, -3000, 30);
+  // OFF3 through ConfigAxis: quick stop (Pt30A = 0: at once), then S1.
+  fb.ConfigAxis = 0x1;
+  run(30);
+  EXPECT_EQ(b.model->state(), sim::HiwinE1Model::State::S1);
+  EXPECT_NEAR(b.model->velocity(), 0, 1700);  // below the standstill threshold
+  EXPECT_TRUE(fb.Lockout);
+  EXPECT_EQ(fb.Status, kStatusLockout);
+  fb.ConfigAxis = 0x3;
+  ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));
+}
+
+TEST_F(SinaSpeedTest, SpeedClampedByPt316AndFaultAck) {
+  fb.EnableAxis = true;
+  fb.SpeedSp = 20000;  // beyond +200 % -> NSOLL_B saturates at 0x7FFFFFFF
+  ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));
+  EXPECT_EQ(b.axis.NSOLL_B, 0x7FFFFFFF);
+  run(500);
+  EXPECT_NEAR(fb.ActVelocity, 6000, 10);  // ~200 % of 3000 rpm, below Pt316 = 10000
+  b.model->trip_alarm(0x510);             // AL.510 overspeed
+  run(2);
+  EXPECT_EQ(fb.Status, kStatusDriveFault);
+  EXPECT_TRUE(fb.Error);
+  fb.AckError = true;
+  run(2);
+  fb.AckError = false;
+  ASSERT_TRUE(until([&] { return fb.AxisEnabled && !fb.Error; }, 100));
+}
+
+TEST_F(SinaSpeedTest, WrongTelegram) {
+  Bench b111;
+  SinaSpeed s;
+  s.EnableAxis = true;
+  b111.run([&] { s(b111.ctx, b111.axis); }, 2);
+  EXPECT_EQ(s.Status, kStatusComm);
+  EXPECT_EQ(s.DiagID, kErrTelegram);
+}
+
+}  // namespace plc::drive::test

@@ -1,0 +1,138 @@
+// Every class of cell-config error is reported as file:line:column naming
+// the key, with exit code 2, before anything starts (issue 2 acceptance).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "test_helpers.hpp"
+
+namespace {
+
+const char* kGood = R"(cell: t
+tasks:
+  - name: main
+    period: 1ms
+    programs: [Tank]
+programs:
+  - name: Tank
+    type: TankCycle
+plugins:
+  - name: sim
+    type: sim
+devices:
+  - name: echo
+    plugin: sim
+    model: loopback
+    input: "%IB0"
+    output: "%QB0"
+    params: {size: 4}
+)";
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  const auto pos = s.find(from);
+  // Runs during static initialisation: a typo in a case must not go unseen.
+  if (pos == std::string::npos) {
+    std::fprintf(stderr, "test_config_errors: pattern not found in kGood: %s\n", from.c_str());
+    std::abort();
+  }
+  s.replace(pos, from.size(), to);
+  return s;
+}
+
+struct Case {
+  const char* name;
+  std::string yaml;
+  int line;             // expected line (1-based)
+  const char* key;      // the message must name it
+  const char* message;  // and say this
+};
+
+// Readable test names in failures instead of a byte dump.
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+
+class ConfigErrors : public ::testing::TestWithParam<Case> {};
+
+TEST_P(ConfigErrors, PlcrunReportsFileLineKeyAndExitsWithTwo) {
+  const Case& c = GetParam();
+  const std::string path = plctest::write_temp(std::string(c.name) + ".yaml", c.yaml);
+  const auto r = plctest::run_command(plctest::plcrun_path() + " " + path + " --cycles 10 -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  const std::string where = path + ":" + std::to_string(c.line) + ":";
+  EXPECT_NE(r.output.find(where), std::string::npos)
+      << "expected '" << where << "' in: " << r.output;
+  EXPECT_NE(r.output.find(c.key), std::string::npos)
+      << "expected key '" << c.key << "' in: " << r.output;
+  EXPECT_NE(r.output.find(c.message), std::string::npos)
+      << "expected '" << c.message << "' in: " << r.output;
+  EXPECT_EQ(r.output.find("summary"), std::string::npos) << "nothing may start: " << r.output;
+}
+
+const Case kCases[] = {
+    {"bad_yaml", replaced(kGood, "    period: 1ms", "    period: [1ms"), 5, "",
+     "YAML syntax error"},
+    {"unknown_key", replaced(kGood, "    period: 1ms", "    perod: 1ms"), 4, "perod",
+     "unknown key"},
+    {"missing_key", replaced(kGood, "    type: TankCycle\n", ""), 7, "type", "missing key"},
+    {"bad_period", replaced(kGood, "period: 1ms", "period: fast"), 4, "period", "not a duration"},
+    {"bad_address", replaced(kGood, "\"%IB0\"", "\"%IZ0\""), 16, "input",
+     "invalid IEC address '%IZ0'"},
+    {"bad_bit",
+     replaced(kGood, "type: TankCycle", "type: TankCycle\n    bind: {level: \"%IX0.9\"}"), 9,
+     "level", "out of range 0..7"},
+    {"wrong_size_address",
+     replaced(kGood, "type: TankCycle", "type: TankCycle\n    bind: {level: \"%ID0\"}"), 9,
+     "Tank.level", "an INT needs a %IW"},
+    {"address_outside_image", replaced(kGood, "cell: t\n", "cell: t\nimage: {inputs: 2}\n"), 17,
+     "input", "needs 4 bytes from %IB0"},
+    {"overlapping_addresses",
+     std::string(kGood) +
+         "  - name: echo2\n    plugin: sim\n    model: loopback\n    input: \"%IB2\"\n"
+         "    output: \"%QB8\"\n",
+     22, "input", "overlapping addresses: device 'echo2'"},
+    {"unknown_plugin", replaced(kGood, "    type: sim", "    type: profibus9"), 11, "type",
+     "unknown plugin type 'profibus9'"},
+    {"undeclared_plugin", replaced(kGood, "    plugin: sim", "    plugin: bus"), 14, "plugin",
+     "unknown plugin 'bus'"},
+    {"unknown_program", replaced(kGood, "type: TankCycle", "type: NoSuchProgram"), 8, "type",
+     "unknown program type 'NoSuchProgram'"},
+    {"task_runs_unknown_program", replaced(kGood, "[Tank]", "[Tnk]"), 5, "Tnk",
+     "unknown program 'Tnk'"},
+    {"unknown_model", replaced(kGood, "model: loopback", "model: warp_drive"), 15, "model",
+     "unknown device model 'warp_drive'"},
+    {"unknown_model_param", replaced(kGood, "{size: 4}", "{size: 4, colour: red}"), 18, "colour",
+     "unknown parameter 'colour'"},
+    {"bad_model_param", replaced(kGood, "{size: 4}", "{size: huge}"), 18, "size",
+     "expected an integer"},
+    {"duplicate_task",
+     replaced(kGood, "    programs: [Tank]\n",
+              "    programs: [Tank]\n  - {name: main, period: 2ms, programs: []}\n"),
+     6, "main", "duplicate task name"},
+    {"unknown_bind",
+     replaced(kGood, "type: TankCycle", "type: TankCycle\n    bind: {nope: \"%IX0.0\"}"), 9, "nope",
+     "no located variable or device port"},
+    {"bad_init", replaced(kGood, "type: TankCycle", "type: TankCycle\n    init: {high_level: abc}"),
+     9, "high_level", "not an integer"},
+    {"bad_safe_value", std::string(kGood) + "safe_values:\n  \"%IW0\": 1\n", 20, "safe_values",
+     "not an output"},
+    {"bad_clock", replaced(kGood, "cell: t\n", "cell: t\nclock: sometimes\n"), 2, "clock",
+     "not virtual or realtime"},
+};
+
+INSTANTIATE_TEST_SUITE_P(EachClass, ConfigErrors, ::testing::ValuesIn(kCases),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(ConfigErrorsMisc, MissingFileIsExitTwo) {
+  const auto r = plctest::run_command(plctest::plcrun_path() + " /nonexistent/cell.yaml");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("cannot open"), std::string::npos) << r.output;
+}
+
+TEST(ConfigErrorsMisc, TheGoodConfigRuns) {
+  const std::string path = plctest::write_temp("good.yaml", kGood);
+  const auto r = plctest::run_command(plctest::plcrun_path() + " " + path + " --cycles 10 -q");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("cycles 10"), std::string::npos) << r.output;
+}
+
+}  // namespace

@@ -1,0 +1,61 @@
+// Shared helpers for the runtime tests: build a runtime from YAML text, run
+// plcrun as a child process.
+#pragma once
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "plc/cell_config.hpp"
+#include "plc/runtime.hpp"
+
+namespace plctest {
+
+inline std::unique_ptr<plc::Runtime> make_runtime(const std::string& yaml) {
+  return std::make_unique<plc::Runtime>(plc::parse_cell_config(yaml, "test.yaml"));
+}
+
+inline std::string plcrun_path() {
+  const char* d = std::getenv("PLC_BIN_DIR");
+  return std::string(d ? d : "build/bin") + "/plcrun";
+}
+
+inline std::string temp_path(const std::string& name) {
+  const char* t = std::getenv("TMPDIR");
+  return std::string(t ? t : "/tmp") + "/plc_test_" + std::to_string(::getpid()) + "_" + name;
+}
+
+inline std::string write_temp(const std::string& name, const std::string& text) {
+  const std::string p = temp_path(name);
+  std::ofstream(p) << text;
+  return p;
+}
+
+struct RunResult {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+inline RunResult run_command(const std::string& cmd) {
+  RunResult r;
+  std::FILE* f = ::popen((cmd + " 2>&1").c_str(), "r");
+  if (!f) return r;
+  char buf[4096];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) r.output.append(buf, n);
+  const int status = ::pclose(f);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+inline std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+}  // namespace plctest

@@ -1,0 +1,112 @@
+// Small programs used by the runtime tests (registered by name).
+#pragma once
+
+#include <vector>
+
+#include "plc/fb/iec/iec.hpp"
+#include "plc/io/located.hpp"
+#include "plc/program.hpp"
+
+namespace plctest {
+
+using namespace plc;
+
+// Records every scan's timestamp (and a global sequence number, to check the
+// order in which tasks run within one tick).
+class ReleaseLog : public ProgramBase<ReleaseLog> {
+ public:
+  ReleaseLog() { times.reserve(20000); }
+  void cycle(const ScanContext& ctx) override {
+    times.push_back(ctx.now.count());
+    cycles.push_back(ctx.cycle);
+    order.push_back(next_sequence()++);
+  }
+  static std::uint64_t& next_sequence() {
+    static std::uint64_t s = 0;
+    return s;
+  }
+  std::vector<std::int64_t> times;
+  std::vector<std::uint64_t> cycles, order;
+  DINT scans = 0;
+  PLC_REFLECT(scans)
+};
+
+// Busy-waits `spin_us` microseconds of wall time in a scan while `spin` is
+// TRUE (to trip the watchdog); drives a located output every scan.
+class Spinner : public ProgramBase<Spinner> {
+ public:
+  io::Located<INT> out{"%QW0"};
+  io::Located<BOOL> lamp{"%QX4.0"};
+  BOOL spin = false;
+  DINT spin_us = 50000;
+  DINT scans = 0;
+  void cycle(const ScanContext& ctx) override;
+  PLC_REFLECT(out, lamp, spin, spin_us, scans)
+};
+
+// Sets one bit of %QB8 (which bit: `bit`) and counts into %MW10+2*bit: two
+// instances in two tasks share bytes without clobbering each other.
+class BitWriter : public ProgramBase<BitWriter> {
+ public:
+  io::Located<BOOL> mine{"%QX8.0"};
+  USINT bit = 0;
+  BOOL value = true;
+  void cycle(const ScanContext&) override { mine = value; }
+  PLC_REFLECT(mine, bit, value)
+};
+
+// A counter and a timer on a loopback device: writes its scan count to the
+// device and reads it back one step later.
+class LoopCounter : public ProgramBase<LoopCounter> {
+ public:
+  io::Located<DINT> to_dev{"%QD0"};
+  io::Located<DINT> from_dev{"%ID0"};
+  iec::TON t;
+  iec::CTU ctu;
+  DINT count = 0;
+  DINT echoed = 0;
+  REAL ratio = 0;
+  void cycle(const ScanContext& ctx) override {
+    ++count;
+    to_dev = count;
+    echoed = from_dev;
+    t.IN = (count / 50) % 2 == 0;
+    t.PT = std::chrono::milliseconds(20);
+    t(ctx);
+    ctu.CU = t.Q;
+    ctu.PV = 1000;
+    ctu();
+    ratio = count ? REAL(echoed) / REAL(count) : 0.0F;
+  }
+  PLC_REFLECT(to_dev, from_dev, t, ctu, count, echoed, ratio)
+};
+
+// Throws on demand (fault isolation).
+class Thrower : public ProgramBase<Thrower> {
+ public:
+  BOOL fire = false;
+  io::Located<BOOL> out{"%QX6.0"};
+  void cycle(const ScanContext&) override;
+  PLC_REFLECT(fire, out)
+};
+
+// Reflection coverage: nested FBs, arrays, enums, bit strings, strings.
+class Shapes : public ProgramBase<Shapes> {
+ public:
+  enum class Mode : SINT { Off = 0, Auto = 3 };
+  struct Inner {
+    iec::R_TRIG edge;
+    std::array<iec::TON, 2> timers;
+    PLC_REFLECT(edge, timers)
+  };
+  Inner inner;
+  Mode mode = Mode::Auto;
+  WORD w = 0x047F;
+  STRING name = "cell";
+  LREAL x = 1.5;
+  std::array<INT, 3> arr{1, 2, 3};
+  void cycle(const ScanContext&) override {}
+  PLC_REFLECT(inner, mode, w, name, x, arr)
+};
+
+}  // namespace plctest

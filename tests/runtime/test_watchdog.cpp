@@ -1,0 +1,100 @@
+// Watchdog and fault isolation: a scan longer than `watchdog` x period stops
+// that task and puts its outputs to their safe values; other tasks go on.
+// In virtual time the watchdog counts the scan thread's CPU time, so a
+// preempted (not runaway) scan never trips it.
+#include <gtest/gtest.h>
+
+#include "plc/io/sim_plugin.hpp"
+#include "test_helpers.hpp"
+#include "test_programs.hpp"
+
+using namespace plc;
+
+namespace {
+const char* kCell = R"(
+tasks:
+  - {name: fast, period: 1ms, watchdog: 3, programs: [Spin]}
+  - {name: other, period: 2ms, programs: [Log]}
+programs:
+  - {name: Spin, type: Spinner}
+  - {name: Log, type: ReleaseLog}
+plugins: [{name: sim}]
+devices:
+  - {name: dev, plugin: sim, model: loopback, input: "%IB0", output: "%QB0", task: other, params: {size: 6}}
+safe_values:
+  "%QW0": 16#0400
+)";
+}
+
+TEST(Watchdog, LongScanStopsOnlyItsTaskAndDrivesItsOutputsSafe) {
+  auto rt = plctest::make_runtime(kCell);
+  auto* spin = static_cast<plctest::Spinner*>(rt->program("Spin"));
+  auto* sim = static_cast<io::SimPlugin*>(rt->plugin("sim"));
+  rt->start(io::ClockMode::Virtual);
+  for (int i = 0; i < 10; ++i) rt->tick();
+  auto dev_out = sim->device("dev")->outputs();
+  EXPECT_EQ(dev_out[0], 0x04);
+  EXPECT_EQ(dev_out[1], 0xD2) << "1234 = 16#04D2 while running";
+  EXPECT_EQ(dev_out[4], 0x01) << "%QX4.0 on";
+  spin->spin = true;
+  // 200 ms of CPU in a 1 ms task with watchdog 3 (3 ms of CPU per scan): the
+  // watchdog thread (polling every 1 ms) sees it long before the scan ends,
+  // even on a loaded machine.
+  spin->spin_us = 200000;
+  for (int i = 0; i < 10; ++i) rt->tick();
+  const TaskRuntime& fast = *rt->task("fast");
+  EXPECT_TRUE(fast.stats.watchdog_tripped);
+  EXPECT_NE(fast.stats.stop_reason.find("watchdog"), std::string::npos);
+  EXPECT_EQ(spin->scans, 11) << "no scan after the trip";
+  EXPECT_EQ(dev_out[0], 0x04);
+  EXPECT_EQ(dev_out[1], 0x00) << "safe value 16#0400 configured for %QW0";
+  EXPECT_EQ(dev_out[4], 0x00) << "%QX4.0 safe value defaults to 0";
+  const std::size_t before = static_cast<plctest::ReleaseLog*>(rt->program("Log"))->times.size();
+  for (int i = 0; i < 10; ++i) rt->tick();
+  EXPECT_EQ(static_cast<plctest::ReleaseLog*>(rt->program("Log"))->times.size(), before + 5)
+      << "the other task goes on";
+  rt->finish();
+}
+
+TEST(Watchdog, AnExceptionStopsOnlyThatTask) {
+  auto rt = plctest::make_runtime(R"(
+tasks:
+  - {name: a, period: 1ms, programs: [T]}
+  - {name: b, period: 1ms, programs: [L]}
+programs: [{name: T, type: Thrower}, {name: L, type: ReleaseLog}]
+)");
+  auto* t = static_cast<plctest::Thrower*>(rt->program("T"));
+  rt->start(io::ClockMode::Virtual);
+  rt->tick();
+  EXPECT_EQ(rt->image().area(io::Area::Output)[6], 0x01);
+  t->fire = true;
+  rt->tick();
+  rt->tick();
+  EXPECT_TRUE(rt->task("a")->stats.faulted);
+  EXPECT_NE(rt->task("a")->stats.stop_reason.find("boom"), std::string::npos);
+  EXPECT_EQ(rt->image().area(io::Area::Output)[6], 0x00) << "its output went safe";
+  EXPECT_EQ(rt->task("b")->stats.scans, 3u);
+  rt->finish();
+}
+
+TEST(Watchdog, FinishPutsEveryOutputToItsSafeValue) {
+  auto rt = plctest::make_runtime(kCell);
+  auto* sim = static_cast<io::SimPlugin*>(rt->plugin("sim"));
+  rt->run(io::ClockMode::Virtual, std::chrono::milliseconds(20));
+  auto out = sim->device("dev")->outputs();
+  EXPECT_EQ(out[0], 0x04);
+  EXPECT_EQ(out[1], 0x00);
+  EXPECT_EQ(out[4], 0x00);
+}
+
+TEST(Watchdog, VirtualTimeIgnoresScansThatStayUnderTheirCpuBudget) {
+  // 10,000 ordinary scans with a tight watchdog (2 periods): a loaded machine
+  // may stretch their wall time, but not the CPU time they use.
+  auto rt = plctest::make_runtime(R"(
+tasks: [{name: t, period: 1ms, watchdog: 2, programs: [L]}]
+programs: [{name: L, type: LoopCounter}]
+)");
+  rt->run(io::ClockMode::Virtual, std::chrono::seconds(10));
+  EXPECT_FALSE(rt->task("t")->stats.watchdog_tripped);
+  EXPECT_EQ(rt->task("t")->stats.scans, 10000u);
+}

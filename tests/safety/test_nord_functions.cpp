@@ -1,0 +1,264 @@
+// Safety functions and passivation of the simulated NORD device, seen
+// through NORD_SAFE_IO (spec nord-profisafe.md §1.5, §2.8, §8.3, §8.4 item 6).
+#include <gtest/gtest.h>
+
+#include "plc/fb/safety/f_host_diag.hpp"
+#include "plc/fb/safety/nord_error_codes.hpp"
+#include "safety_rig.hpp"
+
+namespace {
+
+using namespace safety_test;
+using plc::safety::FHostState;
+namespace diag = plc::safety::diag;
+namespace err = plc::safety::nord::err;
+
+// §1.5 / §2.8: SLS overspeed -> 5781, module passivation (P801 = 0); no
+// ACK_REQ (OA refused) before 10 s after the error, even with the cause
+// gone; then ACK_REI reintegrates.
+TEST(SafetyNordFunctions, SlsViolationReintegratesOnlyAfter10s_Spec2_8) {
+  Rig r;
+  r.io.SLS = true;
+  r.io.SLS_LEVEL = 1;  // P823[-02] = 500 rpm
+  r.start();
+  r.model->set_speed_rpm(400);
+  r.scan(5);
+  ASSERT_TRUE(r.running());
+  EXPECT_TRUE(r.io.SLS_OK);
+  EXPECT_EQ(r.io.SLS_LEVEL_ACT, 1);
+  r.model->set_speed_rpm(600);
+  ASSERT_GT(r.scan_until([&] { return r.io.QBAD; }, 10), 0);
+  const plc::TIME t_err = r.ctx.now;
+  r.model->set_speed_rpm(0);  // cause removed at once
+  r.scan(5);
+  EXPECT_TRUE(r.io.DIAG & diag::kDevFault);
+  EXPECT_EQ(r.io.DIAG_CODE, err::kSlsViolated);
+  while (r.ctx.now - t_err < std::chrono::milliseconds(9990)) {
+    r.scan();
+    ASSERT_FALSE(r.io.ACK_REQ) << "ACK_REQ before 10 s";
+    ASSERT_TRUE(r.all_safe());
+    if ((r.ctx.cycle % 1000) == 0) r.ack();  // refused before 10 s
+  }
+  ASSERT_GT(r.scan_until([&] { return r.io.ACK_REQ; }, 100), 0);
+  EXPECT_GE(r.ctx.now - t_err, std::chrono::seconds(10));
+  r.ack();
+  EXPECT_GT(r.scan_until([&] { return r.running(); }, 10), 0);
+}
+
+// §1.5: SSM is a status bit only and never passivates, even with P801 = 0.
+TEST(SafetyNordFunctions, SsmStatusOnlyNeverPassivates_Spec1_5) {
+  Rig r;
+  r.start();
+  EXPECT_TRUE(r.io.SSM);
+  r.model->set_speed_rpm(60);  // above max SSM 50
+  r.scan(20);
+  EXPECT_FALSE(r.io.SSM);
+  EXPECT_TRUE(r.running());
+  r.model->set_speed_rpm(-40);
+  r.scan(3);
+  EXPECT_TRUE(r.io.SSM);
+}
+
+// §8.3: SSR window, SDI-P direction, SOS window via the status bits and
+// the errors 5782-5785.
+TEST(SafetyNordFunctions, SsrWindowStatusAndViolation5782_Spec1_5) {
+  Rig r(Params{{"p823_6", "100"}});  // min SSR 100, max SSR 2000
+  r.model->set_speed_rpm(500);
+  r.io.SSR = true;
+  r.start();
+  EXPECT_TRUE(r.io.SSR_OK);
+  r.model->set_speed_rpm(50);
+  ASSERT_GT(r.scan_until([&] { return r.io.QBAD; }, 10), 0);
+  r.scan(3);
+  EXPECT_EQ(r.io.DIAG_CODE, err::kSsrViolated);
+}
+
+TEST(SafetyNordFunctions, SdiPositiveTripsOnNegativeMovement5783_Spec1_5) {
+  Rig r;
+  r.io.SDI_P = true;
+  r.start();
+  r.model->set_speed_rpm(10);
+  r.scan(5);
+  EXPECT_TRUE(r.io.SDI_P_OK);
+  // 2048 inc/rev: -10 rpm is about 341 inc/s; P824[-01] = 100 inc.
+  r.model->set_speed_rpm(-10);
+  const int n = r.scan_until([&] { return r.io.QBAD; }, 1000);
+  ASSERT_GT(n, 250);  // ~293 ms of reverse movement needed
+  r.scan(3);
+  EXPECT_EQ(r.io.DIAG_CODE, err::kSdiPViolated);
+}
+
+TEST(SafetyNordFunctions, SosWindow5785_Spec1_5) {
+  Rig r;
+  r.io.SOS = true;
+  r.start();
+  EXPECT_TRUE(r.io.SOS_OK);
+  r.model->set_position_inc(150);  // P824[-03] = 100 inc
+  ASSERT_GT(r.scan_until([&] { return r.io.QBAD; }, 5), 0);
+  r.scan(3);
+  EXPECT_EQ(r.io.DIAG_CODE, err::kSosViolated);
+}
+
+// §1.5: a function requested in F-data while off in P820 -> 5756.. (q).
+TEST(SafetyNordFunctions, FunctionRequestedWithoutP820_5756_Spec1_5) {
+  Rig r(Params{{"p820_1", "0"}});
+  r.start();
+  r.io.SLS = true;
+  ASSERT_GT(r.scan_until([&] { return r.io.QBAD; }, 5), 0);
+  r.scan(3);
+  EXPECT_EQ(r.io.DIAG_CODE, err::kSls);
+  r.io.SLS = false;  // host passivated sends 0 anyway; request withdrawn
+  r.scan(5);
+  EXPECT_TRUE(r.io.ACK_REQ);
+}
+
+// §2.8 / §8.4 item 6: with P801 = 1 (channel passivation) a commanded but
+// disabled SO2 (5742) switches only SO2 off; the module keeps running; the
+// channel needs In 3.7 to come back after the cause is gone.
+TEST(SafetyNordFunctions, ChannelPassivationNeedsIn3_7_Spec2_8) {
+  Rig r(Params{{"p801", "1"}, {"p802_4", "0"}});
+  r.start();
+  ASSERT_TRUE(r.model->ossd(0));
+  r.io.OSSD2 = true;
+  r.scan(5);
+  EXPECT_EQ(r.model->current_code(), err::kSo2NotEnabled);
+  EXPECT_TRUE(r.running());  // no module passivation
+  EXPECT_TRUE(r.model->ossd(0));
+  EXPECT_FALSE(r.model->ossd(1));
+  r.io.OSSD2 = false;  // cause gone, channel stays passivated (latched)
+  r.scan(20);
+  EXPECT_TRUE(r.running());
+  r.io.CH_PASS_ACK = true;
+  r.scan();
+  r.io.CH_PASS_ACK = false;
+  r.scan(3);
+  EXPECT_EQ(r.model->previous_code(), err::kSo2NotEnabled);
+  EXPECT_EQ(r.model->current_code(), 0);
+}
+
+// §2.8: with P801 = 1 an injected SO1 short (5732) passivates only SO1 and
+// holds at least 10 s.
+TEST(SafetyNordFunctions, ChannelPassivationOutputShortHolds10s_Spec5_5) {
+  Rig r(Params{{"p801", "1"}});
+  r.io.OSSD3 = true;
+  r.start();
+  r.model->inject_device_fault(err::kOutput1);
+  r.scan(3);
+  EXPECT_FALSE(r.model->ossd(0));
+  EXPECT_TRUE(r.model->ossd(2));
+  EXPECT_TRUE(r.running());
+  r.model->clear_device_fault();
+  r.io.CH_PASS_ACK = true;
+  r.scan(5000);
+  EXPECT_FALSE(r.model->ossd(0));  // < 10 s: error still active
+  r.io.CH_PASS_ACK = false;
+  r.scan(5100);
+  r.io.CH_PASS_ACK = true;
+  r.scan(3);
+  r.io.CH_PASS_ACK = false;
+  r.scan(3);
+  EXPECT_TRUE(r.model->ossd(0));
+}
+
+// §4.5 P803: SI1/SI2 dual channel apart longer than the discrepancy time ->
+// 5731; clears when both are off.
+TEST(SafetyNordFunctions, Discrepancy5731_Spec4_5) {
+  Rig r(Params{{"p800_1", "1"}, {"p803", "20"}});
+  r.start();
+  r.model->set_si(true, false);
+  r.scan(15);
+  EXPECT_TRUE(r.running());  // within P803
+  ASSERT_GT(r.scan_until([&] { return r.io.QBAD; }, 20), 0);
+  r.scan(3);
+  EXPECT_EQ(r.io.DIAG_CODE, err::kDiscrepancy);
+  r.model->set_si(true, true);
+  r.scan(20);
+  EXPECT_FALSE(r.io.ACK_REQ);  // needs both channels off
+  r.model->set_si(false, false);
+  EXPECT_GT(r.scan_until([&] { return r.io.ACK_REQ; }, 10), 0);
+}
+
+// §8.4 item 8: while passivated the application sees 0 for every F-input
+// (OSSDn_ON stays false though the raw inverted bits read 0 = "on").
+TEST(SafetyNordFunctions, PassivatedInputsAreZero_Spec8_4_8) {
+  Rig r;
+  r.model->set_si(true, true);
+  r.start();
+  EXPECT_TRUE(r.io.SI1);
+  r.model->inject_device_fault(err::kEncoder);
+  ASSERT_GT(r.scan_until([&] { return r.io.QBAD; }, 5), 0);
+  EXPECT_FALSE(r.io.SI1);
+  EXPECT_FALSE(r.io.SI2);
+  EXPECT_FALSE(r.io.OSSD1_OFF);
+  EXPECT_FALSE(r.io.OSSD1_ON);
+  EXPECT_FALSE(r.io.SSM);
+}
+
+}  // namespace
+
+namespace {
+
+// §4.5 P805: an SI level must be stable for the filter time before the
+// device reports it; a shorter pulse is filtered out.
+TEST(SafetyNordFunctions, InputFilterP805_Spec4_5) {
+  Rig r(Params{{"p805", "20"}});
+  r.start();
+  r.model->set_si(true, false);
+  r.scan(10);
+  r.model->set_si(false, false);  // 10 ms pulse < 20 ms filter
+  r.scan(40);
+  EXPECT_FALSE(r.io.SI1);
+  r.model->set_si(true, false);
+  r.scan(15);
+  EXPECT_FALSE(r.io.SI1);
+  r.scan(10);
+  EXPECT_TRUE(r.io.SI1);
+}
+
+// §4.5 P806 / §5.5 5737: SI1 assigned to clock 1 but fed from elsewhere ->
+// 5737, module passivation, reintegration no sooner than 10 s.
+TEST(SafetyNordFunctions, ClockMonitoringP806_5737Holds10s_Spec5_5) {
+  Rig r(Params{{"p806_1", "1"}});
+  r.model->set_si_source(0, 1);
+  r.model->set_si(true, false);
+  r.start();
+  ASSERT_TRUE(r.running());
+  EXPECT_TRUE(r.io.SI1);
+  r.model->set_si_source(0, 0);  // now fed from static 24 V
+  ASSERT_GT(r.scan_until([&] { return r.io.QBAD; }, 5), 0);
+  const plc::TIME t_err = r.ctx.now;
+  r.scan(3);
+  EXPECT_EQ(r.io.DIAG_CODE, err::kInput1Diag);
+  r.model->set_si_source(0, 1);  // wiring fixed at once
+  ASSERT_GT(r.scan_until([&] { return r.io.ACK_REQ; }, 11000), 0);
+  EXPECT_GE(r.ctx.now - t_err, std::chrono::seconds(10));
+  r.ack();
+  EXPECT_GT(r.scan_until([&] { return r.running(); }, 10), 0);
+}
+
+}  // namespace
+
+namespace {
+
+// §5.6: FE LED blink code of 5713 (the manual's Fig. 20 example): strobe
+// 3 x 200/200 ms, 2 s off, tens 1 blink, units 3 blinks (1 s on / 1 s off).
+TEST(SafetyNordFunctions, FeLedBlinkCode5713_Spec5_6) {
+  using plc::sim::nord_fe_led;
+  auto at = [](int ms) { return nord_fe_led(5713, std::chrono::milliseconds(ms)); };
+  EXPECT_TRUE(at(0));
+  EXPECT_FALSE(at(250));
+  EXPECT_TRUE(at(450));
+  EXPECT_TRUE(at(850));
+  EXPECT_FALSE(at(1300));  // pause
+  EXPECT_FALSE(at(3100));
+  EXPECT_TRUE(at(3300));  // tens: 1 blink 3.2-4.2 s
+  EXPECT_FALSE(at(4300));
+  EXPECT_FALSE(at(6000));  // gap [AMBIG] 2 s
+  EXPECT_TRUE(at(7300));   // units: blinks at 7.2, 9.2, 11.2 s
+  EXPECT_TRUE(at(9300));
+  EXPECT_TRUE(at(11300));
+  EXPECT_FALSE(at(12300));
+  EXPECT_FALSE(nord_fe_led(0, std::chrono::milliseconds(0)));
+}
+
+}  // namespace

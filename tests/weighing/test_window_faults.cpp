@@ -1,0 +1,133 @@
+// Handshake faults that a healthy device never shows, scripted byte by byte
+// on a bare window: each must end as its ErrorID (README table), never as
+// a block that waits for ever.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <chrono>
+
+#include "plc/fb/weighing/command.hpp"
+#include "plc/fb/weighing/write_value.hpp"
+
+namespace wg = plc::weighing;
+namespace eid = plc::weighing::error_id;
+using namespace std::chrono_literals;
+
+namespace {
+
+// A PR5510_Device on raw buffers; the test plays the device.
+struct Scripted {
+  Scripted() {
+    link.set_state(plc::io::DeviceState::Online);
+    dev.port.bind(in, out, &link);
+    dev.WriteTimeout = 1s;
+  }
+  template <class F>
+  void scan(F&& body) {
+    ctx.now += 1ms;
+    if (echo) in[wg::r::kReadValueSelected] = out[wg::w::kReadValueSelect];
+    dev(ctx);
+    body();
+  }
+  bool echo = true;  // answer every read code at once
+  std::array<std::uint8_t, 8> in{}, out{};
+  plc::io::DeviceLink link;
+  wg::PR5510_Device dev;
+  plc::ScanContext ctx{};
+};
+
+template <class FB>
+std::uint16_t run_to_error(Scripted& s, FB& fb, std::chrono::milliseconds limit) {
+  fb.Device = &s.dev;
+  fb.Execute = true;
+  for (std::int64_t i = 0; i < limit.count() && !fb.Done && !fb.Error; ++i)
+    s.scan([&] { fb(s.ctx); });
+  EXPECT_TRUE(fb.Error);
+  return fb.ErrorID;
+}
+
+}  // namespace
+
+// §3.6 step 1: Write_Active (R[5].7) never drops: 16#8011.
+TEST(Pr5510Faults, Spec36_WriteActiveStuckHigh) {
+  Scripted s;
+  s.in[wg::r::kStatus] = 1U << wg::r5::kWriteActive;
+  wg::PR5510_WriteValue wv;
+  wv.Code = 0x20;
+  EXPECT_EQ(eid::kWriteBusyTimeout, run_to_error(s, wv, 3s));
+  EXPECT_EQ(0, s.out[wg::w::kWriteValueSelect]);  // never sent
+}
+
+// §3.6 step 6: the device acknowledges but never clears Write_Active: 16#8013.
+TEST(Pr5510Faults, Spec36_WriteActiveNeverReleased) {
+  Scripted s;
+  wg::PR5510_WriteValue wv;
+  wv.Code = 0x20;
+  wv.Device = &s.dev;
+  wv.Execute = true;
+  for (int i = 0; i < 3000 && !wv.Error; ++i) {
+    s.scan([&] { wv(s.ctx); });
+    if (s.out[wg::w::kWriteValueSelect] == 0x20) s.in[wg::r::kStatus] = 1U << wg::r5::kWriteActive;
+  }
+  EXPECT_TRUE(wv.Error);
+  EXPECT_EQ(eid::kWriteReleaseTimeout, wv.ErrorID);
+  EXPECT_EQ(0, s.out[wg::w::kWriteValueSelect]);  // step 5 was done
+}
+
+// Cmd_Busy (R[6].7) never drops after a command edge: 16#8014.
+TEST(Pr5510Faults, Spec34_CmdBusyStuck) {
+  Scripted s;
+  s.in[wg::r::kCommand] = 1U << wg::r6::kCmdBusy;
+  wg::PR5510_Command cmd;
+  cmd.Command = wg::CommandBit::SetTare;
+  EXPECT_EQ(eid::kCommandBusyTimeout, run_to_error(s, cmd, 3s));
+  EXPECT_EQ(0, s.out[wg::w::kCommands]);  // the edge was released
+}
+
+// Cmd_Error with the error number readable from code 4 (§5.3): 16#812F;
+// and with code 4 never answering: 16#81FF.
+TEST(Pr5510Faults, Spec53_CmdErrorNumberOrUnknown) {
+  {
+    Scripted s;
+    wg::PR5510_Command cmd;
+    cmd.Command = wg::CommandBit::SetZero;
+    cmd.Device = &s.dev;
+    cmd.Execute = true;
+    for (int i = 0; i < 3000 && !cmd.Error && !cmd.Done; ++i) {
+      s.scan([&] { cmd(s.ctx); });
+      if (s.out[wg::w::kCommands]) s.in[wg::r::kCommand] = 1U << wg::r6::kCmdError;
+      // code 4: decimals 2, kg, d 1, last error 47
+      wg::encode_raw(s.in, wg::pack_format({2, 3, 1, 47}), wg::Bus::Profibus);
+    }
+    EXPECT_EQ(eid::kDeviceErrorBase + 47, cmd.ErrorID);
+  }
+  {
+    Scripted s;
+    wg::PR5510_Command cmd;
+    cmd.Command = wg::CommandBit::SetZero;
+    cmd.Device = &s.dev;
+    cmd.Execute = true;
+    for (int i = 0; i < 5000 && !cmd.Error && !cmd.Done; ++i) {
+      s.scan([&] { cmd(s.ctx); });
+      if (s.out[wg::w::kCommands]) {
+        s.in[wg::r::kCommand] = 1U << wg::r6::kCmdError;
+        s.echo = false;  // from now on the read window never echoes
+        s.in[wg::r::kReadValueSelected] = 0;
+      }
+    }
+    EXPECT_EQ(eid::kDeviceErrorUnknown, cmd.ErrorID);
+  }
+}
+
+// The device block's own start-up reads retry after an echo timeout: a
+// device that answers late still becomes Ready.
+TEST(Pr5510Faults, Spec72_StartUpReadsRetryAfterTimeout) {
+  Scripted s;
+  s.echo = false;
+  for (int i = 0; i < 1500; ++i) s.scan([] {});
+  EXPECT_FALSE(s.dev.Ready);
+  s.echo = true;
+  wg::encode_raw(s.in, 5000, wg::Bus::Profibus);
+  for (int i = 0; i < 100; ++i) s.scan([] {});
+  EXPECT_TRUE(s.dev.Ready);
+}
