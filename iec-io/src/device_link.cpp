@@ -14,22 +14,31 @@ const char* to_string(DeviceState s) {
   return "?";
 }
 
+namespace {
+thread_local int tl_owner = -1;
+}
+
+void DeviceLink::set_current_owner(int owner) { tl_owner = owner; }
+
 bool DeviceLink::submit(RecordRequest& r) {
   if (state() != DeviceState::Online) {
+    r.set_delivery(false, -1);  // a refusal is an answer given at once
     r.fail(RecordError::NotReachable);
     return false;
   }
   lock();
-  if (count_ == kQueueDepth) {
+  if (count_ == kQueueDepth || (deferred_ && tracked_n_ == tracked_.size())) {
     unlock();
+    r.set_delivery(false, -1);
     r.fail(RecordError::QueueFull);
     return false;
   }
   r.set_seq(++next_seq_);
+  r.set_delivery(deferred_, tl_owner);
   r.mark_queued();
   ring_[(head_ + count_) % kQueueDepth] = &r;
   ++count_;
-  if (tracking_ && tracked_n_ < tracked_.size()) tracked_[tracked_n_++] = &r;
+  if (tracked_n_ < tracked_.size()) tracked_[tracked_n_++] = &r;
   unlock();
   return true;
 }
@@ -46,10 +55,10 @@ RecordRequest* DeviceLink::pop() {
   return r;
 }
 
-void DeviceLink::set_tracking(bool on) {
+void DeviceLink::set_deferred(bool on) {
   lock();
-  tracking_ = on;
-  if (!on) tracked_n_ = 0;
+  deferred_ = on;
+  latched_state_.store(live_state(), std::memory_order_release);
   unlock();
 }
 

@@ -3,7 +3,7 @@
 namespace plc::io {
 
 std::string Plugin::diagnostics(std::size_t device) const {
-  return std::string(to_string(const_cast<Plugin*>(this)->link(device).state()));
+  return std::string(to_string(const_cast<Plugin*>(this)->link(device).live_state()));
 }
 
 PluginRegistry& PluginRegistry::instance() {

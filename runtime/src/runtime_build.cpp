@@ -126,6 +126,8 @@ void Runtime::build(const CellConfig& cfg) {
       const Mark m = e.key == "model" ? dc.model.mark : param_mark(dc.params, e.key);
       fail(m.line ? m : dc.mark, "device '" + dc.name.value + "': " + with_key(e));
     }
+    // Answers and device states change only at scan boundaries.
+    d.plugin->link(d.index).set_deferred(true);
     auto place = [&](const Item<std::string>& addr, std::size_t size, io::Area area,
                      const char* key) -> io::IecAddress {
       io::IecAddress a{area, io::AddrSize::Byte, 0, 0};

@@ -41,6 +41,15 @@ void Runtime::scan(TaskRuntime& t, TIME now) {
       for (DeviceRuntime* d : t.devices)
         if (d->sizes.input_bytes)
           d->plugin->latch_inputs(d->index, gi.subspan(d->in.byte, d->sizes.input_bytes));
+    // 1a: the answers to this task's acyclic requests and its devices'
+    // states become visible now, so they never change during the scan.
+    for (std::size_t i = 0; i < devices_.size(); ++i)
+      devices_[i].plugin->link(devices_[i].index).deliver_answered(
+          static_cast<int>(t.order), [&](const io::RecordRequest& r) {
+            for (ScanHooks* h : hooks_) h->on_answer(t, i, r);
+          });
+    for (DeviceRuntime* d : t.devices) d->plugin->link(d->index).latch_state();
+    io::DeviceLink::set_current_owner(static_cast<int>(t.order));
     for (ScanHooks* h : hooks_) h->after_latch(t, global_);
     t.image.copy_from(global_);
   }
@@ -80,6 +89,7 @@ void Runtime::scan(TaskRuntime& t, TIME now) {
     }
   }
   const std::int64_t end = steady_ns();
+  io::DeviceLink::set_current_owner(-1);
   t.scan_started_ns.store(-1, std::memory_order_release);
   t.stats.scan_ns.record(end - start);
   ++t.stats.scans;

@@ -22,7 +22,27 @@ void Thrower::cycle(const ScanContext&) {
   if (fire) throw std::runtime_error("boom");
 }
 
+void RecordPoller::cycle(const ScanContext&) {
+  const io::RecordStatus seen = req_.status();
+  if (seen == io::RecordStatus::Done || seen == io::RecordStatus::Error) {
+    ++answers;
+    req_.reset();
+  }
+  if (req_.status() == io::RecordStatus::Idle) {
+    req_.prepare_read(1);
+    dev.submit(req_);
+  }
+  // Give a bus thread 100 us to answer while this scan runs.
+  const io::RecordStatus mid = req_.status();
+  const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(100);
+  while (std::chrono::steady_clock::now() < until) {
+  }
+  if (req_.status() != mid) ++midscan_changes;
+  answers_out = answers;
+}
+
 PLC_REGISTER_PROGRAM(ReleaseLog)
+PLC_REGISTER_PROGRAM(RecordPoller)
 PLC_REGISTER_PROGRAM(Spinner)
 PLC_REGISTER_PROGRAM(BitWriter)
 PLC_REGISTER_PROGRAM(LoopCounter)

@@ -4,7 +4,9 @@
 #include <vector>
 
 #include "plc/fb/iec/iec.hpp"
+#include "plc/io/device_port.hpp"
 #include "plc/io/located.hpp"
+#include "plc/io/record_request.hpp"
 #include "plc/program.hpp"
 
 namespace plctest {
@@ -79,6 +81,23 @@ class LoopCounter : public ProgramBase<LoopCounter> {
     ratio = count ? REAL(echoed) / REAL(count) : 0.0F;
   }
   PLC_REFLECT(to_dev, from_dev, t, ctu, count, echoed, ratio)
+};
+
+// Keeps one acyclic read in flight on device 'echo' and counts the
+// answers, which it also writes to the device (so a replay compares them).
+// While each scan runs it watches its request for a while: an answer must
+// never become visible in the middle of a scan.
+class RecordPoller : public ProgramBase<RecordPoller> {
+ public:
+  io::DevicePort dev{"echo"};
+  io::Located<DINT> answers_out{"%QD4"};
+  DINT answers = 0;
+  DINT midscan_changes = 0;
+  void cycle(const ScanContext&) override;
+  PLC_REFLECT(dev, answers_out, answers, midscan_changes)
+
+ private:
+  io::RecordRequest req_;
 };
 
 // Throws on demand (fault isolation).

@@ -97,6 +97,9 @@ class ScanHooks {
   // 1b: the task's devices are latched into the global image (forced inputs,
   // recording, replay).
   virtual void after_latch(TaskRuntime&, io::ProcessImage& /*global*/) {}
+  // 1a: an answer to an acyclic request of this task became visible at this
+  // latch (device = index in Runtime::devices()); before after_latch.
+  virtual void on_answer(TaskRuntime&, std::size_t /*device*/, const io::RecordRequest&) {}
   // 2: the private copy is taken, programs not yet run (writes, forces).
   virtual void before_programs(TaskRuntime&, const ScanContext&) {}
   // 3a: before program `index` of the task runs (freeze points).

@@ -60,7 +60,6 @@ Recorder::Recorder(Runtime& rt, const std::string& file) : rt_(rt) {
   buf_.reserve(1 << 17);
   buf_.insert(buf_.end(), kMagic, kMagic + 8);
   put(buf_, rt.layout_hash());
-  for (const DeviceRuntime& d : rt.devices()) d.plugin->link(d.index).set_tracking(true);
   rt_.add_hooks(this);
 }
 
@@ -69,7 +68,6 @@ Recorder::~Recorder() { close(); }
 void Recorder::close() {
   if (!f_) return;
   rt_.remove_hooks(this);
-  for (const DeviceRuntime& d : rt_.devices()) d.plugin->link(d.index).set_tracking(false);
   flush();
   std::fclose(f_);
   f_ = nullptr;
@@ -88,27 +86,27 @@ void Recorder::after_latch(TaskRuntime& t, io::ProcessImage& global) {
   for (const DeviceRuntime* d : t.devices)
     buf_.insert(buf_.end(), in.begin() + d->in.byte,
                 in.begin() + d->in.byte + d->sizes.input_bytes);
-  // Device states and the acyclic answers this scan is the first to see.
+  // Device states (as the programs see them) and the acyclic answers this
+  // scan is the first to see (collected by on_answer during the latch).
   const auto& devs = rt_.devices();
   buf_.push_back(static_cast<std::uint8_t>(devs.size()));
-  std::uint16_t n = 0;
-  answers_.clear();
-  for (std::size_t i = 0; i < devs.size(); ++i) {
-    io::DeviceLink& link = devs[i].plugin->link(devs[i].index);
-    buf_.push_back(static_cast<std::uint8_t>(link.state()));
-    link.collect_answered([&](const io::RecordRequest& r) {
-      ++n;
-      put(answers_, static_cast<std::uint16_t>(i));
-      put(answers_, r.seq());
-      answers_.push_back(static_cast<std::uint8_t>(r.status()));
-      put(answers_, r.error_code());
-      const auto data = r.data();
-      put(answers_, static_cast<std::uint16_t>(data.size()));
-      answers_.insert(answers_.end(), data.begin(), data.end());
-    });
-  }
-  put(buf_, n);
+  for (const DeviceRuntime& d : devs)
+    buf_.push_back(static_cast<std::uint8_t>(d.plugin->link(d.index).state()));
+  put(buf_, answer_count_);
   buf_.insert(buf_.end(), answers_.begin(), answers_.end());
+  answers_.clear();
+  answer_count_ = 0;
+}
+
+void Recorder::on_answer(TaskRuntime&, std::size_t device, const io::RecordRequest& r) {
+  ++answer_count_;
+  put(answers_, static_cast<std::uint16_t>(device));
+  put(answers_, r.seq());
+  answers_.push_back(static_cast<std::uint8_t>(r.status()));
+  put(answers_, r.error_code());
+  const auto data = r.data();
+  put(answers_, static_cast<std::uint16_t>(data.size()));
+  answers_.insert(answers_.end(), data.begin(), data.end());
 }
 
 void Recorder::before_programs(TaskRuntime& t, const ScanContext&) {
@@ -292,7 +290,7 @@ void Replayer::before_programs(TaskRuntime& t, const ScanContext&) {
 void Replayer::after_latch(TaskRuntime& t, io::ProcessImage& global) {
   const auto& devs = rt_.devices();
   for (std::size_t i = 0; i < devs.size() && i < states_.size(); ++i)
-    devs[i].plugin->link(devs[i].index).set_state(static_cast<io::DeviceState>(states_[i]));
+    devs[i].plugin->link(devs[i].index).force_state(static_cast<io::DeviceState>(states_[i]));
   // Answer the replayed program's requests as the devices answered the
   // recorded one: same device, same submission number, same data.
   for (std::size_t p = 0; p < answers_.size();) {

@@ -25,8 +25,54 @@ class DeviceLink {
  public:
   static constexpr std::size_t kQueueDepth = 16;
 
-  [[nodiscard]] DeviceState state() const { return state_.load(std::memory_order_acquire); }
+  // The state FBs see. Deferred: the state as of the owning task's last
+  // latch; otherwise the plugin's present state.
+  [[nodiscard]] DeviceState state() const {
+    return (deferred_ ? latched_state_ : state_).load(std::memory_order_acquire);
+  }
+  // Plugin side: the present state, and setting it.
+  [[nodiscard]] DeviceState live_state() const { return state_.load(std::memory_order_acquire); }
   void set_state(DeviceState s) { state_.store(s, std::memory_order_release); }
+  // Replay: set the present and the latched state at once.
+  void force_state(DeviceState s) {
+    state_.store(s, std::memory_order_release);
+    latched_state_.store(s, std::memory_order_release);
+  }
+
+  // Scan-consistent delivery, turned on by the Runtime for every device:
+  // answers to acyclic requests and the communication state change only at
+  // a scan's latch, never in the middle of a scan (see record_request.hpp).
+  // A request remembers the task that submitted it (the scan thread's
+  // current owner) and is delivered at that task's next latch.
+  void set_deferred(bool on);
+  [[nodiscard]] bool deferred() const { return deferred_; }
+  static void set_current_owner(int owner);
+  // At a latch of task `owner`: copy the plugin's state for FBs.
+  void latch_state() { latched_state_.store(live_state(), std::memory_order_release); }
+  // At a latch of task `owner`: make the parked answers of its requests
+  // visible, calling f(request) for each (recording), in submission order.
+  // Requests finished without parking (refusals, replay) are forgotten.
+  template <class F>
+  void deliver_answered(int owner, F&& f) {
+    lock();
+    std::size_t keep = 0;
+    for (std::size_t i = 0; i < tracked_n_; ++i) {
+      RecordRequest* r = tracked_[i];
+      const RecordStatus st = r->status();
+      if (st == RecordStatus::Done || st == RecordStatus::Error) {
+        if (!deferred_) f(*r);  // tracking without deferral: seen as soon as answered
+        continue;
+      }
+      if (r->answer_parked() && (r->owner() == owner || r->owner() < 0 || owner < 0) &&
+          r->deliver()) {
+        f(*r);
+        continue;
+      }
+      tracked_[keep++] = r;
+    }
+    tracked_n_ = keep;
+    unlock();
+  }
 
   // FB side: queue a prepared request. Returns false (and marks the request
   // failed with QueueFull or NotReachable) if it cannot be taken.
@@ -36,26 +82,6 @@ class DeviceLink {
   RecordRequest* pop();
   [[nodiscard]] std::size_t pending() const;
 
-  // Recording: remember submitted requests until their answer has been
-  // collected, so a recorder can log each answer in the scan that first
-  // sees it. Off unless a recorder turns it on.
-  void set_tracking(bool on);
-  // Calls f(request) for each tracked request that has been answered, and
-  // forgets it. In submission order.
-  template <class F>
-  void collect_answered(F&& f) {
-    lock();
-    std::size_t keep = 0;
-    for (std::size_t i = 0; i < tracked_n_; ++i) {
-      RecordRequest* r = tracked_[i];
-      if (r->status() == RecordStatus::Done || r->status() == RecordStatus::Error)
-        f(*r);
-      else
-        tracked_[keep++] = r;
-    }
-    tracked_n_ = keep;
-    unlock();
-  }
 
  private:
   void lock() const {
@@ -67,11 +93,15 @@ class DeviceLink {
   std::array<RecordRequest*, kQueueDepth> ring_{};
   std::size_t head_ = 0, count_ = 0;
   std::uint32_t next_seq_ = 0;
-  bool tracking_ = false;
-  std::array<RecordRequest*, 2 * kQueueDepth> tracked_{};
+  bool deferred_ = false;
+  // Submitted requests whose answer has not been delivered yet (queued or
+  // in the plugin's hands). Deferred links refuse a submission with
+  // QueueFull rather than lose track of one.
+  std::array<RecordRequest*, 4 * kQueueDepth> tracked_{};
   std::size_t tracked_n_ = 0;
   mutable std::atomic_flag lock_ = ATOMIC_FLAG_INIT;
   std::atomic<DeviceState> state_{DeviceState::Offline};
+  std::atomic<DeviceState> latched_state_{DeviceState::Offline};
 };
 
 }  // namespace plc::io

@@ -35,6 +35,7 @@ class DevicePort {
   // Queue an acyclic request; poll r.status() in later scans.
   bool submit(RecordRequest& r) {
     if (!link_) {
+      r.set_delivery(false, -1);  // refused at once
       r.fail(RecordError::NotReachable);
       return false;
     }

@@ -5,6 +5,12 @@
 // from its own context (a bus thread in real time, the lockstep step in
 // virtual time) and publishes the result with a release store, so the FB
 // sees either Queued or the complete answer, never a half-written one.
+//
+// Under a Runtime the link is "deferred": the plugin's answer is parked and
+// becomes visible only when the submitting task latches its next scan
+// (DeviceLink::deliver_answered). An answer therefore never appears in the
+// middle of a scan, in real time as in virtual time, and a recording logs
+// it in exactly the scan that first sees it.
 #pragma once
 
 #include <array>
@@ -83,17 +89,18 @@ class RecordRequest {
   std::span<std::uint8_t> buffer() { return {data_.data(), data_.size()}; }
   void mark_queued() {
     error_ = RecordError::None;
+    parked_.store(RecordStatus::Idle, std::memory_order_relaxed);
     status_.store(RecordStatus::Queued, std::memory_order_release);
   }
   void complete(std::size_t length) {
     length_ = static_cast<std::uint16_t>(length);
     error_ = RecordError::None;
-    status_.store(RecordStatus::Done, std::memory_order_release);
+    publish(RecordStatus::Done);
   }
   void fail(RecordError e, std::uint16_t device_code = 0) {
     error_ = device_code ? static_cast<RecordError>(device_code) : e;
     length_ = 0;
-    status_.store(RecordStatus::Error, std::memory_order_release);
+    publish(RecordStatus::Error);
   }
   // Replay: finish with exactly what a recording says the device answered.
   void finish_as(RecordStatus st, std::uint16_t error, std::span<const std::uint8_t> data) {
@@ -108,9 +115,39 @@ class RecordRequest {
   [[nodiscard]] std::uint32_t seq() const { return seq_; }
   void set_seq(std::uint32_t s) { seq_ = s; }
 
+  // ---- deferred delivery (DeviceLink) ----
+  // Set at submission: park the answer until delivered, and which task
+  // (Runtime task order; -1 = any) submitted it.
+  void set_delivery(bool deferred, int owner) {
+    deferred_ = deferred;
+    owner_ = owner;
+  }
+  [[nodiscard]] int owner() const { return owner_; }
+  [[nodiscard]] bool answer_parked() const {
+    return parked_.load(std::memory_order_acquire) != RecordStatus::Idle;
+  }
+  // Makes a parked answer visible to the FB; false if there is none.
+  bool deliver() {
+    const RecordStatus st = parked_.load(std::memory_order_acquire);
+    if (st == RecordStatus::Idle) return false;
+    parked_.store(RecordStatus::Idle, std::memory_order_relaxed);
+    status_.store(st, std::memory_order_release);
+    return true;
+  }
+
  private:
+  void publish(RecordStatus st) {
+    if (deferred_)
+      parked_.store(st, std::memory_order_release);
+    else
+      status_.store(st, std::memory_order_release);
+  }
+
   std::array<std::uint8_t, kRecordMaxBytes> data_{};
   std::atomic<RecordStatus> status_{RecordStatus::Idle};
+  std::atomic<RecordStatus> parked_{RecordStatus::Idle};  // answered, not yet delivered
+  bool deferred_ = false;
+  int owner_ = -1;
   RecordKind kind_ = RecordKind::Read;
   RecordError error_ = RecordError::None;
   std::uint16_t index_ = 0;

@@ -14,9 +14,9 @@
 // Besides the cyclic inputs, a scan's inputs include what the plugins
 // answered to acyclic requests (record read/write) and each device's
 // communication state: both are recorded in the scan that first sees them
-// and given back at the same point of the replay. (In real time an FB may
-// poll an answer that arrives during its scan one scan before the
-// recording shows it; in virtual time answers arrive between ticks.)
+// and given back at the same point of the replay. The Runtime makes both
+// change only at a task's latch (DeviceLink deferred delivery), so this
+// holds in real time as in virtual time: no answer appears mid-scan.
 //
 // File format (host byte order; written and read on the same architecture):
 //   header  "PLCREC03", u64 layout hash (Runtime::layout_hash)
@@ -50,6 +50,7 @@ class Recorder final : public ScanHooks {
   Recorder(Runtime& rt, const std::string& file);
   ~Recorder() override;
   void after_latch(TaskRuntime& t, io::ProcessImage& global) override;
+  void on_answer(TaskRuntime& t, std::size_t device, const io::RecordRequest& r) override;
   void before_programs(TaskRuntime& t, const ScanContext& ctx) override;
   void before_publish(TaskRuntime& t, io::ProcessImage& global) override;
   void close();
@@ -60,6 +61,7 @@ class Recorder final : public ScanHooks {
   Runtime& rt_;
   std::FILE* f_ = nullptr;
   std::vector<std::uint8_t> buf_, answers_;
+  std::uint16_t answer_count_ = 0;
   std::uint64_t scans_ = 0;
 };
 
