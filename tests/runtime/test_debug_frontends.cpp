@@ -280,3 +280,34 @@ programs: [{name: Loop, type: LoopCounter}]
   EXPECT_EQ(loop->count, 400);
   d.execute("quit");
 }
+
+// Printing while a real-time task runs reads the task's variables at the end
+// of one of its scans: two variables the scan sets at its start and its end
+// are always printed equal, never a half-done scan.
+TEST(DebugRealTime, PrintWhileRunningShowsOneWholeScan) {
+  const CellConfig cfg = parse_cell_config(R"(
+tasks: [{name: main, period: 1ms, programs: [Pair]}]
+programs: [{name: Pair, type: PairWriter}]
+)",
+                                           "rt_print.yaml");
+  debug::Debugger::Options o;
+  o.mode = io::ClockMode::RealTime;
+  o.span = std::chrono::seconds(60);
+  debug::Debugger d([&cfg] { return std::make_unique<Runtime>(cfg); }, o);
+  EXPECT_TRUE(has(d.execute("continue"), "running"));
+  long last = -1;
+  int increasing = 0;
+  for (int i = 0; i < 200; ++i) {
+    const std::string out = d.execute("print Pair.first Pair.second");
+    long first = -1, second = -2;
+    ASSERT_EQ(std::sscanf(out.c_str(), "Pair.first = %ld  (DINT)\nPair.second = %ld", &first,
+                          &second),
+              2)
+        << out;
+    ASSERT_EQ(first, second) << "read in the middle of a scan:\n" << out;
+    increasing += first > last;
+    last = first;
+  }
+  EXPECT_GT(increasing, 100) << "the task kept running while we printed";
+  d.execute("quit");
+}

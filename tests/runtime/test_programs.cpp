@@ -41,7 +41,16 @@ void RecordPoller::cycle(const ScanContext&) {
   answers_out = answers;
 }
 
+void PairWriter::cycle(const ScanContext&) {
+  ++first;
+  const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(300);
+  while (std::chrono::steady_clock::now() < until) {
+  }
+  second = first;
+}
+
 PLC_REGISTER_PROGRAM(ReleaseLog)
+PLC_REGISTER_PROGRAM(PairWriter)
 PLC_REGISTER_PROGRAM(RecordPoller)
 PLC_REGISTER_PROGRAM(Spinner)
 PLC_REGISTER_PROGRAM(BitWriter)

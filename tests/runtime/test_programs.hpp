@@ -100,6 +100,17 @@ class RecordPoller : public ProgramBase<RecordPoller> {
   io::RecordRequest req_;
 };
 
+// Sets `first` at the start of its scan and `second` at the end, with
+// 300 us of work between: a reader that looks in the middle of a scan sees
+// them differ.
+class PairWriter : public ProgramBase<PairWriter> {
+ public:
+  DINT first = 0;
+  DINT second = 0;
+  void cycle(const ScanContext&) override;
+  PLC_REFLECT(first, second)
+};
+
 // Throws on demand (fault isolation).
 class Thrower : public ProgramBase<Thrower> {
  public:

@@ -179,6 +179,15 @@ class Runtime {
   [[nodiscard]] const std::string& cell_name() const { return cell_name_; }
 
   void add_scan_observer(ScanObserver o) { observers_.push_back(std::move(o)); }
+  // Runs f() with the global image locked against the tasks' latch and
+  // merge (real time; in virtual time nothing runs concurrently).
+  template <class F>
+  void with_image_locked(F&& f) {
+    if (!lock_image_) return f();
+    image_mutex_.lock();
+    f();
+    image_mutex_.unlock();
+  }
 
   // Per-task statistics as JSON (plcrun --stats-json).
   [[nodiscard]] std::string stats_json() const;

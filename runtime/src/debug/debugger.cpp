@@ -218,6 +218,7 @@ void Debugger::before_publish(TaskRuntime&, io::ProcessImage&) {
 
 void Debugger::on_scan_end(const TaskRuntime& t, const ScanContext& ctx) {
   std::lock_guard<std::mutex> lock(mu_);
+  if (scan_reads_n_) serve_reads(t);
   ++scans_;
   last_scan_time_ = ctx.now;
   last_scan_task_ = t.name;
@@ -306,8 +307,12 @@ std::string Debugger::stop_report(const std::string& why) {
 }
 
 std::string Debugger::watch_lines() {
-  std::string s;
-  for (const std::string& w : watches_) s += "  " + describe_value(w);
+  if (watches_.empty()) return "";
+  std::string s, all = describe_values(watches_);
+  for (std::size_t b = 0, e; b < all.size(); b = e + 1) {
+    e = all.find('\n', b);
+    s += "  " + all.substr(b, e - b + 1);
+  }
   return s;
 }
 
@@ -505,34 +510,117 @@ std::string Debugger::breaks_list() {
 // "NAME = VALUE  (TYPE ADDRESS[, image: V][, forced])": program variables
 // as their program saw them in its last scan; for located variables the
 // global image too when it differs (a force or another task changed it).
-std::string Debugger::describe_value(const std::string& name) {
-  bool image = false;
-  std::string err;
-  auto g = resolve(name, image, err);
-  if (!g) return name + ": " + err + "\n";
-  const VarInfo* reg = rt_->vars().find(name);
-  const std::string seen = VarRegistry::format(reg ? *reg : *g);
-  std::string extra;
-  if (reg && image) {
-    const std::string global = VarRegistry::format(*g);
-    if (global != seen) extra += ", image: " + global;
+std::string Debugger::describe_value(const std::string& name) { return describe_values({name}); }
+
+std::string Debugger::describe_values(const std::vector<std::string>& names) {
+  // Resolve everything first, then read all values at one point.
+  struct Line {
+    std::string name, error;
+    VarInfo shown, global;
+    bool image = false, compare = false;
+    std::size_t at = 0;
+  };
+  std::vector<Line> lines(names.size());
+  std::vector<VarInfo> reads;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    Line& l = lines[i];
+    l.name = names[i];
+    auto g = resolve(l.name, l.image, l.error);
+    if (!g) continue;
+    const VarInfo* reg = rt_->vars().find(l.name);
+    l.shown = reg ? *reg : *g;
+    l.global = *g;
+    l.compare = reg && l.image;
+    l.at = reads.size();
+    reads.push_back(l.shown);
+    if (l.compare) reads.push_back(l.global);
   }
-  bool forced = false;
-  {
-    std::lock_guard<std::mutex> lock(mu_);
-    for (const Force& f : forces_)
-      forced |= f.name == name || (f.image && image && f.var.address == g->address);
+  const std::vector<std::string> values = read_values(reads);
+  std::string out;
+  for (const Line& l : lines) {
+    if (!l.error.empty()) {
+      out += l.name + ": " + l.error + "\n";
+      continue;
+    }
+    std::string extra;
+    if (l.compare && values[l.at + 1] != values[l.at]) extra += ", image: " + values[l.at + 1];
+    bool forced = false;
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      for (const Force& f : forces_)
+        forced |= f.name == l.name || (f.image && l.image && f.var.address == l.global.address);
+    }
+    out += l.name + " = " + values[l.at] + "  (" + to_string(l.global.type) +
+           (l.global.address ? " " + l.global.address->to_string() : "") + extra +
+           (forced ? ", forced" : "") + ")\n";
   }
-  return name + " = " + seen + "  (" + to_string(g->type) +
-         (g->address ? " " + g->address->to_string() : "") + extra + (forced ? ", forced" : "") +
-         ")\n";
+  return out;
+}
+
+std::vector<std::string> Debugger::read_values(const std::vector<VarInfo>& vars) {
+  std::vector<std::string> out(vars.size());
+  // A variable of task t lives in t's program memory or image copy; with
+  // address and no task it is the global image.
+  auto global_image = [](const VarInfo& v) { return v.address && v.task < 0; };
+  const bool live = opt_.mode == io::ClockMode::RealTime && !rt_->paused();
+  std::vector<std::size_t> at_scan_end;
+  for (std::size_t i = 0; i < vars.size(); ++i) {
+    const VarInfo& v = vars[i];
+    if (global_image(v)) {
+      rt_->with_image_locked([&] { out[i] = VarRegistry::format(v); });
+    } else if (live && v.task >= 0 && !rt_->tasks()[std::size_t(v.task)]->stopped.load()) {
+      at_scan_end.push_back(i);
+    } else {
+      out[i] = VarRegistry::format(v);  // nothing writes it now
+    }
+  }
+  for (std::size_t first = 0; first < at_scan_end.size(); first += kMaxScanReads) {
+    const std::size_t n = std::min(kMaxScanReads, at_scan_end.size() - first);
+    std::unique_lock<std::mutex> lock(mu_);
+    for (std::size_t k = 0; k < n; ++k) {
+      ScanRead& r = scan_reads_[k];
+      r.var = &vars[at_scan_end[first + k]];
+      r.done = false;
+      if (r.var->type == VarType::STRING) new (r.value) STRING();
+    }
+    scan_reads_n_ = n;
+    // A 1 ms task answers within a few ms; a stopped or paused task never
+    // does, and then the value is read directly (nothing writes it).
+    std::int64_t longest = 0;
+    for (std::size_t k = 0; k < n; ++k)
+      longest = std::max<std::int64_t>(
+          longest, rt_->tasks()[std::size_t(scan_reads_[k].var->task)]->period.count());
+    const auto wait = std::chrono::nanoseconds(std::max<std::int64_t>(100'000'000, 3 * longest));
+    reads_cv_.wait_for(lock, wait, [this, n] {
+      for (std::size_t k = 0; k < n; ++k)
+        if (!scan_reads_[k].done) return false;
+      return true;
+    });
+    for (std::size_t k = 0; k < n; ++k) {
+      ScanRead& r = scan_reads_[k];
+      out[at_scan_end[first + k]] =
+          r.done ? format_value(r.var->type, r.value) : VarRegistry::format(*r.var);
+    }
+    scan_reads_n_ = 0;
+  }
+  return out;
+}
+
+void Debugger::serve_reads(const TaskRuntime& t) {
+  bool any = false;
+  for (std::size_t k = 0; k < scan_reads_n_; ++k) {
+    ScanRead& r = scan_reads_[k];
+    if (r.done || r.var->task != static_cast<int>(t.order)) continue;
+    VarRegistry::read(*r.var, r.value);  // a copy, no allocation
+    r.done = true;
+    any = true;
+  }
+  if (any) reads_cv_.notify_all();
 }
 
 std::string Debugger::cmd_print(const std::vector<std::string>& a) {
   if (a.size() < 2) return "usage: print PATH|ADDRESS ...\n";
-  std::string s;
-  for (std::size_t i = 1; i < a.size(); ++i) s += describe_value(a[i]);
-  return s;
+  return describe_values(std::vector<std::string>(a.begin() + 1, a.end()));
 }
 
 std::string Debugger::cmd_write(const std::vector<std::string>& a, bool force) {

@@ -17,7 +17,9 @@
 // forced program variables at the start and at the end of their task's scan.
 #pragma once
 
+#include <array>
 #include <atomic>
+#include <condition_variable>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -143,6 +145,25 @@ class Debugger final : public ScanHooks {
   TIME last_scan_time_{};
   std::string last_scan_task_;
   std::string describe_value(const std::string& name);
+  std::string describe_values(const std::vector<std::string>& names);
+  // The values of `vars`, formatted, each read where it is consistent: in
+  // real time, while the tasks run, a task's variables are copied by its
+  // scan thread at the end of one scan (all of them from the same scan) and
+  // the global image under the image lock, so no value is ever torn and
+  // variables of one task never mix two scans.
+  std::vector<std::string> read_values(const std::vector<VarInfo>& vars);
+  void serve_reads(const TaskRuntime& t);  // on a scan thread, mu_ held
+
+  // Real time: reads waiting for the end of a task's scan (mu_).
+  static constexpr std::size_t kMaxScanReads = 32;
+  struct ScanRead {
+    const VarInfo* var = nullptr;
+    bool done = false;
+    alignas(8) unsigned char value[sizeof(STRING)];
+  };
+  std::array<ScanRead, kMaxScanReads> scan_reads_{};
+  std::size_t scan_reads_n_ = 0;
+  std::condition_variable reads_cv_;
   std::atomic<bool> stop_hit_{false};
   std::string stop_reason_;
   std::atomic<bool> interrupted_{false};
