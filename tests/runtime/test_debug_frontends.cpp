@@ -31,6 +31,15 @@ bool has(const std::string& out, const std::string& what) {
   return out.find(what) != std::string::npos;
 }
 
+// A debugger over a cell given as YAML text, running in real time.
+std::unique_ptr<debug::Debugger> realtime_debugger(const std::string& yaml, const char* name) {
+  const CellConfig cfg = parse_cell_config(yaml, name);
+  debug::Debugger::Options o;
+  o.mode = io::ClockMode::RealTime;
+  o.span = std::chrono::seconds(60);
+  return std::make_unique<debug::Debugger>([cfg] { return std::make_unique<Runtime>(cfg); }, o);
+}
+
 }  // namespace
 
 namespace {
@@ -224,18 +233,15 @@ TEST(DebugConsole, WorksThroughAPseudoTerminal) {
 // Pausing a real-time run for 2 s next to a simulated device with a 100 ms
 // communication watchdog does not trip it: the logic stops, the bus goes on.
 TEST(DebugRealTime, PausingForTwoSecondsKeepsTheBusAliveAndTheDeviceHappy) {
-  const CellConfig cfg = parse_cell_config(R"(
+  auto dbg = realtime_debugger(R"(
 tasks: [{name: main, period: 1ms, programs: [Loop]}]
 programs: [{name: Loop, type: LoopCounter, bind: {to_dev: "%QD8", from_dev: "%ID8"}}]
 plugins: [{name: sim, params: {step: 1ms}}]
 devices:
   - {name: probe, plugin: sim, model: comm_watchdog, input: "%IB0", output: "%QB0", params: {timeout: 100ms}}
 )",
-                                           "rt_pause.yaml");
-  debug::Debugger::Options o;
-  o.mode = io::ClockMode::RealTime;
-  o.span = std::chrono::seconds(60);
-  debug::Debugger d([&cfg] { return std::make_unique<Runtime>(cfg); }, o);
+                               "rt_pause.yaml");
+  debug::Debugger& d = *dbg;
   EXPECT_TRUE(has(d.execute("pause"), "paused"));
   EXPECT_TRUE(has(d.execute("step 5"), "stepped 5 scan(s) of each task"));
   auto* loop = static_cast<plctest::LoopCounter*>(d.runtime().program("Loop"));
@@ -260,15 +266,12 @@ devices:
 // A breakpoint in real time pauses the logic at the end of the very scan
 // that hit it (the task thread sets the pause before its next release).
 TEST(DebugRealTime, BreakpointPausesAtTheScanThatHitIt) {
-  const CellConfig cfg = parse_cell_config(R"(
+  auto dbg = realtime_debugger(R"(
 tasks: [{name: main, period: 1ms, programs: [Loop]}]
 programs: [{name: Loop, type: LoopCounter}]
 )",
-                                           "rt_break.yaml");
-  debug::Debugger::Options o;
-  o.mode = io::ClockMode::RealTime;
-  o.span = std::chrono::seconds(60);
-  debug::Debugger d([&cfg] { return std::make_unique<Runtime>(cfg); }, o);
+                               "rt_break.yaml");
+  debug::Debugger& d = *dbg;
   std::string out = d.execute("run until Loop.count = 150");
   EXPECT_TRUE(has(out, "condition 'Loop.count = 150' holds")) << out;
   auto* loop = static_cast<plctest::LoopCounter*>(d.runtime().program("Loop"));
@@ -285,24 +288,20 @@ programs: [{name: Loop, type: LoopCounter}]
 // of one of its scans: two variables the scan sets at its start and its end
 // are always printed equal, never a half-done scan.
 TEST(DebugRealTime, PrintWhileRunningShowsOneWholeScan) {
-  const CellConfig cfg = parse_cell_config(R"(
+  auto dbg = realtime_debugger(R"(
 tasks: [{name: main, period: 1ms, programs: [Pair]}]
 programs: [{name: Pair, type: PairWriter}]
 )",
-                                           "rt_print.yaml");
-  debug::Debugger::Options o;
-  o.mode = io::ClockMode::RealTime;
-  o.span = std::chrono::seconds(60);
-  debug::Debugger d([&cfg] { return std::make_unique<Runtime>(cfg); }, o);
+                               "rt_print.yaml");
+  debug::Debugger& d = *dbg;
   EXPECT_TRUE(has(d.execute("continue"), "running"));
   long last = -1;
   int increasing = 0;
   for (int i = 0; i < 200; ++i) {
     const std::string out = d.execute("print Pair.first Pair.second");
     long first = -1, second = -2;
-    ASSERT_EQ(std::sscanf(out.c_str(), "Pair.first = %ld  (DINT)\nPair.second = %ld", &first,
-                          &second),
-              2)
+    ASSERT_EQ(
+        std::sscanf(out.c_str(), "Pair.first = %ld  (DINT)\nPair.second = %ld", &first, &second), 2)
         << out;
     ASSERT_EQ(first, second) << "read in the middle of a scan:\n" << out;
     increasing += first > last;
