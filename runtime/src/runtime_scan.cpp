@@ -44,8 +44,9 @@ void Runtime::scan(TaskRuntime& t, TIME now) {
     // 1a: the answers to this task's acyclic requests and its devices'
     // states become visible now, so they never change during the scan.
     for (std::size_t i = 0; i < devices_.size(); ++i)
-      devices_[i].plugin->link(devices_[i].index).deliver_answered(
-          static_cast<int>(t.order), [&](const io::RecordRequest& r) {
+      devices_[i]
+          .plugin->link(devices_[i].index)
+          .deliver_answered(static_cast<int>(t.order), [&](const io::RecordRequest& r) {
             for (ScanHooks* h : hooks_) h->on_answer(t, i, r);
           });
     for (DeviceRuntime* d : t.devices) d->plugin->link(d->index).latch_state();

@@ -283,6 +283,73 @@ TEST(Pr5510Model, Spec34_WeighingStatusRanges) {
   EXPECT_TRUE(st(h).AduError);
 }
 
+// §5.3 calibration errors 40, 41, 42 and 46 (front-panel calibration, the
+// only way to calibrate: the windows have no calibration command), and
+// §3.4 R[5].1 Cal Changed after a calibration.
+TEST(Pr5510Model, Spec53_CalibrationErrors40_41_42_46) {
+  auto last_error_read = [](Harness& h) {
+    return wg::unpack_format(static_cast<std::uint32_t>(read_code(h, 0x04, wg::Bus::Profibus)))
+        .last_error;
+  };
+  auto locked = quiet_config();
+  locked.cal_switch_locked = true;
+  Harness l(locked);
+  l.run(500ms);
+  EXPECT_FALSE(l.model.panel_start_calibration());
+  EXPECT_EQ(40, last_error_read(l));
+  EXPECT_FALSE(l.model.calibrating());
+
+  auto c = quiet_config();
+  c.filling.initial_load = 10.0;
+  Harness h(c);
+  h.run(500ms);
+  EXPECT_FALSE(h.model.panel_calibrate_span(10.0));
+  EXPECT_EQ(41, last_error_read(h));
+  EXPECT_FALSE(h.model.panel_finish_calibration());
+  EXPECT_EQ(41, h.model.last_error());
+  // A tare waiting for standstill: starting calibration is error 46.
+  h.w()[wg::w::kOutputs] = 0x01;  // coarse valve: no standstill
+  h.run(300ms);
+  h.w()[wg::w::kCommands] = 1U << 1;
+  h.run(60ms);
+  h.w()[wg::w::kCommands] = 0;
+  ASSERT_TRUE(st(h).CmdBusy);
+  EXPECT_FALSE(h.model.panel_start_calibration());
+  EXPECT_EQ(46, last_error_read(h));
+  h.w()[wg::w::kOutputs] = 0;
+  h.run(4000ms);  // the tare ends (error 31 or done)
+  ASSERT_FALSE(st(h).CmdBusy);
+  // Read the full-scale code once to clear Cal Changed (set at power-on).
+  read_code(h, 0x0E, wg::Bus::Profibus);
+  h.run(60ms);
+  ASSERT_FALSE(st(h).CalChanged);
+  // In calibration mode a window tare or zero is refused with 42.
+  ASSERT_TRUE(h.model.panel_start_calibration());
+  pulse(h, wg::CommandBit::SetTare);
+  EXPECT_TRUE(st(h).CmdError);
+  EXPECT_EQ(42, last_error_read(h));
+  pulse(h, wg::CommandBit::SetZero);
+  EXPECT_EQ(42, h.model.last_error());
+  // A span calibration declares the load on the scale to be 12.5 kg: it
+  // then reads 1250 digits of 0.01 kg, and every change is stretched by the
+  // same factor.
+  const double before = h.model.gross_digits();
+  ASSERT_GT(before, 1000.0);
+  ASSERT_TRUE(h.model.panel_calibrate_span(12.5));
+  ASSERT_TRUE(h.model.panel_finish_calibration());
+  h.run(500ms);
+  EXPECT_TRUE(st(h).CalChanged);
+  EXPECT_NEAR(h.model.gross_digits(), 1250, 2);
+  h.model.process().add_load(2.0);
+  h.run(1000ms);
+  EXPECT_NEAR(h.model.gross_digits() - 1250, 200.0 * 1250.0 / before, 3.0);
+  // Out of calibration mode the tare works again.
+  pulse(h, wg::CommandBit::SetTare);
+  h.run(500ms);
+  EXPECT_TRUE(st(h).TareActive);
+  EXPECT_FALSE(st(h).CmdError);
+}
+
 // §3.4 R[7].6 Stand-Still: set when stable, lost while material lands.
 TEST(Pr5510Model, Spec34_StandStillWhileFilling) {
   Harness h(quiet_config());

@@ -262,6 +262,24 @@ TEST(Pr5510Blocks, Spec53_CommandDeviceErrors31And47) {
   EXPECT_EQ(eid::kDeviceErrorBase + 31, cmd.ErrorID);
 }
 
+// §5.3 error 42: a tare while an operator calibrates at the front panel
+// ends the command with ErrorID 16#812A; after calibration it works.
+TEST(Pr5510Blocks, Spec53_TareDuringPanelCalibrationIsError42) {
+  Cell c(quiet_config());
+  c.idle(500ms);
+  ASSERT_TRUE(c.model().panel_start_calibration());
+  wg::PR5510_Command cmd;
+  cmd.Device = &c.dev;
+  cmd.Command = wg::CommandBit::SetTare;
+  execute(c, cmd);
+  EXPECT_TRUE(cmd.Error);
+  EXPECT_EQ(eid::kDeviceErrorBase + 42, cmd.ErrorID);
+  ASSERT_TRUE(c.model().panel_finish_calibration());
+  execute(c, cmd);
+  EXPECT_TRUE(cmd.Done) << "ErrorID 16#" << std::hex << cmd.ErrorID;
+  EXPECT_TRUE(c.model().status().TareActive);
+}
+
 // §3.3 W[6] / §3.4 R[5].3-5 and the 24 named bits of PR5510_Status.
 TEST(Pr5510Blocks, Spec33_34_DigitalOutputsAndStatus) {
   Cell c(quiet_config());

@@ -34,6 +34,7 @@ void Pr5510Model::power_cycle() {
   st_.CalChanged = true;
   tare_ = 0;
   pending_ = Pending::None;
+  calibrating_ = false;  // the calibration itself is kept (EAROM, spec §1)
   write_in_progress_ = false;
   outputs_ = 0;
   rd_.fill(0);
@@ -102,7 +103,8 @@ void Pr5510Model::device_cycle(std::span<const std::uint8_t> w) {
 }
 
 void Pr5510Model::update_weight_and_status() {
-  const double kg = st_.TestActive ? cfg_.test_value : filtered_kg_ - zero_offset_kg_;
+  const double kg =
+      st_.TestActive ? cfg_.test_value : (filtered_kg_ - zero_offset_kg_) * span_gain_;
   const double exact = kg * digits_per_kg_;
   const double d = std::max<double>(1.0, cfg_.division);
   gross_ = static_cast<DINT>(std::lround(exact / d) * static_cast<long>(d));
@@ -146,6 +148,10 @@ void Pr5510Model::start_command(wg::CommandBit c) {
     return;
   }
   st_.CmdError = false;  // cleared by the next accepted command ([INFERRED])
+  if (calibrating_ && (c == wg::CommandBit::SetZero || c == wg::CommandBit::SetTare)) {
+    finish_command(wg::device_error::kCalInProgress);
+    return;
+  }
   switch (c) {
     case wg::CommandBit::SetZero:
       pending_ = Pending::Zero;
@@ -177,6 +183,49 @@ void Pr5510Model::start_command(wg::CommandBit c) {
   } else {
     finish_command(wg::device_error::kNone);
   }
+}
+
+bool Pr5510Model::panel_start_calibration() {
+  if (cfg_.cal_switch_locked) {
+    last_error_ = wg::device_error::kCalSwitchLocked;
+    return false;
+  }
+  if (pending_ != Pending::None) {
+    last_error_ = wg::device_error::kTaringActive;
+    return false;
+  }
+  calibrating_ = true;
+  return true;
+}
+
+bool Pr5510Model::panel_calibrate_zero() {
+  if (!calibrating_) {
+    last_error_ = wg::device_error::kNotInCalMode;
+    return false;
+  }
+  zero_offset_kg_ = filtered_kg_;
+  return true;
+}
+
+bool Pr5510Model::panel_calibrate_span(double known_kg) {
+  if (!calibrating_) {
+    last_error_ = wg::device_error::kNotInCalMode;
+    return false;
+  }
+  const double raw = filtered_kg_ - zero_offset_kg_;
+  if (known_kg <= 0.0 || raw <= 0.0) return false;  // the panel refuses a zero or negative span
+  span_gain_ = known_kg / raw;
+  return true;
+}
+
+bool Pr5510Model::panel_finish_calibration() {
+  if (!calibrating_) {
+    last_error_ = wg::device_error::kNotInCalMode;
+    return false;
+  }
+  calibrating_ = false;
+  st_.CalChanged = true;
+  return true;
 }
 
 void Pr5510Model::finish_command(std::uint8_t error) {

@@ -22,7 +22,14 @@
 //    Limit n turns on while the net weight is at or above that value;
 //  * analog test: the weight shows test_value while Test Active;
 //  * the tare and the zero need standstill within tare_timeout, else
-//    error 31; Dimmed = Above FSD or Below Zero.
+//    error 31; Dimmed = Above FSD or Below Zero;
+//  * calibration is done at the indicator's front panel (the windows have
+//    no calibration command); the panel_* calls below stand for the
+//    operator's keys and produce the calibration errors of §5.3: 40 when the
+//    CAL switch is locked, 41 for a calibration key outside calibration
+//    mode, 42 for a window zero/tare command while calibration is in
+//    progress, 46 when calibration is started while a tare/zero waits.
+//    Finishing a calibration sets Cal Changed (§3.4 R[5].1).
 #pragma once
 
 #include <array>
@@ -47,8 +54,9 @@ struct Pr5510Config {
   TIME standstill_time = std::chrono::milliseconds(300);  // ... for this long
   TIME filter_time = std::chrono::milliseconds(40);       // digital filter time constant
   TIME tare_timeout = std::chrono::seconds(3);            // standstill wait, then error 31
-  bool legal_for_trade = false;  // W&M: tare of a negative weight is error 33
-  double test_value = 5.0;       // kg shown during the analog test
+  bool legal_for_trade = false;    // W&M: tare of a negative weight is error 33
+  bool cal_switch_locked = false;  // the sealed CAL switch: panel calibration is error 40
+  double test_value = 5.0;         // kg shown during the analog test
   bool strict_codes = false;
   bool scale_interface = true;  // "disable" = no data communication
   std::uint16_t model = 0x5510;
@@ -87,6 +95,17 @@ class Pr5510Model final : public io::DeviceModel {
   [[nodiscard]] bool answering() const override { return answering_; }
   void set_input(int n, bool on);  // digital inputs 1..3
 
+  // ---- the front panel: calibration by an operator (see the header) ----
+  // Enter calibration mode; false (with error 40 or 46) if refused.
+  bool panel_start_calibration();
+  // Calibration keys: take the present load as the new zero, or as
+  // `known_kg` (the span). False with error 41 outside calibration mode.
+  bool panel_calibrate_zero();
+  bool panel_calibrate_span(double known_kg);
+  // Leave calibration mode, keeping the new calibration (Cal Changed).
+  bool panel_finish_calibration();
+  [[nodiscard]] bool calibrating() const { return calibrating_; }
+
  private:
   enum class Pending : std::uint8_t { None, Zero, Tare };
 
@@ -117,6 +136,8 @@ class Pr5510Model final : public io::DeviceModel {
   // weighing state
   double filtered_kg_ = 0.0;
   double zero_offset_kg_ = 0.0;
+  double span_gain_ = 1.0;  // from a span calibration
+  bool calibrating_ = false;
   DINT gross_ = 0;
   std::int64_t gross100_ = 0;
   DINT tare_ = 0;

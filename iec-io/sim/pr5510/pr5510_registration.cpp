@@ -4,7 +4,7 @@
 //   packed_order: msb_first | cclink   codes 4/5 word order ([AMBIG] 9)
 //   seed, full_scale, decimals, division, unit (g|kg|t|lb), overload,
 //   zero_range, standstill_range, standstill_time, filter_time, tare_timeout,
-//   legal_for_trade, test_value, strict_codes, scale_interface,
+//   legal_for_trade, cal_switch_locked, test_value, strict_codes, scale_interface,
 //   coarse_rate, fine_rate, discharge_rate, flow_variation, flow_wander,
 //   fall_time, valve_time, noise, impact_noise, initial_load
 #include "plc/io/device_model.hpp"
@@ -53,6 +53,7 @@ Pr5510Config pr5510_config_from(const io::ModelParams& p) {
   c.filter_time = p.get_time("filter_time", c.filter_time);
   c.tare_timeout = p.get_time("tare_timeout", c.tare_timeout);
   c.legal_for_trade = p.get_bool("legal_for_trade", c.legal_for_trade);
+  c.cal_switch_locked = p.get_bool("cal_switch_locked", c.cal_switch_locked);
   c.test_value = p.get_double("test_value", c.test_value);
   c.strict_codes = p.get_bool("strict_codes", c.strict_codes);
   c.scale_interface = p.get_bool("scale_interface", c.scale_interface);

@@ -82,7 +82,6 @@ class DeviceLink {
   RecordRequest* pop();
   [[nodiscard]] std::size_t pending() const;
 
-
  private:
   void lock() const {
     while (lock_.test_and_set(std::memory_order_acquire)) {
