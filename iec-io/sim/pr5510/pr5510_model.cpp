@@ -198,20 +198,20 @@ bool Pr5510Model::panel_start_calibration() {
   return true;
 }
 
+// A calibration key outside calibration mode: error 41.
+bool Pr5510Model::require_cal_mode() {
+  if (!calibrating_) last_error_ = wg::device_error::kNotInCalMode;
+  return calibrating_;
+}
+
 bool Pr5510Model::panel_calibrate_zero() {
-  if (!calibrating_) {
-    last_error_ = wg::device_error::kNotInCalMode;
-    return false;
-  }
+  if (!require_cal_mode()) return false;
   zero_offset_kg_ = filtered_kg_;
   return true;
 }
 
 bool Pr5510Model::panel_calibrate_span(double known_kg) {
-  if (!calibrating_) {
-    last_error_ = wg::device_error::kNotInCalMode;
-    return false;
-  }
+  if (!require_cal_mode()) return false;
   const double raw = filtered_kg_ - zero_offset_kg_;
   if (known_kg <= 0.0 || raw <= 0.0) return false;  // the panel refuses a zero or negative span
   span_gain_ = known_kg / raw;
@@ -219,10 +219,7 @@ bool Pr5510Model::panel_calibrate_span(double known_kg) {
 }
 
 bool Pr5510Model::panel_finish_calibration() {
-  if (!calibrating_) {
-    last_error_ = wg::device_error::kNotInCalMode;
-    return false;
-  }
+  if (!require_cal_mode()) return false;
   calibrating_ = false;
   st_.CalChanged = true;
   return true;

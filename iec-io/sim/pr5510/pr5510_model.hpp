@@ -117,6 +117,7 @@ class Pr5510Model final : public io::DeviceModel {
   void start_command(weighing::CommandBit c);
   void finish_command(std::uint8_t error);
   void run_pending();
+  bool require_cal_mode();
   [[nodiscard]] double digits_per_kg() const { return digits_per_kg_; }
 
   Pr5510Config cfg_;
