@@ -38,7 +38,7 @@ bool DeviceLink::submit(RecordRequest& r) {
   r.mark_queued();
   ring_[(head_ + count_) % kQueueDepth] = &r;
   ++count_;
-  if (tracked_n_ < tracked_.size()) tracked_[tracked_n_++] = &r;
+  if (deferred_) tracked_[tracked_n_++] = &r;  // room checked above
   unlock();
   return true;
 }

@@ -45,7 +45,6 @@ class DeviceLink {
   // A request remembers the task that submitted it (the scan thread's
   // current owner) and is delivered at that task's next latch.
   void set_deferred(bool on);
-  [[nodiscard]] bool deferred() const { return deferred_; }
   static void set_current_owner(int owner);
   // At a latch of task `owner`: copy the plugin's state for FBs.
   void latch_state() { latched_state_.store(live_state(), std::memory_order_release); }
@@ -59,10 +58,7 @@ class DeviceLink {
     for (std::size_t i = 0; i < tracked_n_; ++i) {
       RecordRequest* r = tracked_[i];
       const RecordStatus st = r->status();
-      if (st == RecordStatus::Done || st == RecordStatus::Error) {
-        if (!deferred_) f(*r);  // tracking without deferral: seen as soon as answered
-        continue;
-      }
+      if (st == RecordStatus::Done || st == RecordStatus::Error) continue;
       if (r->answer_parked() && (r->owner() == owner || r->owner() < 0 || owner < 0) &&
           r->deliver()) {
         f(*r);
@@ -93,9 +89,9 @@ class DeviceLink {
   std::size_t head_ = 0, count_ = 0;
   std::uint32_t next_seq_ = 0;
   bool deferred_ = false;
-  // Submitted requests whose answer has not been delivered yet (queued or
-  // in the plugin's hands). Deferred links refuse a submission with
-  // QueueFull rather than lose track of one.
+  // Deferred links: submitted requests whose answer has not been delivered
+  // yet (queued or in the plugin's hands). A submission that would not fit
+  // is refused with QueueFull rather than lose track of one.
   std::array<RecordRequest*, 4 * kQueueDepth> tracked_{};
   std::size_t tracked_n_ = 0;
   mutable std::atomic_flag lock_ = ATOMIC_FLAG_INIT;
