@@ -176,3 +176,23 @@ TEST(SafetyHostProtocol, FourByteCrcModuleOf13Bytes_Spec2_1) {
 }
 
 }  // namespace
+
+namespace {
+
+// §8.2 step 4 / §2.5: a reset exchange is only complete when the device
+// answers R_cons_nr without a communication error. A device that reports
+// CE_CRC in its answer did not take the reset: the next request is R_cons_nr
+// (number 0) again, not number 1.
+TEST(SafetyHostProtocol, ResetAnsweredWithCeCrcIsRepeated_Spec8_2) {
+  Loop l;
+  l.host_cycle();
+  ASSERT_TRUE(l.req[4] & cb::kRConsNr);
+  const std::uint8_t st = static_cast<std::uint8_t>(resp_status(l) | sb::kCeCrc | sb::kFvActivated);
+  write_pdu(l.resp, l.dev_data, st, 0, kCrc1);
+  l.host_cycle();
+  EXPECT_EQ(l.host.state(), FHostState::PassiveComm);
+  EXPECT_TRUE(l.req[4] & cb::kRConsNr);
+  EXPECT_EQ(l.host.cons_nr(), 0u);
+}
+
+}  // namespace

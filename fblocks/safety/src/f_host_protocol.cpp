@@ -80,10 +80,13 @@ void FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> response,
       wd_in_row_ = 0;
       t_restart_ = now;  // the host watchdog restarts on each valid new telegram
       ipar_ok_ = (status & sb::kIparOk) != 0;
+      // The reset exchange is done once a valid answer to R_cons_nr arrives;
+      // an answer that reports a communication error means the device did
+      // not take the reset, and comm_fault() asks for it again.
+      if (pending_rcons_) resync_needed_ = false;
       if (status & sb::kCeCrc) comm_fault(diag::kDevCeCrc);
       if (status & sb::kWdTimeout) comm_fault(diag::kDevWd);
       if (status & sb::kDeviceFault) device_fault(diag::kDevFault);
-      if (pending_rcons_) resync_needed_ = false;
     }
   } else if (now - t_restart_ > wd_) {
     ++wd_expiries_;
