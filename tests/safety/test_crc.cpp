@@ -1,5 +1,5 @@
 // CRC1 / CRC2 test vectors (spec nord-profisafe.md §2.2, §2.6; softplc-anchors
-// §4.4). Each vector says where it comes from.
+// §4.4; profisafe-wire-vectors.md). Each vector says where it comes from.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -66,24 +66,29 @@ TEST(SafetyCrc, Crc1OfNordDefaultFParameters_SelfDerived_Spec2_2) {
   EXPECT_EQ(crc1(blk), bitwise_crc(0x4EAB, 16, 0, blk));
 }
 
-// Self-derived: CRC2 (3 byte) of F-data DE AD BE EF, control byte 0x20
-// (Toggle_h), consecutive number 1, seeded with CRC1 0x32CB -> 0xF41EE5.
-TEST(SafetyCrc, Crc2ThreeByteVector_SelfDerived_Spec2_6) {
+// CRC2 (3 byte) in the order of the real traffic (profisafe-wire-vectors.md;
+// the captured telegrams themselves are in test_wire_vectors.cpp): F-data
+// DE AD BE EF, control byte 0x20, consecutive number 1, CRC1 0x32CB; the
+// engine agrees with the bitwise reference fed 20 EF BE AD DE 01 00 00 00
+// (Python bitwise: 0x0821B0).
+TEST(SafetyCrc, Crc2ThreeByteInCaptureOrder_WireVectors) {
   const std::array<std::uint8_t, 4> d = {0xDE, 0xAD, 0xBE, 0xEF};
-  EXPECT_EQ(compute_crc2(d, 0x20, 1, 0x32CB), 0xF41EE5u);
+  EXPECT_EQ(compute_crc2(d, 0x20, 1, 0x32CB), 0x0821B0u);
   EXPECT_EQ(compute_crc2(d, 0x20, 1, 0x32CB),
-            bitwise_crc(0x5D6DCB, 24, 0x32CB, {0xDE, 0xAD, 0xBE, 0xEF, 0x20, 0, 0, 1}));
+            bitwise_crc(0x5D6DCB, 24, 0x32CB, {0x20, 0xEF, 0xBE, 0xAD, 0xDE, 1, 0, 0, 0}));
 }
 
 // Self-derived: 4-byte CRC2 (13 bytes of F-data 00..0C) with generator
-// 0xF4ACFB13 [SPEC, unverified] -> 0xBE5B5B18.
+// 0xF4ACFB13 [SPEC, unverified], same byte order as the 3-byte CRC2 (our
+// reading; the capture has no 4-byte telegram) -> 0x639C6E4F.
 TEST(SafetyCrc, Crc2FourByteVector_SelfDerived_Spec2_1) {
   std::vector<std::uint8_t> d(13);
   for (int i = 0; i < 13; ++i) d[i] = static_cast<std::uint8_t>(i);
   EXPECT_EQ(crc2_length(13), 4u);
-  EXPECT_EQ(compute_crc2(d, 0x20, 1, 0x32CB), 0xBE5B5B18u);
-  auto all = d;
-  all.insert(all.end(), {0x20, 0, 0, 1});
+  EXPECT_EQ(compute_crc2(d, 0x20, 1, 0x32CB), 0x639C6E4Fu);
+  std::vector<std::uint8_t> all = {0x20};
+  for (int i = 12; i >= 0; --i) all.push_back(d[static_cast<std::size_t>(i)]);
+  for (std::uint8_t b : {1, 0, 0, 0}) all.push_back(b);
   EXPECT_EQ(compute_crc2(d, 0x20, 1, 0x32CB), bitwise_crc(0xF4ACFB13, 32, 0x32CB, all));
 }
 

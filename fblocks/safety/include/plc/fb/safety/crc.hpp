@@ -3,16 +3,17 @@
 // FOR TEST BENCHES AND SIMULATION ONLY, NOT CERTIFIED SAFETY SOFTWARE.
 //
 // The NORD manual gives no polynomial or seeding (spec nord-profisafe.md §2.2,
-// §2.6, §8.5 item 1). The values here are the [SPEC] values of the spec and
-// softplc-anchors.md §4.4; TO BE VERIFIED AGAINST IEC 61784-3-3 / PI 3.192:
-//   * CRC1: 16 bit, generator 0x4EAB, MSB first, no reflection, start 0,
-//     no final XOR;
+// §2.6, §8.5 item 1). Where each value comes from:
 //   * CRC2 (3 byte): 24 bit, generator 0x5D6DCB (0x15D6DCB with the x^24
-//     term), MSB first, no reflection, no final XOR (as in the published
-//     test code seb711/profisafe, crcmod.mkCrcFun(0x15D6DCB, rev=False));
-//   * CRC2 (4 byte): 32 bit, generator 0xF4ACFB13 [unverified in the anchors];
-//   * the start value of CRC2 is CRC1 (V2 mode), see safety_pdu.hpp for the
-//     byte order of the covered data.
+//     term), MSB first, no reflection, no final XOR, start value CRC1:
+//     REAL TRAFFIC (shared/reference/profisafe-wire-vectors.md, 1,809 device
+//     telegrams of a public capture); the byte order is in safety_pdu.hpp;
+//   * CRC1: 16 bit, generator 0x4EAB, MSB first, no reflection, start 0, no
+//     final XOR, fields big-endian in block order: [SPEC] (the vectors file
+//     says it agrees with its source's published F_Par_CRC values, but gives
+//     no parameter block we could check ourselves);
+//   * CRC2 (4 byte): 32 bit, generator 0xF4ACFB13: [SPEC] only, TO BE
+//     VERIFIED AGAINST IEC 61784-3-3 / PI 3.192 (NORD uses the 3-byte CRC).
 // One table-driven engine, parameterised by width and generator, so that the
 // tests can check the engine itself against published catalogue CRCs that use
 // the same algorithm class (MSB first, no reflection).
@@ -58,7 +59,7 @@ struct MsbCrc {
 };
 
 using Crc1Engine = MsbCrc<16, 0x4EABu>;         // [SPEC] verify
-using Crc2x24Engine = MsbCrc<24, 0x5D6DCBu>;    // [SPEC] verify
+using Crc2x24Engine = MsbCrc<24, 0x5D6DCBu>;    // real traffic (wire vectors)
 using Crc2x32Engine = MsbCrc<32, 0xF4ACFB13u>;  // [SPEC] verify (4-byte case)
 
 // CRC1 over the F-parameter bytes (start value 0, [SPEC]).

@@ -3,12 +3,18 @@
 //
 // FOR TEST BENCHES AND SIMULATION ONLY, NOT CERTIFIED SAFETY SOFTWARE.
 //
-// CRC2 coverage and order (our reading of spec §8.2 step 3; [SPEC], TO BE
-// VERIFIED AGAINST IEC 61784-3-3, which fixes the exact order and seeding):
-//   start value = CRC1 (F_Par_CRC), then the F-data bytes in telegram order,
-//   then the control/status byte, then the 24-bit virtual consecutive number
-//   as 3 bytes big-endian. The consecutive number is not transmitted.
-// CRC2 is written big-endian after the status/control byte.
+// CRC2 coverage and order, from REAL TRAFFIC (shared/reference/
+// profisafe-wire-vectors.md: all 1,809 distinct device telegrams of a public
+// capture fit this order and no other; tests/safety/test_wire_vectors.cpp):
+//   register = CRC1 (F_Par_CRC); then the status/control byte; then the
+//   F-data from its LAST byte to its FIRST; then the virtual consecutive
+//   number as 4 bytes, least significant first (low, middle, high, 0x00).
+//   The consecutive number is not transmitted. CRC2 is written big-endian
+//   after the status/control byte.
+// Readings that still rest on the standard alone (the capture cannot settle
+// them): the host -> device control telegram uses the same order (control
+// byte, F-output data reversed, number), and the 4-byte CRC2 (F-data above
+// 12 bytes) feeds the same bytes in the same order to its 32-bit generator.
 #pragma once
 
 #include <cstddef>
@@ -32,20 +38,23 @@ constexpr std::size_t pdu_size(std::size_t fdata_len) {
 // reset (spec §2.6, [SPEC]).
 constexpr std::uint32_t next_cons_nr(std::uint32_t cn) { return cn >= 0xFFFFFFu ? 1u : cn + 1u; }
 
-// CRC2 over F-data + control/status byte + consecutive number, seeded with CRC1.
+// CRC2 over control/status byte + F-data (reversed) + consecutive number,
+// seeded with CRC1 (order: see the top of this file).
+template <class Engine>
+constexpr std::uint32_t crc2_with(std::span<const std::uint8_t> fdata, std::uint8_t cb_sb,
+                                  std::uint32_t cons_nr, std::uint16_t crc1_seed) {
+  std::uint32_t c = Engine::update_byte(crc1_seed, cb_sb);
+  for (std::size_t i = fdata.size(); i-- > 0;) c = Engine::update_byte(c, fdata[i]);
+  c = Engine::update_byte(c, static_cast<std::uint8_t>(cons_nr));
+  c = Engine::update_byte(c, static_cast<std::uint8_t>(cons_nr >> 8));
+  c = Engine::update_byte(c, static_cast<std::uint8_t>(cons_nr >> 16));
+  return Engine::update_byte(c, 0x00);  // the virtual number is 24 bit
+}
 constexpr std::uint32_t compute_crc2(std::span<const std::uint8_t> fdata, std::uint8_t cb_sb,
                                      std::uint32_t cons_nr, std::uint16_t crc1_seed) {
-  const std::uint8_t cn[3] = {static_cast<std::uint8_t>(cons_nr >> 16),
-                              static_cast<std::uint8_t>(cons_nr >> 8),
-                              static_cast<std::uint8_t>(cons_nr)};
-  if (crc2_length(fdata.size()) == 3) {
-    std::uint32_t c = Crc2x24Engine::update(crc1_seed, fdata);
-    c = Crc2x24Engine::update_byte(c, cb_sb);
-    return Crc2x24Engine::update(c, cn);
-  }
-  std::uint32_t c = Crc2x32Engine::update(crc1_seed, fdata);
-  c = Crc2x32Engine::update_byte(c, cb_sb);
-  return Crc2x32Engine::update(c, cn);
+  return crc2_length(fdata.size()) == 3
+             ? crc2_with<Crc2x24Engine>(fdata, cb_sb, cons_nr, crc1_seed)
+             : crc2_with<Crc2x32Engine>(fdata, cb_sb, cons_nr, crc1_seed);
 }
 
 // Writes data, cb/sb and CRC2 into `pdu` (size pdu_size(data.size())).
