@@ -144,6 +144,45 @@ TEST(SafetyFParamErrors, FAddressZeroIsFatal5726_Spec8_3) {
   EXPECT_EQ(r2.model->current_code(), err::kDipRead);
 }
 
+// §5.5 / §8.3: a device without a valid F-address (DIP/P831 read error,
+// fatal 5726) cannot compare F_Dest_Add with anything. The F-host's
+// parameter write is refused with 5726 itself, and the program sees 5726,
+// not a 5711 made up from the missing address; P841 keeps 5726 (the FE LED
+// blinks it) and the refusal does not push it into P842.
+TEST(SafetyFParamErrors, MissingFAddress5726ReachesProgram_Spec5_5_8_3) {
+  for (const Params& pm : {Params{{"dip_address", "0"}, {"p831", "0"}},
+                           Params{{"dip_address", "0"}, {"p831", "65535"}}}) {
+    Rig r(pm);
+    r.io.OSSD1 = true;
+    r.scan(50);
+    EXPECT_EQ(r.io.FMOD.STATE, FHostState::Param);
+    EXPECT_TRUE(r.io.DIAG & diag::kFParError);
+    EXPECT_EQ(r.io.DIAG_CODE, err::kDipRead);
+    EXPECT_EQ(r.model->current_code(), err::kDipRead);
+    EXPECT_EQ(r.model->previous_code(), 0);
+    EXPECT_TRUE(r.all_safe());
+    r.scan(1500);  // the write is retried once a second: same answer
+    EXPECT_EQ(r.io.DIAG_CODE, err::kDipRead);
+    EXPECT_EQ(r.model->current_code(), err::kDipRead);
+  }
+}
+
+// Same mistake, other path (§5.5 types q/f): after the fatal 5725 a later
+// refused block still answers with its own number (here 5711), but it must
+// not push the latched fatal code out of P841: the device stays in its fatal
+// fault until a power cycle and keeps showing (and blinking) 5725.
+TEST(SafetyFParamErrors, FatalCodeStaysCurrentAfterLaterRefusal_Spec5_5) {
+  Rig r;
+  std::array<std::uint8_t, 12> shortb{};
+  ASSERT_EQ(static_cast<std::uint16_t>(r.model->write_record(ps::kFParamRecordIndex, shortb)),
+            err::kParTelegram);
+  auto p = good();
+  p.dest_add = 7;
+  EXPECT_EQ(write_raw(*r.model, p), err::kDestMismatch);
+  EXPECT_EQ(r.model->current_code(), err::kParTelegram);
+  EXPECT_TRUE(r.model->fatal());
+}
+
 // §4.5 / §5.5: out-of-range i-parameters are fatal configuration errors.
 TEST(SafetyFParamErrors, IParameterRangeErrorsAreFatal_Spec5_5) {
   struct Case {

@@ -96,8 +96,9 @@ void NordProfisafeModel::power_cycle() {
   // The F-address is read at power-on: DIP 2-9, or P831 when the DIPs are 0
   // (spec §6.4). 0 and 65535 are refused: the DIP-read fatal error 5726.
   f_address_ = dip_ != 0 ? dip_ : p831_;
+  address_valid_ = !(dip_ > 255 || f_address_ == 0 || f_address_ == 65535);
   std::uint16_t code = 0;
-  if (dip_ > 255 || f_address_ == 0 || f_address_ == 65535) {
+  if (!address_valid_) {
     code = err::kDipRead;
   } else {
     code = ip_.check();
@@ -112,6 +113,10 @@ void NordProfisafeModel::power_cycle() {
 
 void NordProfisafeModel::raise_code(std::uint16_t code) {
   if (p841_ == code) return;
+  // A latched fatal code stays the current one until the power cycle; a
+  // later q code (a refused parameter block, a channel fault) is answered
+  // with its own number where it arises but does not displace it.
+  if (fatal_code_ != 0 && p841_ == fatal_code_ && code != fatal_code_) return;
   if (p841_ != 0) p842_ = p841_;
   p841_ = code;
   code_since_ = now_;
@@ -458,6 +463,11 @@ io::RecordError NordProfisafeModel::write_record(std::uint16_t index,
     raise_code(code);
     return static_cast<io::RecordError>(code);
   };
+  // Without a valid F-address (fatal 5726 at power-on) there is nothing to
+  // compare F_Dest_Add with: the write is refused with 5726 itself, so the
+  // F-host reports the address fault by its own number (spec §5.5, §8.3),
+  // not as a 5711 that would also push 5726 out of P841.
+  if (!address_valid_) return refuse(err::kDipRead);
   if (data.size() != safety::kFParamBlockSize) {
     if (fatal_code_ == 0) fatal_code_ = err::kParTelegram;  // 5725 is fatal
     return refuse(err::kParTelegram);

@@ -12,8 +12,10 @@
 //    F_CRC_Length (5721), F_Block_ID / reserved bits / WD > 10000 (5718),
 //    F_SIL above `max_sil` (5715), source (5713), destination range 1..255
 //    (5712), destination != own F-address (5711), F_WD_Time 0 (5714),
-//    F_iPar_CRC != P840 (5719). The refused write returns the code as the
-//    record error. No cyclic exchange until a block passes.
+//    F_iPar_CRC != P840 (5719). A device without a valid F-address (5726)
+//    refuses every block with 5726 before any of these checks. The refused
+//    write returns the code as the record error. No cyclic exchange until a
+//    block passes.
 //  * F-address: DIP value (`dip_address` 0..255); P831 (`p831`) when DIP = 0.
 //    An effective address of 0 or 65535 is the fatal DIP error 5726.
 //  * Cyclic: a request is new when its Toggle_h differs from the last one;
@@ -181,6 +183,7 @@ class NordProfisafeModel : public io::DeviceModel {
   NordIParams ip_;
   NordSafetyFunctions fn_;
   std::uint16_t dip_ = 1, p831_ = 0, f_address_ = 1;
+  bool address_valid_ = true;  // F-address read at power-on is usable (else 5726)
   int max_sil_ = 3;
   double speed_rpm_ = 0.0, position_inc_ = 0.0;
   std::array<bool, 2> si_raw_{};  // as wired
