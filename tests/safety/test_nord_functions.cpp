@@ -160,6 +160,66 @@ TEST(SafetyNordFunctions, ChannelPassivationOutputShortHolds10s_Spec5_5) {
   EXPECT_TRUE(r.model->ossd(0));
 }
 
+// §5.5 ("the 4-digit code is sent to the F-host"; manual §8.4.2) with
+// P801 = 1: a channel fault passivates only its channel and sets no
+// Device_Fault, yet the program must see its code. DIAG_CODE shows 5742 and
+// DIAG bit kDevCode says the device reports a code now; the error stays
+// latched (and its code current) after the cause is gone until In 3.7
+// acknowledges the channel (§2.8), then the bit drops and DIAG_CODE keeps
+// the last code.
+TEST(SafetyNordFunctions, ChannelPassivationCodeReachesProgram5742_Spec5_5) {
+  Rig r(Params{{"p801", "1"}, {"p802_4", "0"}});
+  r.start();
+  ASSERT_EQ(r.io.DIAG_CODE, 0);
+  r.io.OSSD2 = true;
+  ASSERT_GT(r.scan_until([&] { return r.io.DIAG_CODE == err::kSo2NotEnabled; }, 250), 0);
+  EXPECT_TRUE(r.io.DIAG & diag::kDevCode);
+  EXPECT_FALSE(r.io.DIAG & diag::kDevFault);
+  EXPECT_TRUE(r.running());
+  r.io.OSSD2 = false;  // cause gone: the channel error stays latched
+  r.scan(300);
+  EXPECT_EQ(r.model->current_code(), err::kSo2NotEnabled);
+  EXPECT_TRUE(r.io.DIAG & diag::kDevCode);
+  r.io.CH_PASS_ACK = true;
+  r.scan();
+  r.io.CH_PASS_ACK = false;
+  ASSERT_GT(r.scan_until([&] { return !(r.io.DIAG & diag::kDevCode); }, 250), 0);
+  EXPECT_EQ(r.model->current_code(), 0);
+  EXPECT_EQ(r.io.DIAG_CODE, err::kSo2NotEnabled);
+  EXPECT_TRUE(r.running());
+}
+
+// §1.5 / §2.8 with P801 = 1: a safety-function violation is only reported
+// (no passivation); the report is the code, so the program must see 5781.
+TEST(SafetyNordFunctions, ReportOnlyViolationCodeReachesProgram5781_Spec5_5) {
+  Rig r(Params{{"p801", "1"}});
+  r.io.SLS = true;
+  r.io.SLS_LEVEL = 1;  // P823[-02] = 500 rpm
+  r.start();
+  r.model->set_speed_rpm(600);
+  ASSERT_GT(r.scan_until([&] { return r.io.DIAG_CODE == err::kSlsViolated; }, 250), 0);
+  EXPECT_TRUE(r.io.DIAG & diag::kDevCode);
+  EXPECT_TRUE(r.running());
+}
+
+// §5.5: a code that comes and goes between two diagnosis reads still reaches
+// the program (the device counts its codes; the host then shows P842).
+TEST(SafetyNordFunctions, ShortLivedChannelCodeReachesProgram_Spec5_5) {
+  Rig r(Params{{"p801", "1"}, {"p802_4", "0"}});
+  r.start();
+  r.io.OSSD2 = true;
+  r.scan();
+  r.io.OSSD2 = false;
+  r.io.CH_PASS_ACK = true;  // acknowledged at once: the code lives a few ms
+  r.scan(3);
+  r.io.CH_PASS_ACK = false;
+  r.scan(3);
+  ASSERT_EQ(r.model->current_code(), 0);
+  ASSERT_EQ(r.model->previous_code(), err::kSo2NotEnabled);
+  ASSERT_GT(r.scan_until([&] { return r.io.DIAG_CODE == err::kSo2NotEnabled; }, 250), 0);
+  EXPECT_TRUE(r.running());
+}
+
 // §4.5 P803: SI1/SI2 dual channel apart longer than the discrepancy time ->
 // 5731; clears when both are off.
 TEST(SafetyNordFunctions, Discrepancy5731_Spec4_5) {

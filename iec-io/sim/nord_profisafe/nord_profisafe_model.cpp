@@ -73,6 +73,7 @@ void NordProfisafeModel::reset_volatile() {
   q_[kQSo3Off].channel = 2;
   fatal_code_ = 0;
   p841_ = p842_ = 0;
+  code_events_ = 0;
   injected_cause_ = false;
   chan_passive_ = {};
   discrepancy_timing_ = discrepancy_fault_ = false;
@@ -120,6 +121,7 @@ void NordProfisafeModel::raise_code(std::uint16_t code) {
   if (p841_ != 0) p842_ = p841_;
   p841_ = code;
   code_since_ = now_;
+  ++code_events_;
 }
 
 void NordProfisafeModel::inject_device_fault(std::uint16_t code, bool fatal) {
@@ -231,7 +233,10 @@ void NordProfisafeModel::update_q(TIME now) {
       e.onset = now;
       raise_code(e.code);
       if (ip_.p801 == 1 && e.channel >= 0) chan_passive_[e.channel] = true;
-    } else if (e.active && !c && now - e.onset >= e.hold) {
+    } else if (e.active && !c && now - e.onset >= e.hold &&
+               !(e.channel >= 0 && chan_passive_[e.channel])) {
+      // A channel error stays latched, code and all, until In 3.7 has
+      // acknowledged its channel (spec §2.8 channel passivation).
       e.active = false;
       if (p841_ == e.code) {
         p842_ = p841_;
@@ -298,8 +303,10 @@ void NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> 
   if (ack && !chan_ack_prev_) {
     for (int ch = 0; ch < 3; ++ch) {
       bool cause = false;
-      for (const QError& e : q_)
-        if (e.active && e.channel == ch) cause = true;
+      for (int i = 0; i < kQCount; ++i) {
+        const QError& e = q_[i];
+        if (e.active && e.channel == ch && (q_cause(i) || now - e.onset < e.hold)) cause = true;
+      }
       if (!cause) chan_passive_[ch] = false;
     }
   }
@@ -452,6 +459,11 @@ io::RecordError NordProfisafeModel::read_record(std::uint16_t index, std::span<s
   out[2] = static_cast<std::uint8_t>(p842_ >> 8);
   out[3] = static_cast<std::uint8_t>(p842_);
   length = 4;
+  if (out.size() >= 6) {
+    out[4] = static_cast<std::uint8_t>(code_events_ >> 8);
+    out[5] = static_cast<std::uint8_t>(code_events_);
+    length = 6;
+  }
   return io::RecordError::None;
 }
 

@@ -14,8 +14,13 @@
 // F-parameter block (CRC1 included) with a record write (index
 // kFParamRecordIndex). A refused write sets DIAG bit kFParError and DIAG_CODE
 // to the device's 57xx code; the write is retried every second. Then the
-// cyclic protocol runs (FHostProtocol). On a device fault the block reads the
-// device's diagnostic record once to show the NORD 57xx code in DIAG_CODE.
+// cyclic protocol runs (FHostProtocol). Every 57xx code the device raises
+// must reach the program (spec §5.5), also those without Device_Fault
+// (channel passivation and report-only violations with P801 = 1): while
+// cyclic the block reads the device's diagnosis record every kDiagPollEvery
+// and at once when Device_Fault appears, shows the code in DIAG_CODE (also a
+// code that came and went between two reads, through the device's code
+// count and P842) and sets DIAG bit kDevCode while the device reports one.
 // A device silent for three watchdog periods is parameterised again (it may
 // have been power-cycled); that restart needs ACK_REI.
 //
@@ -83,7 +88,8 @@ class F_MODULE {
               ACK_REI, IPAR_EN, OUT_DATA, PASS_OUT, QBAD, ACK_REQ, IPAR_OK, DIAG, DIAG_CODE,
               IN_DATA, VS_IN, VS_OUT, STATE,
               // internal state: shown by the debugger, kept in recording snapshots
-              proto_, block_, phase_, retry_at_, diag_read_pending_, restart_after_fault_)
+              proto_, block_, phase_, retry_at_, dev_fault_prev_, diag_read_wanted_,
+              next_diag_read_, dev_code_, dev_code_count_, restart_after_fault_)
 
   void operator()(const ScanContext& ctx) {
     if (!port.bound() || port.in().size() < kInPdu || port.out().size() < kOutPdu) {
@@ -107,6 +113,7 @@ class F_MODULE {
         // restart then needs ACK_REI like any communication fault.
         if (proto_.watchdog_expiries_in_row() >= kLostAfter) {
           restart_after_fault_ = true;
+          dev_code_ = 0;  // unknown until the device is back
           phase_ = Phase::SendParams;
         }
         break;
@@ -121,14 +128,14 @@ class F_MODULE {
     FHostCommand cmd{PASS_ON, ACK_NEC, ACK_REI, IPAR_EN};
     proto_.cycle(ctx.now, port.in().first(kInPdu), port.out().first(kOutPdu), app_out, app_in, cmd);
     for (std::size_t i = 0; i < NIn; ++i) IN_DATA[i] = app_in[i];
-    if (phase_ == Phase::Cyclic) poll_device_diag();
+    if (phase_ == Phase::Cyclic) poll_device_diag(ctx.now);
 
     STATE = proto_.state();
     PASS_OUT = proto_.pass_out();
     QBAD = proto_.qbad();
     ACK_REQ = proto_.ack_req();
     IPAR_OK = proto_.ipar_ok();
-    DIAG = proto_.diag();
+    DIAG = static_cast<BYTE>(proto_.diag() | (dev_code_ != 0 ? diag::kDevCode : 0));
     const std::uint8_t vs_in = proto_.data_valid() ? 0xFF : 0x00;
     const std::uint8_t vs_out = (STATE == FHostState::Run && !PASS_ON) ? 0xFF : 0x00;
     VS_IN.fill(vs_in);
@@ -145,6 +152,10 @@ class F_MODULE {
  private:
   enum class Phase : std::uint8_t { SendParams, WaitParams, Retry, Cyclic };
   static constexpr std::uint32_t kLostAfter = 3;
+  // How often the diagnosis record is read while cyclic. [INF] Our choice:
+  // NORD codes last at least until acknowledged (q) or a power cycle (f), a
+  // code that comes and goes between reads is still caught by the count.
+  static constexpr TIME kDiagPollEvery = std::chrono::milliseconds(100);
 
   void send_fparams() {
     FParameters p;
@@ -170,7 +181,8 @@ class F_MODULE {
       fpar_req_.reset();
       proto_.start(now, restart_after_fault_);
       restart_after_fault_ = false;
-      diag_read_pending_ = false;
+      dev_fault_prev_ = false;
+      diag_read_wanted_ = true;  // learn the device's present code at once
       phase_ = Phase::Cyclic;
     } else if (s == io::RecordStatus::Error) {
       const std::uint16_t code = fpar_req_.error_code();
@@ -183,24 +195,41 @@ class F_MODULE {
     }
   }
 
-  // On a newly reported device fault, read the device's 57xx code once.
-  void poll_device_diag() {
-    const bool fault = (proto_.diag() & diag::kDevFault) != 0;
+  // Reads the device's diagnosis record (P841, P842, code count) every
+  // kDiagPollEvery, and at once when Device_Fault appears.
+  void poll_device_diag(TIME now) {
     if (diag_req_.status() == io::RecordStatus::Done) {
-      if (diag_req_.data().size() >= 2) {
-        const std::uint16_t code = io::load_be<std::uint16_t>(diag_req_.data(), 0);
-        if (code != 0) DIAG_CODE = code;
-      }
+      take_device_diag(diag_req_.data());
       diag_req_.reset();
     } else if (diag_req_.status() == io::RecordStatus::Error) {
       diag_req_.reset();
     }
-    if (fault && !diag_read_pending_ && diag_req_.status() == io::RecordStatus::Idle) {
+    const bool fault = (proto_.diag() & diag::kDevFault) != 0;
+    if (fault && !dev_fault_prev_) diag_read_wanted_ = true;
+    dev_fault_prev_ = fault;
+    if (now >= next_diag_read_) diag_read_wanted_ = true;
+    if (diag_read_wanted_ && diag_req_.status() == io::RecordStatus::Idle) {
       diag_req_.prepare_read(kNordDiagRecordIndex);
       port.submit(diag_req_);
-      diag_read_pending_ = true;
+      diag_read_wanted_ = false;
+      next_diag_read_ = now + kDiagPollEvery;
     }
-    if (!fault) diag_read_pending_ = false;
+  }
+
+  void take_device_diag(std::span<const std::uint8_t> rec) {
+    if (rec.size() < 4) return;
+    const std::uint16_t current = io::load_be<std::uint16_t>(rec, 0);
+    const std::uint16_t previous = io::load_be<std::uint16_t>(rec, 2);
+    // A device without the count (4 bytes) is taken as "count unchanged".
+    const std::uint16_t count =
+        rec.size() >= 6 ? io::load_be<std::uint16_t>(rec, 4) : dev_code_count_;
+    if (current != 0) {
+      DIAG_CODE = current;
+    } else if (count != dev_code_count_ && previous != 0) {
+      DIAG_CODE = previous;  // raised and gone again since the last read
+    }
+    dev_code_ = current;
+    dev_code_count_ = count;
   }
 
   void publish_passive() {
@@ -220,7 +249,11 @@ class F_MODULE {
   std::array<std::uint8_t, kFParamBlockSize> block_{};
   Phase phase_ = Phase::SendParams;
   TIME retry_at_{};
-  bool diag_read_pending_ = false;
+  bool dev_fault_prev_ = false;
+  bool diag_read_wanted_ = false;
+  TIME next_diag_read_{};
+  std::uint16_t dev_code_ = 0;        // device's current code (P841) at the last read
+  std::uint16_t dev_code_count_ = 0;  // device's code count at the last read
   bool restart_after_fault_ = false;
 };
 

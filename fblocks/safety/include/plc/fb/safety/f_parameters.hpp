@@ -26,8 +26,9 @@ inline constexpr std::size_t kFParamBlockSize = 14;
 // sim device model uses the same constant.
 inline constexpr std::uint16_t kFParamRecordIndex = 128;
 // Record the simulated device answers with its current and previous 57xx
-// code (P841, P842 as two big-endian UINTs). [INF] The manual does not say how
-// the code reaches the F-host (spec §8.5 item 14); simulation only.
+// code and its code count (P841, P842, number of codes raised since power-on;
+// three big-endian UINTs). [INF] The manual says every code is sent to the
+// F-host but not how (spec §5.5, §8.5 item 14); simulation only.
 inline constexpr std::uint16_t kNordDiagRecordIndex = 129;
 
 // F_SIL codes (2 bits). 00 = SIL1, 01 = SIL2, 10 = SIL3, 11 = NoSIL [SPEC].

@@ -27,10 +27,15 @@
 //    R_cons_nr; FV_activated then stays until OA_Req (spec §8.3 cyclic 4).
 //    The device answers each new request once (one response per request).
 //  * Errors: q errors passivate per P801 (module: Device_Fault + FV, all
-//    outputs off, inputs 0; channel: only that SO off, latched until In 3.7);
+//    outputs off, inputs 0; channel: only that SO off, latched with its code
+//    until In 3.7 acknowledges the channel once the cause is gone);
 //    they end when the cause is gone and, for safety-function violations and
 //    5732-5738, no sooner than 10 s after onset (spec §1.5 [AMBIG] reading).
 //    Fatal errors latch Device_Fault + FV until power_cycle().
+//  * Diagnosis record kNordDiagRecordIndex (read): P841, P842 and the number
+//    of codes raised since power-on (mod 65536), three big-endian UINTs, so
+//    that an F-host reading it now and then also learns of a code that came
+//    and went between two reads (our format; the manual names no transport).
 //  * Drive model: speed (rpm) set by `speed_rpm` or set_speed_rpm(); the
 //    encoder position integrates it (pulses per rev from P812, ratio P811),
 //    or is set with set_position_inc().
@@ -212,7 +217,8 @@ class NordProfisafeModel : public io::DeviceModel {
   std::array<QError, kQCount> q_{};
   std::uint16_t fatal_code_ = 0;
   std::uint16_t p841_ = 0, p842_ = 0, p848_ = 0;
-  TIME code_since_{};  // when p841_ got its value (blink code start)
+  std::uint16_t code_events_ = 0;  // codes raised since power-on (diagnosis record)
+  TIME code_since_{};              // when p841_ got its value (blink code start)
   bool injected_cause_ = false;
   std::array<bool, 3> chan_passive_{};
   TIME discrepancy_since_{};
