@@ -77,7 +77,9 @@ TEST(SafetyHostProtocol, StartupControlByteSequence_Spec2_5_8_2) {
 
 // §8.2 step 2: no new response (toggle unchanged) -> the request is not
 // rebuilt, the last valid data stays, and after F_WD_Time the watchdog
-// trips: not at WD, at the first scan past it.
+// trips: not at WD, at the first scan past it. The request stays
+// outstanding (issue 9: it is never given up); its answer, when it comes
+// late, is not used, and only then does the R_cons_nr request go out.
 TEST(SafetyHostProtocol, WatchdogTripsJustAfterFWdTime_Spec2_7) {
   Loop l;
   for (int i = 0; i < 5; ++i) l.cycle();
@@ -94,7 +96,17 @@ TEST(SafetyHostProtocol, WatchdogTripsJustAfterFWdTime_Spec2_7) {
   EXPECT_EQ(l.host.state(), FHostState::PassiveComm);
   EXPECT_TRUE(l.host.diag() & diag::kHostWd);
   EXPECT_EQ(l.app_in[0], 0);
-  // A new request is started: R_cons_nr, new toggle.
+  for (int i = 0; i < 50; ++i) {
+    l.host_cycle();
+    ASSERT_EQ(l.req, req_before) << i;
+  }
+  l.dev_data[0] = 0xB7;  // the late answer, 151 ms after its request
+  l.answer();
+  l.host_cycle();
+  EXPECT_EQ(l.host.late_answers(), 1u);
+  EXPECT_EQ(l.app_in[0], 0);
+  EXPECT_EQ(l.host.state(), FHostState::PassiveComm);
+  // Now the reset: R_cons_nr, new toggle.
   EXPECT_TRUE(l.req[4] & cb::kRConsNr);
   EXPECT_NE(l.req[4] & cb::kToggleH, req_before[4] & cb::kToggleH);
 }
@@ -193,6 +205,44 @@ TEST(SafetyHostProtocol, ResetAnsweredWithCeCrcIsRepeated_Spec8_2) {
   EXPECT_EQ(l.host.state(), FHostState::PassiveComm);
   EXPECT_TRUE(l.req[4] & cb::kRConsNr);
   EXPECT_EQ(l.host.cons_nr(), 0u);
+}
+
+}  // namespace
+
+namespace {
+
+// Siemens F-I/O DB (anchors §4.4): ACK_REI acknowledges an ACK_REQ the
+// operator could see. A rising edge in the very scan the host would raise
+// ACK_REQ (the answer to the reset arrives) does not count: otherwise OA_Req
+// could ride on the first exchange after the reset (number 1), the one a
+// repeated telegram from before the restart can match (issue 9).
+TEST(SafetyHostProtocol, AckEdgeBeforeAckReqShownIgnored_Anchors4_4) {
+  Loop l;
+  for (int i = 0; i < 5; ++i) l.cycle();
+  ASSERT_EQ(l.host.state(), FHostState::Run);
+  l.host_cycle();
+  l.answer();
+  l.resp[0] ^= 0x01;  // corrupt answer -> host CRC error, reset request
+  l.host_cycle();
+  ASSERT_EQ(l.host.state(), FHostState::PassiveComm);
+  ASSERT_TRUE(l.req[4] & cb::kRConsNr);
+  l.answer();
+  l.cmd.ack_rei = true;  // pressed in the scan that reads the reset answer
+  l.host_cycle();
+  EXPECT_EQ(l.host.state(), FHostState::WaitAck);
+  EXPECT_FALSE(l.req[4] & cb::kOaReq);
+  l.answer();
+  l.host_cycle();  // held: no new edge
+  EXPECT_EQ(l.host.state(), FHostState::WaitAck);
+  l.cmd.ack_rei = false;
+  l.answer();
+  l.host_cycle();
+  l.cmd.ack_rei = true;  // a real edge while ACK_REQ is shown
+  l.answer();
+  l.host_cycle();
+  EXPECT_EQ(l.host.state(), FHostState::Reintegrating);
+  EXPECT_TRUE(l.req[4] & cb::kOaReq);
+  EXPECT_GE(l.host.cons_nr(), 2u);
 }
 
 }  // namespace

@@ -23,7 +23,7 @@ void FHostProtocol::reset() {
   toggle_h_ = false;  // the first request flips it to 1: a device that has
                       // sent nothing yet (all zero) never looks like an answer
   sent_any_ = false;
-  force_new_ = false;
+  wd_tripped_ = false;
   resync_needed_ = true;
   pending_rcons_ = false;
   pending_fv_ = true;
@@ -39,7 +39,7 @@ void FHostProtocol::start(TIME now, bool after_fault) {
   if (!after_fault) diag_ = 0;
   comm_fault_seen_ = after_fault;
   wd_in_row_ = 0;
-  t_restart_ = now;
+  t_sent_ = now;
 }
 
 void FHostProtocol::comm_fault(std::uint8_t diag_bit) {
@@ -58,6 +58,9 @@ void FHostProtocol::device_fault(std::uint8_t diag_bit) {
 void FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> response,
                           std::span<std::uint8_t> request, std::span<const std::uint8_t> app_out,
                           std::span<std::uint8_t> app_in, const FHostCommand& cmd) {
+  // ACK_REQ as the program saw it after the last scan: an acknowledgement
+  // only counts for a request the operator could see.
+  const bool ack_req_shown = state_ == FHostState::WaitAck;
   const bool ack_edge = cmd.ack_rei && !prev_ack_rei_;
   prev_ack_rei_ = cmd.ack_rei;
 
@@ -69,16 +72,29 @@ void FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> response,
   }
 
   const std::uint8_t status = response[in_len_];
-  const bool got_new = sent_any_ && (((status & sb::kToggleD) != 0) == toggle_h_);
+  // The answer to the outstanding request (see the header: one request at
+  // a time, so in an in-order channel the first telegram with its toggle
+  // answers it and nothing older can follow).
+  const bool answered = sent_any_ && (((status & sb::kToggleD) != 0) == toggle_h_);
+  // Its data is no older than the request: in time means no older than
+  // F_WD_Time, measured from when this request was sent.
+  const bool in_time = now - t_sent_ <= wd_;
   bool valid = false;
-  if (got_new) {
-    if (!check_pdu(response, in_len_, cn_, crc1_)) {
+  if (answered) {
+    wd_in_row_ = 0;  // the device is there, however late
+    if (!in_time) {
+      // Late: its data may be older than F_WD_Time. Never used; it only
+      // drains the channel, and the exchange restarts with R_cons_nr.
+      ++late_answers_;
+      if (!wd_tripped_) {
+        ++wd_expiries_;
+        comm_fault(diag::kHostWd);
+      }
+    } else if (!check_pdu(response, in_len_, cn_, crc1_)) {
       ++crc_errors_;
       comm_fault(diag::kHostCrc);
     } else {
       valid = true;
-      wd_in_row_ = 0;
-      t_restart_ = now;  // the host watchdog restarts on each valid new telegram
       ipar_ok_ = (status & sb::kIparOk) != 0;
       // The reset exchange is done once a valid answer to R_cons_nr arrives;
       // an answer that reports a communication error means the device did
@@ -88,12 +104,17 @@ void FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> response,
       if (status & sb::kWdTimeout) comm_fault(diag::kDevWd);
       if (status & sb::kDeviceFault) device_fault(diag::kDevFault);
     }
-  } else if (now - t_restart_ > wd_) {
+  } else if (!in_time && !wd_tripped_) {
+    // Host watchdog: passivate, but keep the request outstanding (see the
+    // header for why it is not abandoned).
     ++wd_expiries_;
     ++wd_in_row_;
     comm_fault(diag::kHostWd);
-    t_restart_ = now;
-    force_new_ = true;
+    wd_tripped_ = true;
+    wd_period_from_ = now;
+  } else if (wd_tripped_ && now - wd_period_from_ > wd_) {
+    ++wd_in_row_;  // still no answer: one more watchdog period (device lost?)
+    wd_period_from_ = now;
   }
 
   const bool dev_clean = (status & (sb::kCeCrc | sb::kWdTimeout | sb::kDeviceFault)) == 0;
@@ -129,8 +150,9 @@ void FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> response,
         break;
     }
   }
-  // ACK_REI is only taken while ACK_REQ is set.
-  if (state_ == FHostState::WaitAck && ack_edge) state_ = FHostState::Reintegrating;
+  // ACK_REI is only taken while ACK_REQ is set (and was shown).
+  if (ack_req_shown && state_ == FHostState::WaitAck && ack_edge)
+    state_ = FHostState::Reintegrating;
 
   // Data for the application: only from this scan's valid telegram in Run
   // with no fail-safe values active; the last valid data stays while no new
@@ -140,19 +162,21 @@ void FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> response,
     for (std::size_t i = 0; i < in_len_; ++i) app_in[i] = response[i];
     accepted_cn_ = cn_;
     data_valid_ = true;
-  } else if (!(may_pass && data_valid_ && !got_new)) {
+    ++deliveries_;
+  } else if (!(may_pass && data_valid_ && !answered)) {
     std::fill(app_in.begin(), app_in.begin() + static_cast<std::ptrdiff_t>(in_len_),
               std::uint8_t{0});
     data_valid_ = false;
   }
 
-  if (got_new || force_new_ || !sent_any_) build_request(request, app_out, cmd);
+  if (answered || !sent_any_) build_request(now, request, app_out, cmd);
 }
 
-void FHostProtocol::build_request(std::span<std::uint8_t> request,
+void FHostProtocol::build_request(TIME now, std::span<std::uint8_t> request,
                                   std::span<const std::uint8_t> app_out, const FHostCommand& cmd) {
-  force_new_ = false;
   sent_any_ = true;
+  t_sent_ = now;
+  wd_tripped_ = false;
   pending_rcons_ = resync_needed_;
   cn_ = resync_needed_ ? 0 : next_cons_nr(cn_);
   toggle_h_ = !toggle_h_;

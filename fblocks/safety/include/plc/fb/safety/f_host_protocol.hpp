@@ -6,20 +6,59 @@
 // The state machine follows spec nord-profisafe.md §8.2, which is itself
 // [SPEC]-based (the NORD manual does not describe the host); TO BE VERIFIED
 // AGAINST IEC 61784-3-3: the host state machine, when R_cons_nr is sent,
-// whether OA_Req is a pulse or held, and start-up reintegration.
+// whether OA_Req is a pulse or held, and start-up reintegration. The
+// consecutive-number semantics (0 with R_cons_nr after a reset, answered
+// with cons_nr_R; +1 per telegram; Toggle_h alternating) match real traffic
+// (tests/safety/test_wire_vectors.cpp).
 //
 // Per cycle (called once per scan):
-//   1. a response is new when Toggle_d == Toggle_h of the outstanding request;
-//   2. a new response must carry the right CRC2 for the outstanding virtual
-//      consecutive number (seeded with CRC1), otherwise: host CRC error;
-//   3. a valid new response restarts the host watchdog; with no valid new
-//      response for longer than F_WD_Time: host watchdog error, and the
-//      outstanding request is abandoned (new toggle, R_cons_nr);
-//   4. after any new response the next request is built: CN+1 (wrap to 1),
-//      toggle flipped; after a communication fault, a request with
-//      R_cons_nr = 1 and CN = 0 resynchronises host and device first.
+//   1. the answer to the outstanding request is the telegram whose Toggle_d
+//      equals that request's Toggle_h;
+//   2. it counts only if it arrives within F_WD_Time of when that request
+//      was sent, and carries the right CRC2 for the request's virtual
+//      consecutive number (seeded with CRC1); otherwise: host watchdog or
+//      host CRC error;
+//   3. with no answer for longer than F_WD_Time: host watchdog error;
+//   4. after each answer (valid, corrupt or late) the next request is built:
+//      CN+1 (wrap to 1), toggle flipped; after a communication fault it is
+//      an R_cons_nr request with CN = 0 that resynchronises host and device.
+//
+// No data older than F_WD_Time reaches the application (the watchdog
+// promise), under any delay the channel adds, also across restarts:
+//   * the host never has more than one request outstanding, and never gives
+//     one up: when the watchdog trips, the host passivates but keeps waiting
+//     for the answer to the request it sent; only that answer, however late,
+//     lets it send the next (R_cons_nr) request. Giving a request up and
+//     sending a new one is what let a late answer from before a restart
+//     match the restarted sequence (same number, same toggle, valid CRC2):
+//     after each reset the numbers start again at 0 and the toggle has only
+//     two values, so no content tells the two exchanges apart;
+//   * so, with the channel delivering the device's telegrams in the order
+//     the device sent them (a fieldbus delays or skips cyclic frames, it does
+//     not reorder them), the first telegram with the outstanding toggle that
+//     follows the previous answer was produced by the device after it
+//     received the outstanding request: every answer provably belongs to the
+//     current request, hence to the current start-up;
+//   * a timestamp per sent request bounds the age: the device produces its
+//     answer after the request was sent, and an answer is taken only within
+//     F_WD_Time of sending; a late answer is never used, only drained;
+//   * telegrams out of order (repetition, masquerade, corruption) fail the
+//     CRC2 check, and ACK_REI only counts while ACK_REQ was already shown, so
+//     the OA_Req exchange after a fault is never one of the first two of a
+//     start-up (numbers 0 and 1, the only ones a repeated telegram from the
+//     end of the previous start-up could match);
+//   * the F_MODULE gives a request up in one case, when the device stays
+//     silent for three watchdog periods and is parameterised again; at most
+//     one telegram from before can then still be in flight, it can only be
+//     taken for the R_cons_nr answer (which carries no data), and that
+//     restart needs ACK_REI like every communication fault.
+// Held data: between answers the last valid data stays until the next
+// answer or the watchdog; data accepted at age <= F_WD_Time can so be shown
+// until it is up to 2 x F_WD_Time old, as in PROFIsafe.
+//
 // Passivation: the application sees 0 for every F-input and the device gets
-// 0 with activate_FV. Reintegration: once the device reports the cause gone,
+// 0 with activate_FV. Reintegration: once the R_cons_nr exchange has been
+// answered validly and in time and the device reports the cause gone,
 // ACK_REQ is raised; a rising edge of ACK_REI while ACK_REQ is set makes the
 // host send OA_Req until the device clears FV_activated. Choices:
 //   * first start-up reintegrates without ACK_REI (spec §8.2 step 4; the
@@ -89,20 +128,24 @@ class FHostProtocol {
   [[nodiscard]] bool device_fault_seen() const { return device_fault_seen_; }
   [[nodiscard]] std::uint64_t crc_errors() const { return crc_errors_; }
   [[nodiscard]] std::uint64_t watchdog_expiries() const { return wd_expiries_; }
+  // Answers that came after F_WD_Time (drained, never used).
+  [[nodiscard]] std::uint64_t late_answers() const { return late_answers_; }
+  // Times valid process data was handed to the application.
+  [[nodiscard]] std::uint64_t deliveries() const { return deliveries_; }
   // Watchdog expiries since the last valid telegram (device lost for good).
   [[nodiscard]] std::uint32_t watchdog_expiries_in_row() const { return wd_in_row_; }
 
   // The protocol state, for the debugger and recording snapshots.
   PLC_REFLECT(crc1_, out_len_, in_len_, wd_, state_, cn_, accepted_cn_, toggle_h_, sent_any_,
-              force_new_, resync_needed_, pending_rcons_, pending_fv_, comm_fault_seen_,
-              device_fault_seen_, ipar_ok_, data_valid_, prev_ack_rei_, diag_, t_restart_,
-              crc_errors_, wd_expiries_, wd_in_row_)
+              wd_tripped_, resync_needed_, pending_rcons_, pending_fv_, comm_fault_seen_,
+              device_fault_seen_, ipar_ok_, data_valid_, prev_ack_rei_, diag_, t_sent_,
+              wd_period_from_, crc_errors_, wd_expiries_, late_answers_, deliveries_, wd_in_row_)
 
  private:
   void comm_fault(std::uint8_t diag_bit);
   void device_fault(std::uint8_t diag_bit);
-  void build_request(std::span<std::uint8_t> request, std::span<const std::uint8_t> app_out,
-                     const FHostCommand& cmd);
+  void build_request(TIME now, std::span<std::uint8_t> request,
+                     std::span<const std::uint8_t> app_out, const FHostCommand& cmd);
 
   std::uint16_t crc1_ = 0;
   std::size_t out_len_ = 0, in_len_ = 0;
@@ -112,7 +155,7 @@ class FHostProtocol {
   std::uint32_t accepted_cn_ = 0;  // CN of the data in app_in
   bool toggle_h_ = false;
   bool sent_any_ = false;
-  bool force_new_ = false;        // abandon the outstanding request (after host timeout)
+  bool wd_tripped_ = false;       // the watchdog tripped for the outstanding request
   bool resync_needed_ = true;     // next request is an R_cons_nr request
   bool pending_rcons_ = false;    // the outstanding request is an R_cons_nr request
   bool pending_fv_ = false;       // the outstanding request carried activate_FV
@@ -122,8 +165,9 @@ class FHostProtocol {
   bool data_valid_ = false;
   bool prev_ack_rei_ = false;
   std::uint8_t diag_ = 0;
-  TIME t_restart_{};
-  std::uint64_t crc_errors_ = 0, wd_expiries_ = 0;
+  TIME t_sent_{};          // when the outstanding request was sent
+  TIME wd_period_from_{};  // start of the current watchdog period after a trip
+  std::uint64_t crc_errors_ = 0, wd_expiries_ = 0, late_answers_ = 0, deliveries_ = 0;
   std::uint32_t wd_in_row_ = 0;
 };
 
