@@ -126,12 +126,13 @@ TEST(SafetyFaultMatrix, HostTimeout_DeviceSilent_Spec8_4_3) {
 TEST(SafetyFaultMatrix, DelayedResponses_WatchdogBoundary_Spec8_4_3) {
   Rig r;
   r.start();
-  r.model->delay_responses(90ms);
-  for (int i = 0; i < 150; ++i) {
+  r.model->delay_responses(90ms, 300ms);
+  for (int i = 0; i < 400; ++i) {
     r.scan();
     ASSERT_NE(r.io.FMOD.STATE, FHostState::PassiveComm) << "tripped at " << i;
   }
-  r.model->delay_responses(120ms);
+  EXPECT_TRUE(r.running());
+  r.model->delay_responses(120ms, 300ms);
   const int n = r.scan_until([&] { return r.io.QBAD; }, 1000);
   ASSERT_GT(n, 0);
   EXPECT_LE(n, kWdScans + 2);

@@ -80,20 +80,25 @@ void NordProfisafeModel::reset_volatile() {
   respond_pending_ = false;
   ossd_ = {};
   pdu_ = {};
-  seen_ = {};
   sent_ = {};
   accepted_ = {};
   sent_head_ = accepted_head_ = 0;
   req_hist_ = {};
   corrupt_req_n_ = corrupt_resp_n_ = repeat_resp_ = repeat_req_ = foreign_ = 0;
-  delay_until_ = drop_until_ = TIME{};
-  delay_start_pending_ = drop_start_pending_ = false;
+  drop_until_ = TIME{};
+  drop_start_pending_ = false;
   stopped_ = false;
   fn_.reset();
 }
 
 void NordProfisafeModel::power_cycle() {
   reset_volatile();
+  // The device's frame goes to zeros; frames already on the way still
+  // arrive (the channel is not part of the device).
+  NordFrameTag t;
+  t.id = ++frames_sent_;
+  t.sent = t.produced = now_;
+  channel_.send(now_, pdu_, t);
   // The F-address is read at power-on: DIP 2-9, or P831 when the DIPs are 0
   // (spec §6.4). 0 and 65535 are refused: the DIP-read fatal error 5726.
   f_address_ = dip_ != 0 ? dip_ : p831_;
@@ -401,25 +406,37 @@ void NordProfisafeModel::build_response() {
   if (pas) status |= sbit::kFvActivated;
   if (cons_nr_r_) status |= sbit::kConsNrR;
 
+  NordFrameTag tag;
+  tag.id = ++frames_sent_;
+  tag.sent = tag.produced = now_;
+  tag.data = data;
   std::uint16_t seed = crc1_;
   if (foreign_ > 0) {
     seed = static_cast<std::uint16_t>(crc1_ ^ 0x5A5Au);  // another F-device's CRC1
     --foreign_;
+    tag.foreign = true;
   }
   safety::write_pdu(pdu_, data, status, cn_, seed);
   Sent& s = sent_[sent_head_++ % kHist];
   s.cn = cn_;
   s.valid = true;
+  s.produced = now_;
   s.data = data;
   s.pdu = pdu_;
   if (repeat_resp_ > 0 && sent_head_ >= 3) {
-    pdu_ = sent_[(sent_head_ - 3) % kHist].pdu;  // the response two exchanges earlier
+    const Sent& old = sent_[(sent_head_ - 3) % kHist];  // two exchanges earlier
+    pdu_ = old.pdu;
+    tag.produced = old.produced;
+    tag.data = old.data;
+    tag.repeated = true;
     --repeat_resp_;
   }
   if (corrupt_resp_n_ > 0) {
     pdu_[corrupt_resp_byte_] ^= corrupt_resp_mask_;
     --corrupt_resp_n_;
+    tag.corrupted = true;
   }
+  channel_.send(now_, pdu_, tag);
 }
 
 void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
@@ -439,14 +456,9 @@ void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> f
     build_response();
     respond_pending_ = false;
   }
-  if (delay_start_pending_) {
-    delay_until_ = now + delay_for_;
-    delay_start_pending_ = false;
-  } else if (now >= delay_until_) {
-    seen_ = pdu_;
-  }
+  channel_.deliver(now);
   const std::size_t n = std::min(to_plc.size(), kPdu);
-  std::copy_n(seen_.begin(), n, to_plc.begin());
+  std::copy_n(channel_.shown().begin(), n, to_plc.begin());
 }
 
 io::RecordError NordProfisafeModel::read_record(std::uint16_t index, std::span<std::uint8_t> out,
@@ -531,10 +543,6 @@ bool find_newest(const Ring& ring, std::size_t head, std::uint32_t cn,
   return false;
 }
 }  // namespace
-
-bool NordProfisafeModel::sent_data(std::uint32_t cn, std::span<std::uint8_t, 4> out) const {
-  return find_newest(sent_, sent_head_, cn, out);
-}
 
 bool NordProfisafeModel::accepted_request(std::uint32_t cn, std::span<std::uint8_t, 4> out) const {
   return find_newest(accepted_, accepted_head_, cn, out);

@@ -54,6 +54,7 @@
 #include "plc/io/device_model.hpp"
 #include "plc/sim/nord_fe_led.hpp"
 #include "plc/sim/nord_iparams.hpp"
+#include "plc/sim/nord_response_channel.hpp"
 #include "plc/sim/nord_safety_functions.hpp"
 
 namespace plc::sim {
@@ -93,11 +94,9 @@ class NordProfisafeModel : public io::DeviceModel {
   // The next n received requests are replaced by the one received two
   // exchanges earlier (a replayed request).
   void repeat_old_requests(int n) { repeat_req_ = n; }
-  // The host sees the response bytes frozen for `d` (telegrams delayed).
-  void delay_responses(TIME d) {
-    delay_for_ = d;
-    delay_start_pending_ = true;
-  }
+  // Responses the device sends during the next `how_long` reach the host
+  // `d` late; the channel keeps their order (nord_response_channel.hpp).
+  void delay_responses(TIME d, TIME how_long) { channel_.delay(d, how_long); }
   // Requests are lost for `d` (the device sees no new telegram).
   void drop_requests(TIME d) {
     drop_for_ = d;
@@ -137,10 +136,11 @@ class NordProfisafeModel : public io::DeviceModel {
   [[nodiscard]] std::uint64_t watchdog_expiries() const { return wd_expiries_; }
   [[nodiscard]] std::uint16_t system_errors() const { return p848_; }
   [[nodiscard]] const NordSafetyFunctions& functions() const { return fn_; }
-  // What the device sent (F-data, clean) in the response with number cn, if
-  // still in its history; and what it took from the valid request cn.
-  bool sent_data(std::uint32_t cn, std::span<std::uint8_t, 4> out) const;
+  // What the device took from the valid request cn, if still in its history.
   bool accepted_request(std::uint32_t cn, std::span<std::uint8_t, 4> out) const;
+  // The frame the host sees after the last step, with its tag (when the
+  // telegram in it was produced, its clean F-data, what was injected).
+  [[nodiscard]] const NordFrameTag& shown_frame() const { return channel_.shown_tag(); }
 
  private:
   // q-error slots: one per cause kind.
@@ -228,14 +228,16 @@ class NordProfisafeModel : public io::DeviceModel {
 
   // Outputs
   std::array<bool, 3> ossd_{};
-  std::array<std::uint8_t, kPdu> pdu_{};   // the response as sent
-  std::array<std::uint8_t, kPdu> seen_{};  // what the host sees (delay injection)
+  std::array<std::uint8_t, kPdu> pdu_{};  // the response as sent
+  NordResponseChannel channel_;           // device -> host (not reset by power_cycle)
+  std::uint64_t frames_sent_ = 0;
 
   // History (ring) for repeat injection and the soak oracle.
   static constexpr std::size_t kHist = 64;
   struct Sent {
     std::uint32_t cn = 0;
     bool valid = false;
+    TIME produced{};
     std::array<std::uint8_t, 4> data{};
     std::array<std::uint8_t, kPdu> pdu{};
   };
@@ -249,8 +251,8 @@ class NordProfisafeModel : public io::DeviceModel {
   int corrupt_req_n_ = 0, corrupt_resp_n_ = 0, repeat_resp_ = 0, repeat_req_ = 0, foreign_ = 0;
   std::size_t corrupt_req_byte_ = 0, corrupt_resp_byte_ = 0;
   std::uint8_t corrupt_req_mask_ = 0, corrupt_resp_mask_ = 0;
-  TIME delay_for_{}, delay_until_{}, drop_for_{}, drop_until_{};
-  bool delay_start_pending_ = false, drop_start_pending_ = false;
+  TIME drop_for_{}, drop_until_{};
+  bool drop_start_pending_ = false;
   bool stopped_ = false;
   bool permanent_5792_ = false;
 };

@@ -1,0 +1,92 @@
+// The device -> host path of the simulated NORD F-device, as a fieldbus
+// carries cyclic frames: in order, each no sooner than its delay after the
+// device sent it; the host sees the newest frame that has arrived, so a
+// frame overtaken by a newer one before the host looked is simply skipped.
+// A delay episode (fault injection, spec §8.4 item 3) sets the delay of the
+// frames the device sends while it lasts; frames sent before or after keep
+// theirs, and none overtakes another.
+//
+// Each frame carries a tag: when the device sent it, when the telegram in it
+// was produced (earlier for a repeated telegram), the F-data the device meant
+// and what was injected. Tests measure with it what the host handed over;
+// the host never sees the tag.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "plc/types.hpp"
+
+namespace plc::sim {
+
+struct NordFrameTag {
+  std::uint64_t id = 0;                // 1, 2, ... per frame the device sent
+  TIME sent{};                         // when the device sent the frame
+  TIME produced{};                     // when the telegram in it was produced
+  std::array<std::uint8_t, 4> data{};  // that telegram's F-data, uncorrupted
+  bool corrupted = false;              // a bit was flipped on the way
+  bool foreign = false;                // CRC2 seeded with another CRC1 (masquerade)
+  bool repeated = false;               // an older telegram sent again
+};
+
+class NordResponseChannel {
+ public:
+  static constexpr std::size_t kPdu = 8;
+  static constexpr std::size_t kFrames = 64;
+  using Pdu = std::array<std::uint8_t, kPdu>;
+
+  // Frames the device sends from the next send() on, for `how_long`, are
+  // delayed by `d` (at least; order is kept).
+  void delay(TIME d, TIME how_long) {
+    delay_ = d;
+    delay_for_ = how_long;
+    delay_pending_ = true;
+  }
+
+  void send(TIME now, const Pdu& pdu, const NordFrameTag& tag) {
+    if (delay_pending_) {
+      delay_until_ = now + delay_for_;
+      delay_pending_ = false;
+    }
+    const TIME d = now < delay_until_ ? delay_ : TIME{};
+    const TIME arrive = now + d > last_arrival_ ? now + d : last_arrival_;
+    last_arrival_ = arrive;
+    if (count_ == kFrames) pop();  // full: the oldest in flight is lost
+    ring_[(first_ + count_) % kFrames] = {arrive, pdu, tag};
+    ++count_;
+  }
+
+  // Everything that has arrived by `now`; the newest becomes the one shown.
+  void deliver(TIME now) {
+    while (count_ > 0 && ring_[first_].arrive <= now) {
+      shown_ = ring_[first_];
+      pop();
+    }
+  }
+
+  [[nodiscard]] const Pdu& shown() const { return shown_.pdu; }
+  [[nodiscard]] const NordFrameTag& shown_tag() const { return shown_.tag; }
+  [[nodiscard]] std::size_t in_flight() const { return count_; }
+
+ private:
+  struct Frame {
+    TIME arrive{};
+    Pdu pdu{};
+    NordFrameTag tag{};
+  };
+  void pop() {
+    first_ = (first_ + 1) % kFrames;
+    --count_;
+  }
+
+  // The device sends a frame only when it answers a new request and the host
+  // sends a request only after an answer, so a handful are ever in flight.
+  std::array<Frame, kFrames> ring_{};
+  std::size_t first_ = 0, count_ = 0;
+  Frame shown_{};
+  TIME last_arrival_{}, delay_{}, delay_for_{}, delay_until_{};
+  bool delay_pending_ = false;
+};
+
+}  // namespace plc::sim
