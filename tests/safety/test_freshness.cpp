@@ -105,6 +105,7 @@ struct FifoChannel {
 struct Figures {
   std::uint64_t deliveries = 0, stale = 0, restarts = 0;
   std::int64_t max_age_ms = 0;
+  std::int64_t first_ack_req_ms = -1;  // when ACK_REQ was first raised
 };
 
 // Runs `scans` 1 ms host cycles with delays drawn by `delay_of`; the operator
@@ -128,6 +129,7 @@ Figures run(int scans, std::uint64_t seed, DelayOf delay_of) {
     now += 1ms;
     ch.deliver(now, seen);
     cmd.ack_rei = host.ack_req();
+    if (host.ack_req() && f.first_ack_req_ms < 0) f.first_ack_req_ms = ms(now);
     host.cycle(now, seen, req, out, in, cmd);
     if (host.state() == FHostState::PassiveComm && prev != FHostState::PassiveComm) ++f.restarts;
     prev = host.state();
@@ -179,6 +181,20 @@ TEST(SafetyFreshness, NoDataOlderThanFWdTime_AnyDelayUpTo3Wd_Spec2_7) {
   EXPECT_GT(f.deliveries, 1000u);
   EXPECT_EQ(f.stale, 0u);
   EXPECT_LE(f.max_age_ms, ms(kWd));
+}
+
+// §8.2 step 8: ACK_REQ only once the exchange is healthy again. While every
+// answer comes later than F_WD_Time (150 ms for the first 2 s) the reset
+// exchange never completes in time, so there is nothing to acknowledge and
+// no data; once the delay drops to 5 ms the host restarts, asks for the
+// acknowledgement, and runs on fresh data.
+TEST(SafetyFreshness, AckReqOnlyAfterHealthyExchange_Spec8_2) {
+  const Figures f = run(4000, 1, [](XorShift&, plc::TIME now) {
+    return now < plc::TIME(2s) ? plc::TIME(150ms) : plc::TIME(5ms);
+  });
+  EXPECT_GT(f.first_ack_req_ms, 2000);
+  EXPECT_GT(f.deliveries, 100u);
+  EXPECT_EQ(f.stale, 0u);
 }
 
 }  // namespace

@@ -1,7 +1,10 @@
 // PROFIsafe V2 control byte (F-host -> F-device) and status byte (F-device ->
 // F-host). The NORD manual does not define them (spec nord-profisafe.md §2.5);
 // these are the [SPEC] bit positions of the spec and softplc-anchors.md §4.4,
-// TO BE VERIFIED AGAINST IEC 61784-3-3.
+// TO BE VERIFIED AGAINST IEC 61784-3-3. Real traffic (profisafe-wire-
+// vectors.md) confirms status bits 5 (Toggle_d, alternating) and 6
+// (cons_nr_R, set in the telegram after a reset); it cannot settle the
+// control byte, bit 7 included.
 #pragma once
 
 #include <cstdint>

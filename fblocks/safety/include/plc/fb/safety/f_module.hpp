@@ -4,11 +4,13 @@
 //
 // *** FOR TEST BENCHES AND SIMULATION ONLY. THIS IS NOT CERTIFIED SAFETY
 // *** SOFTWARE and must not be used to protect people or machines.
+// The 3-byte CRC2 (generator, seeding, byte order) and the consecutive-number
+// semantics rest on real traffic (safety_pdu.hpp, test_wire_vectors.cpp).
 // To be verified against IEC 61784-3-3 (PROFIsafe) before any other use:
-// CRC1/CRC2 polynomials, start values and covered byte order (crc.hpp,
-// safety_pdu.hpp), control/status byte bits (control_status_byte.hpp),
-// F-parameter bit positions (f_parameters.hpp), and the host state machine
-// (f_host_protocol.hpp).
+// CRC1 and the 4-byte CRC2 (crc.hpp), the control telegram's CRC2 order
+// (taken to be the status telegram's), control/status byte bits
+// (control_status_byte.hpp), F-parameter bit positions (f_parameters.hpp),
+// and the host state machine (f_host_protocol.hpp).
 //
 // Start-up: once the device is online the block writes the 14-byte
 // F-parameter block (CRC1 included) with a record write (index

@@ -2,9 +2,11 @@
 // 8-byte F-PDU each way: 4 bytes F-data, status/control byte, 3-byte CRC2).
 // Spec: nord-profisafe.md §8.3 (required behaviour) and §8.4 (fault injection).
 //
-// FOR TEST BENCHES AND SIMULATION ONLY, NOT CERTIFIED. The protocol details
-// it shares with the F-host (CRC, control/status bits, F-parameter layout)
-// are the spec's [SPEC] values and must be verified against IEC 61784-3-3.
+// FOR TEST BENCHES AND SIMULATION ONLY, NOT CERTIFIED. It shares the
+// protocol code with the F-host: the 3-byte CRC2 and the consecutive-number
+// semantics rest on real traffic (safety_pdu.hpp); the control/status bits
+// and the F-parameter layout are the spec's [SPEC] values and must be
+// verified against IEC 61784-3-3.
 //
 // Behaviour:
 //  * F-parameters arrive by record write (kFParamRecordIndex) and are checked
