@@ -3,8 +3,10 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <map>
 #include <memory>
+#include <random>
 #include <string>
 
 #include "plc/fb/safety/nord_safe_io.hpp"
@@ -30,6 +32,14 @@ inline std::map<std::string, std::string> default_device_params() {
 }
 
 using Params = std::map<std::string, std::string>;
+
+// Deterministic randomness for randomized tests: std::mt19937_64, whose
+// output sequence the standard fixes; below(n) is in [0, n).
+struct Random {
+  explicit Random(std::uint64_t seed) : gen(seed) {}
+  int below(int n) { return static_cast<int>(gen() % static_cast<std::uint64_t>(n)); }
+  std::mt19937_64 gen;
+};
 
 struct Rig {
   explicit Rig(Params overrides = {}) {

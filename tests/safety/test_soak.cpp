@@ -38,17 +38,6 @@ namespace {
 using namespace safety_test;
 namespace err = plc::safety::nord::err;
 
-struct XorShift {
-  std::uint64_t s;
-  std::uint64_t next() {
-    s ^= s << 13;
-    s ^= s >> 7;
-    s ^= s << 17;
-    return s;
-  }
-  int below(int n) { return static_cast<int>(next() % static_cast<std::uint64_t>(n)); }
-};
-
 long soak_scans() {
   const char* e = std::getenv("PLC_SAFETY_SOAK_SCANS");
   const long n = e ? std::strtol(e, nullptr, 10) : 0;
@@ -81,7 +70,7 @@ TEST(SafetySoak, MillionScansNoStaleNoCorruptValueReachesProgram_Spec2_7_8_4) {
   const long scans = soak_scans();
   const plc::TIME wd = 100ms;
   Rig r;
-  XorShift rng{0x9E3779B97F4A7C15ull};
+  Random rng{0x9E3779B97F4A7C15ull};
   std::unordered_map<std::uint32_t, std::array<std::uint8_t, 4>> host_sent;
   host_sent.reserve(1 << 16);
 
