@@ -6,27 +6,16 @@
 #include <cstdint>
 #include <vector>
 
+#include "bitwise_crc.hpp"
 #include "plc/fb/safety/crc.hpp"
 #include "plc/fb/safety/safety_pdu.hpp"
 
 namespace {
 
 using namespace plc::safety;
+using safety_test::bitwise_crc;
 
 const std::vector<std::uint8_t> kCheck = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
-
-// Independent bit-at-a-time reference (no table), MSB first, no reflection.
-std::uint32_t bitwise_crc(std::uint32_t poly, unsigned width, std::uint32_t init,
-                          const std::vector<std::uint8_t>& data) {
-  const std::uint64_t mask = (1ull << width) - 1;
-  std::uint64_t c = init;
-  for (std::uint8_t b : data) {
-    c ^= static_cast<std::uint64_t>(b) << (width - 8);
-    for (int i = 0; i < 8; ++i)
-      c = (c & (1ull << (width - 1))) ? ((c << 1) ^ poly) & mask : (c << 1) & mask;
-  }
-  return static_cast<std::uint32_t>(c);
-}
 
 // Source: the reveng CRC catalogue ("Catalogue of parametrised CRC
 // algorithms"), check value over "123456789". CRC-24/FLEXRAY-A and -B use

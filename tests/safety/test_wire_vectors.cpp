@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "bitwise_crc.hpp"
 #include "plc/fb/safety/control_status_byte.hpp"
 #include "plc/fb/safety/f_host_protocol.hpp"
 #include "plc/fb/safety/f_parameters.hpp"
@@ -61,8 +62,8 @@ std::array<std::uint8_t, 12> capture_pdu(const CaptureRow& r) {
   return p;
 }
 
-// Independent reference, written from the vectors file alone: bit at a
-// time, generator 0x5D6DCB (24 bit) or 0xF4ACFB13 (32 bit), MSB first,
+// Independent reference, written from the vectors file alone: the bitwise
+// CRC (no table), generator 0x5D6DCB (24 bit) or 0xF4ACFB13 (32 bit),
 // register = CRC1; fed CB/SB, F-data last byte first, CN low/mid/high/0.
 std::uint32_t ref_crc2(std::uint16_t crc1, std::uint8_t cb_sb,
                        const std::vector<std::uint8_t>& fdata, std::uint32_t cn) {
@@ -70,17 +71,8 @@ std::uint32_t ref_crc2(std::uint16_t crc1, std::uint8_t cb_sb,
   for (auto it = fdata.rbegin(); it != fdata.rend(); ++it) msg.push_back(*it);
   msg.insert(msg.end(), {static_cast<std::uint8_t>(cn), static_cast<std::uint8_t>(cn >> 8),
                          static_cast<std::uint8_t>(cn >> 16), 0x00});
-  const bool wide = fdata.size() > 12;
-  const unsigned width = wide ? 32 : 24;
-  const std::uint64_t poly = wide ? 0xF4ACFB13u : 0x5D6DCBu;
-  const std::uint64_t mask = (1ull << width) - 1;
-  std::uint64_t c = crc1;
-  for (std::uint8_t b : msg) {
-    c ^= static_cast<std::uint64_t>(b) << (width - 8);
-    for (int i = 0; i < 8; ++i)
-      c = (c & (1ull << (width - 1))) ? ((c << 1) ^ poly) & mask : (c << 1) & mask;
-  }
-  return static_cast<std::uint32_t>(c);
+  return fdata.size() > 12 ? safety_test::bitwise_crc(0xF4ACFB13u, 32, crc1, msg)
+                           : safety_test::bitwise_crc(0x5D6DCBu, 24, crc1, msg);
 }
 
 // The reference itself reproduces the vectors file's worked example (row 0:
