@@ -92,10 +92,7 @@ TEST_F(AbsInitTest, Spec7_10_AfterDriveResetNoRestartUntilEnableGivenAgain) {
   start();
   ASSERT_TRUE(until([&] { return fb.Done || fb.Error; }));
   ASSERT_TRUE(fb.Done) << std::hex << fb.ErrorID.value;
-  for (int i = 0; i < 300; ++i) {
-    run(1);
-    ASSERT_NE(b.model->state(), sim::HiwinE1Model::State::S4) << "scan " << i;
-  }
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 300));
   EXPECT_FALSE(power.Status);
   EXPECT_TRUE(power.Error);
   EXPECT_EQ(power.ErrorID, kErrRestartInhibit);
