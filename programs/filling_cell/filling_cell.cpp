@@ -50,9 +50,11 @@ void FillingCell::cycle(const ScanContext& ctx) {
       }
       break;
     case Step::Fault:
-      // Acknowledge the drive and start over once the safety is good again.
+      // Acknowledge the axis error (drive fault or lost communication) and
+      // start over once the safety is good again. Power was taken away here
+      // (Enable FALSE), so the next Enable edge powers the conveyor again.
       reset.Execute = safe;
-      if (reset.Done || !conveyor.drive_fault()) {
+      if (reset.Done || conveyor.State != drive::AxisState::ErrorStop) {
         reset.Execute = false;
         step = Step::WaitSafety;
       }

@@ -2,6 +2,8 @@
 // with the scan (the sim plugin's order: scan, then device step).
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <functional>
 #include <memory>
 
@@ -42,6 +44,19 @@ struct Bench {
   }
   void run(const std::function<void()>& body, int scans) {
     for (int i = 0; i < scans; ++i) scan(body);
+  }
+  // The no-automatic-restart check: runs `scans` scans and fails (with the
+  // scan number) as soon as STW1 asks for ON or enable operation, or the
+  // drive reaches S4. STW1 bits 0 and 3 are the same in every telegram.
+  ::testing::AssertionResult stays_off(const std::function<void()>& body, int scans) {
+    for (int i = 0; i < scans; ++i) {
+      scan(body);
+      if ((axis.STW1 & (Stw1Pos::kOn | Stw1Pos::kEnableOperation)) != 0)
+        return ::testing::AssertionFailure() << "STW1 asks for power in scan " << i;
+      if (model->state() == sim::HiwinE1Model::State::S4)
+        return ::testing::AssertionFailure() << "the drive is in S4 in scan " << i;
+    }
+    return ::testing::AssertionSuccess();
   }
   ScanContext ctx{TIME{}, 1ms, 0};
   TIME period = 1ms;

@@ -80,6 +80,28 @@ TEST_F(AbsInitTest, RefusedWhileEnabled) {
   EXPECT_EQ(b.model->multi_turn(), 0);
 }
 
+// Spec §7.10 step 4: the 3215h reset restarts the drive (the connection
+// drops and comes back in S1). With AllowDisable the block took power away
+// from an enabled axis; after the reset the axis must not power up by itself
+// (no automatic restart, PLCopen state diagram): MC_Power shows 16#8006 until
+// Enable is given again. Before, the drive came back on at once.
+TEST_F(AbsInitTest, Spec7_10_AfterDriveResetNoRestartUntilEnableGivenAgain) {
+  power.Enable = true;
+  ASSERT_TRUE(until([&] { return power.Status; }, 100));
+  fb.AllowDisable = true;
+  start();
+  ASSERT_TRUE(until([&] { return fb.Done || fb.Error; }));
+  ASSERT_TRUE(fb.Done) << std::hex << fb.ErrorID.value;
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 300));
+  EXPECT_FALSE(power.Status);
+  EXPECT_TRUE(power.Error);
+  EXPECT_EQ(power.ErrorID, kErrRestartInhibit);
+  power.Enable = false;
+  run(1);
+  power.Enable = true;
+  ASSERT_TRUE(until([&] { return power.Status && !power.Error; }, 100));
+}
+
 TEST_F(AbsInitTest, DriveRefuses16) {
   run(2);
   b.model->refuse_next_multiturn_clear();

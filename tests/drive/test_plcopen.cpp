@@ -1,6 +1,8 @@
 // PLCopen blocks against the simulated E1 (telegram 111), in virtual time.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "drive_test_util.hpp"
 #include "plc/fb/drive/mc_blocks.hpp"
 
@@ -42,6 +44,27 @@ struct PlcopenTest : ::testing::Test {
     power.Enable = true;
     ASSERT_TRUE(until([&] { return power.Status; }, 100));
     EXPECT_EQ(b.axis.State, AxisState::Standstill);
+  }
+  // After an error and MC_Reset: Enable FALSE for a scan, then TRUE again.
+  void enable_again() {
+    power.Enable = false;
+    run(1);
+    enable();
+  }
+  // The MDI_TARPOS and STW1 words on the wire (telegram 111, big-endian).
+  std::int32_t wire_tarpos() {
+    return io::load_be<std::int32_t>(b.dev->outputs(), Telegram111Out::kMdiTarpos);
+  }
+  std::uint16_t wire_stw1() {
+    return io::load_be<std::uint16_t>(b.dev->outputs(), Telegram111Out::kStw1);
+  }
+  // Execute edge on an Execute block, one scan, Execute stays TRUE.
+  template <class Fb>
+  void trigger(Fb& fb) {
+    fb.Execute = false;
+    run(1);
+    fb.Execute = true;
+    run(1);
   }
 };
 
@@ -258,6 +281,189 @@ TEST_F(PlcopenTest, EachStopMode) {
   EXPECT_GT(stop_scans[0], 40);  // 40 % of Pt317 on Pt537 = 100 ms: 40 ms ramp
 }
 
+// Spec Table 3.1.1: MDI_TARPOS is Int32. A target outside it is refused with
+// kErrPosition on the Execute edge; nothing goes on the wire (before: 3e9 was
+// sent as -1294967296 and the axis moved the wrong way without an error).
+TEST_F(PlcopenTest, Table3_1_1_TargetOutsideInt32IsRefusedNotWrapped) {
+  enable();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  for (double target : {3e9, 2147483648.0, -2147483649.0, -3e9, nan, inf, -inf}) {
+    mabs.Position = target;
+    mabs.Velocity = 100000;
+    trigger(mabs);
+    EXPECT_TRUE(mabs.Error) << target;
+    EXPECT_EQ(mabs.ErrorID, kErrPosition) << target;
+    EXPECT_FALSE(mabs.Busy) << target;
+    mabs.Execute = false;
+    mrel.Distance = target;
+    mrel.Velocity = 100000;
+    trigger(mrel);
+    EXPECT_TRUE(mrel.Error) << target;
+    EXPECT_EQ(mrel.ErrorID, kErrPosition) << target;
+    mrel.Execute = false;
+    run(20);
+    EXPECT_EQ(wire_tarpos(), 0) << target;
+    EXPECT_EQ(wire_stw1() & Stw1Pos::kActivateTask, 0) << target;
+    EXPECT_EQ(b.axis.State, AxisState::Standstill) << target;
+    EXPECT_NEAR(b.model->velocity(), 0, 1) << target;
+  }
+  // The edges of the range are valid targets.
+  mabs.Position = 2147483647.0;
+  trigger(mabs);
+  EXPECT_TRUE(mabs.Busy);
+  EXPECT_EQ(wire_tarpos(), 2147483647);
+  mabs.Execute = false;
+  mrel.Distance = -2147483648.0;
+  mrel.Velocity = 100000;
+  trigger(mrel);
+  EXPECT_TRUE(mrel.Busy);
+  EXPECT_EQ(wire_tarpos(), std::numeric_limits<std::int32_t>::min());
+}
+
+// Spec Table 3.1.1: MDI_VELOCITY is 0..2^31-1 (x 1000 CU/min), MDI_ACC/DEC
+// 0..16384 (100 % of Pt534/Pt537, the E1's limit). Out of range, NaN or
+// infinite is refused (before: saturated or, for a NaN acceleration, sent as
+// the slowest ramp the field holds).
+TEST_F(PlcopenTest, Table3_1_1_VelocityAndAccelerationOutsideTheirFieldsAreRefused) {
+  enable();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const double vmax = 2147483647.0 * 1000.0 / 60.0;  // CU/s
+  mabs.Position = 1000;
+  for (double v : {inf, nan, vmax * 2, 1e12, -100.0, 0.0, 1.0}) {  // 1 CU/s rounds to 0
+    mabs.Velocity = v;
+    trigger(mabs);
+    EXPECT_EQ(mabs.ErrorID, kErrVelocity) << v;
+    mabs.Execute = false;
+    mvel.Velocity = v;
+    trigger(mvel);
+    EXPECT_EQ(mvel.ErrorID, kErrVelocity) << v;
+    mvel.Execute = false;
+  }
+  // 100 % acceleration with the defaults: 3000 rpm x 10000 CU/rev in 100 ms.
+  const double a100 = 3000.0 / 60.0 * 10000.0 / 0.1;
+  mabs.Velocity = 100000;
+  for (double a : {a100 * 1.01, a100 * 10, inf, nan, -1.0, 1e-3}) {
+    mabs.Acceleration = a;
+    mabs.Deceleration = 0;
+    trigger(mabs);
+    EXPECT_EQ(mabs.ErrorID, kErrAccel) << a;
+    mabs.Execute = false;
+    mabs.Acceleration = 0;
+    mabs.Deceleration = a;
+    trigger(mabs);
+    EXPECT_EQ(mabs.ErrorID, kErrAccel) << a;
+    mabs.Execute = false;
+    mvel.Velocity = 1000;
+    mvel.Acceleration = a;
+    trigger(mvel);
+    EXPECT_EQ(mvel.ErrorID, kErrAccel) << a;
+    mvel.Execute = false;
+    mvel.Acceleration = 0;
+  }
+  run(20);
+  EXPECT_EQ(wire_stw1() & Stw1Pos::kActivateTask, 0);
+  EXPECT_EQ(b.axis.State, AxisState::Standstill);
+  // Exactly 100 % goes out as 0x4000, half as 0x2000.
+  mabs.Acceleration = a100;
+  mabs.Deceleration = a100 / 2;
+  trigger(mabs);
+  EXPECT_TRUE(mabs.Busy);
+  EXPECT_EQ(b.axis.MDI_ACC, 0x4000);
+  EXPECT_EQ(b.axis.MDI_DEC, 0x2000);
+}
+
+// MC_Home's Position is not sent (the E1 homes to its own parameters), but
+// one that no MDI_TARPOS could hold (Table 3.1.1) is refused, not dropped.
+TEST_F(PlcopenTest, Table3_1_1_HomePositionOutsideInt32IsRefused) {
+  enable();
+  for (double p : {std::numeric_limits<double>::quiet_NaN(), 3e9}) {
+    home.Position = p;
+    trigger(home);
+    EXPECT_TRUE(home.Error) << p;
+    EXPECT_EQ(home.ErrorID, kErrPosition) << p;
+    home.Execute = false;
+    run(1);
+    EXPECT_EQ(wire_stw1() & Stw1Pos::kStartHoming, 0) << p;
+  }
+}
+
+// PLCopen MC Part 1 state diagram (softplc-anchors §3.2): an axis error puts
+// the axis in ErrorStop, left only through MC_Reset; no automatic restart
+// (ISO 13849-1 §5.2.2: a reset must not start the machine). After the drive
+// answers again, STW1 must not ask for ON / enable operation, MC_Power must
+// not show Status with Error, and even after MC_Reset the drive stays off
+// until Enable is given again.
+TEST_F(PlcopenTest, StateDiagram_CommLossNoRestartUntilResetAndNewEnable) {
+  enable();
+  mvel.Velocity = 50000;
+  mvel.Execute = true;
+  ASSERT_TRUE(until([&] { return mvel.InVelocity; }, 2000));
+  b.model->set_answering(false);
+  run(10);
+  EXPECT_EQ(power.ErrorID, kErrOffline);
+  EXPECT_EQ(b.axis.State, AxisState::ErrorStop);
+  b.model->set_answering(true);
+  bool status_with_error = false;
+  EXPECT_TRUE(b.stays_off(
+      [&] {
+        body();
+        status_with_error |= power.Status && power.Error;
+      },
+      300));
+  EXPECT_FALSE(status_with_error);
+  EXPECT_TRUE(b.axis.CommOk);  // the drive answers again
+  EXPECT_EQ(b.axis.State, AxisState::ErrorStop);
+  EXPECT_TRUE(power.Error);
+  EXPECT_EQ(power.ErrorID, kErrOffline);  // latched until MC_Reset
+  // MC_Reset clears the error; Enable held through it does not restart.
+  reset.Execute = true;
+  ASSERT_TRUE(until([&] { return reset.Done; }, 100));
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 300));
+  EXPECT_EQ(b.axis.State, AxisState::Disabled);
+  EXPECT_FALSE(power.Status);
+  EXPECT_TRUE(power.Error);
+  EXPECT_EQ(power.ErrorID, kErrRestartInhibit);
+  // Enable given again: power comes back, no error.
+  enable_again();
+  EXPECT_FALSE(power.Error);
+  EXPECT_TRUE(power.Valid);
+}
+
+// Same rule for a drive fault: acknowledging it (MC_Reset) must not power
+// the drive again while Enable was held through the fault.
+TEST_F(PlcopenTest, StateDiagram_DriveFaultResetNoRestartUntilNewEnable) {
+  enable();
+  b.model->trip_alarm(0x710);
+  run(2);
+  EXPECT_EQ(b.axis.State, AxisState::ErrorStop);
+  reset.Execute = true;
+  ASSERT_TRUE(until([&] { return reset.Done; }, 100));
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 300));
+  EXPECT_FALSE(power.Status);
+  EXPECT_EQ(power.ErrorID, kErrRestartInhibit);
+  enable_again();
+  EXPECT_EQ(b.axis.State, AxisState::Standstill);
+}
+
+// Enable FALSE before the reset: the reset alone clears everything and the
+// next Enable edge powers the drive at once (no extra toggle needed).
+TEST_F(PlcopenTest, StateDiagram_EnableDroppedBeforeResetRestartsOnNextEnable) {
+  enable();
+  b.model->set_answering(false);
+  run(5);
+  b.model->set_answering(true);
+  power.Enable = false;
+  run(5);
+  reset.Execute = true;
+  ASSERT_TRUE(until([&] { return reset.Done; }, 100));
+  EXPECT_FALSE(b.axis.RestartInhibit);
+  EXPECT_EQ(b.axis.State, AxisState::Disabled);
+  enable();
+  EXPECT_FALSE(power.Error);
+}
+
 TEST_F(PlcopenTest, FaultDuringMoveAndReset) {
   enable();
   mabs.Position = 500000;
@@ -289,8 +495,8 @@ TEST_F(PlcopenTest, FaultDuringMoveAndReset) {
   reset.Execute = true;
   ASSERT_TRUE(until([&] { return reset.Done; }, 100));
   EXPECT_NE(b.axis.State, AxisState::ErrorStop);
-  // MC_Power still enabled: S1 -> S2 -> S4 again.
-  ASSERT_TRUE(until([&] { return power.Status; }, 100));
+  // Enable given again: S1 -> S2 -> S4.
+  enable_again();
   EXPECT_EQ(b.axis.State, AxisState::Standstill);
   EXPECT_FALSE(power.Error);
   mabs.Execute = false;
@@ -319,7 +525,8 @@ TEST_F(PlcopenTest, SignOfLifeLossErrorsEveryBlock) {
   EXPECT_TRUE(power.Error);  // latched until reset
   reset.Execute = true;
   ASSERT_TRUE(until([&] { return reset.Done; }, 100));
-  ASSERT_TRUE(until([&] { return power.Status && !power.Error; }, 100));
+  enable_again();
+  EXPECT_FALSE(power.Error);
 }
 
 TEST_F(PlcopenTest, StopAnsweringErrorsEveryBlock) {
@@ -334,7 +541,7 @@ TEST_F(PlcopenTest, StopAnsweringErrorsEveryBlock) {
   EXPECT_FALSE(rp.Error);
   reset.Execute = true;
   ASSERT_TRUE(until([&] { return reset.Done; }, 100));
-  ASSERT_TRUE(until([&] { return power.Status; }, 200));
+  enable_again();
 }
 
 TEST_F(PlcopenTest, Telegram9MoveAbsolute) {

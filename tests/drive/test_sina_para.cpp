@@ -2,6 +2,8 @@
 // elements, every error class surfaced as ErrorID, record index handling.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "drive_test_util.hpp"
 #include "plc/fb/drive/mc_blocks.hpp"
 #include "plc/fb/drive/sina_para.hpp"
@@ -75,6 +77,46 @@ TEST_F(SinaParaTest, ReadWriteValuesAndArrays) {
   read(950, 0, 2);
   EXPECT_EQ(fb.ValuesRead[0], 8);
   EXPECT_EQ(fb.ValuesRead[1], 8);
+}
+
+// Table 4.3.5.1: a write value must fit the format it is sent in. One that
+// does not (out of the type's range, NaN, infinite) is refused with 16#8206
+// and not sent; before, 65786 as Uint16 went out as 250 and was accepted,
+// and -1 as Uint16 as 65535.
+TEST_F(SinaParaTest, Table4_3_5_1_WriteValueOutsideFormatIsRefusedNotWrapped) {
+  read(pt_pnu(0x534));
+  ASSERT_TRUE(fb.Done);
+  const LREAL before = fb.ValueRead;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  for (double v : {65536.0 + 250.0, -1.0, 1e10, nan, inf}) {
+    write(pt_pnu(0x534), 0x06, v);
+    EXPECT_TRUE(fb.Error) << v;
+    EXPECT_EQ(fb.ErrorID, kErrParamValue) << v;
+    EXPECT_FALSE(fb.Done) << v;
+  }
+  for (double v : {3e9, -2147483649.0, nan}) {
+    write(0x3201, 0x04, v);  // general object i1, Int32
+    EXPECT_EQ(fb.ErrorID, kErrParamValue) << v;
+  }
+  write(0x3212, 0x08, 1e39);  // f2, Float32: beyond FLT_MAX
+  EXPECT_EQ(fb.ErrorID, kErrParamValue);
+  write(0x3212, 0x08, inf);
+  EXPECT_EQ(fb.ErrorID, kErrParamValue);
+  // Array write: one bad element refuses the whole request.
+  fb.ReadWrite = true;
+  fb.Pnu = 0x3201;
+  fb.Count = 2;
+  fb.Format = 0x04;
+  fb.Value = 1;
+  fb.Values[1] = 3e9;
+  job();
+  EXPECT_EQ(fb.ErrorID, kErrParamValue);
+  read(pt_pnu(0x534));
+  EXPECT_EQ(fb.ValueRead, before);  // nothing reached the drive
+  write(pt_pnu(0x534), 0x06,
+        65535);  // the top of Uint16 is sent (the drive then checks Pt534's own limit)
+  EXPECT_NE(fb.ErrorID, kErrParamValue);
 }
 
 TEST_F(SinaParaTest, EveryErrorClassAsErrorId) {

@@ -22,6 +22,19 @@ struct SinaPosTest : ::testing::Test {
     ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));
     EXPECT_EQ(fb.Status, kStatusIdle);
   }
+  // After an acknowledged error: EnableAxis FALSE for a scan, then TRUE.
+  void enable_again() {
+    fb.EnableAxis = false;
+    run(1);
+    fb.EnableAxis = true;
+    ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));
+  }
+  // AckError high for three scans (the drive acts on the STW1.7 edge).
+  void ack_error() {
+    fb.AckError = true;
+    run(3);
+    fb.AckError = false;
+  }
   void execute(INT mode) {
     fb.ModePos = mode;
     fb.ExecuteMode = false;
@@ -210,10 +223,8 @@ TEST_F(SinaPosTest, FaultAndAckError) {
   EXPECT_EQ(fb.ActFault, 0x0D00);
   EXPECT_TRUE(fb.AxisError);
   EXPECT_FALSE(fb.AxisEnabled);
-  fb.AckError = true;
-  run(3);
-  fb.AckError = false;
-  ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));
+  ack_error();
+  enable_again();
   EXPECT_EQ(fb.Status, kStatusIdle);
   EXPECT_FALSE(fb.Error);
   execute(2);
@@ -232,10 +243,47 @@ TEST_F(SinaPosTest, CommunicationErrors) {
   EXPECT_EQ(fb.Status, kStatusComm);
   EXPECT_EQ(fb.DiagID, kErrOffline);
   b.model->set_answering(true);
-  fb.AckError = true;
-  run(3);
-  fb.AckError = false;
-  ASSERT_TRUE(until([&] { return fb.AxisEnabled && !fb.Error; }, 200));
+  ack_error();
+  enable_again();
+  EXPECT_FALSE(fb.Error);
+}
+
+// No automatic restart (PLCopen state diagram, softplc-anchors §3.2; ISO
+// 13849-1 §5.2.2), SINA_POS style: after a communication loss the drive
+// stays off when it answers again, and after AckError it stays off with
+// Lockout (Status 16#8402, DiagID 16#8006) until EnableAxis is given again.
+TEST_F(SinaPosTest, NoRestart_AfterCommLossAndAckErrorUntilEnableAxisAgain) {
+  enable();
+  fb.Velocity = 3000;
+  fb.Positive = true;
+  execute(3);
+  run(100);
+  b.model->set_answering(false);
+  run(10);
+  b.model->set_answering(true);
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 200));
+  EXPECT_TRUE(fb.Error);
+  ack_error();
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 200));
+  EXPECT_FALSE(fb.AxisEnabled);
+  EXPECT_TRUE(fb.Lockout);
+  EXPECT_EQ(fb.Status, kStatusLockout);
+  EXPECT_EQ(fb.DiagID, kErrRestartInhibit);
+  enable_again();
+  EXPECT_FALSE(fb.Lockout);
+  EXPECT_EQ(fb.Status, kStatusIdle);
+}
+
+// The same after a drive fault acknowledged with AckError.
+TEST_F(SinaPosTest, NoRestart_AfterDriveFaultAckErrorUntilEnableAxisAgain) {
+  enable();
+  b.model->trip_alarm(0xD00);
+  run(2);
+  ack_error();
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 200));
+  EXPECT_FALSE(fb.AxisEnabled);
+  EXPECT_EQ(fb.DiagID, kErrRestartInhibit);
+  enable_again();
 }
 
 TEST_F(SinaPosTest, BadModeAndSetpoint) {
@@ -281,6 +329,87 @@ TEST_F(SinaPosTest, OvertravelStopsAndReports) {
   execute(2);
   ASSERT_TRUE(until([&] { return fb.AxisPosOk; }, 5000));
   EXPECT_FALSE(fb.AxisWarn);
+}
+
+// Table 3.1.1: OVERRIDE is 0..32767 (0x4000 = 100 %), so SINA_POS's OverV
+// range 0..199 %. Outside it OverV is refused (Status 16#8203, DiagID
+// 16#8025) and the last valid OVERRIDE stays on the wire; before, 250 % was
+// clamped to 199 % without a word.
+TEST_F(SinaPosTest, Table3_1_1_OverrideOutside0To199IsRefusedNotClamped) {
+  enable();
+  fb.Position = 10000000;
+  fb.Velocity = 6000;  // 100000 CU/s
+  fb.OverV = 50;
+  execute(2);
+  run(500);
+  EXPECT_NEAR(b.model->velocity(), 50000, 100);
+  for (INT ov : {250, 200, -5, 32767}) {
+    fb.OverV = ov;
+    run(200);
+    EXPECT_EQ(fb.Status, kStatusBadSetpoint) << ov;
+    EXPECT_EQ(fb.DiagID, kErrOverride) << ov;
+    EXPECT_TRUE(fb.Error) << ov;
+    EXPECT_EQ(io::load_be<std::uint16_t>(b.dev->outputs(), Telegram111Out::kOverride), 0x2000)
+        << ov;
+    EXPECT_NEAR(b.model->velocity(), 50000, 100) << ov;
+  }
+  fb.OverV = 199;  // the top of the range is valid
+  run(500);
+  EXPECT_EQ(fb.Status, kStatusRunning);
+  EXPECT_EQ(b.axis.OVERRIDE, 32604);
+}
+
+// Table 3.1.1: MDI_ACC/MDI_DEC 0..16384 = 0..100 %; SINA_POS OverAcc/OverDec
+// 1..100 %. Outside: the command is refused (16#8203, DiagID 16#8021) and no
+// task is sent; before, 150 % went out as 100 % and 0 % as 1 %.
+TEST_F(SinaPosTest, Table3_1_1_AccDecOverrideOutside1To100IsRefused) {
+  enable();
+  fb.Position = 10000;
+  fb.Velocity = 6000;
+  for (INT bad : {0, 101, 150, -1}) {
+    for (bool acc : {true, false}) {
+      fb.OverAcc = acc ? bad : 100;
+      fb.OverDec = acc ? 100 : bad;
+      execute(1);
+      EXPECT_EQ(fb.Status, kStatusBadSetpoint) << bad;
+      EXPECT_EQ(fb.DiagID, kErrAccel) << bad;
+      run(20);
+      EXPECT_EQ(b.axis.STW1 & Stw1Pos::kActivateTask, 0) << bad;
+      EXPECT_NEAR(b.model->velocity(), 0, 1) << bad;
+    }
+  }
+  fb.OverAcc = 1;
+  fb.OverDec = 100;
+  execute(1);
+  EXPECT_EQ(fb.Status, kStatusRunning);
+  EXPECT_EQ(b.axis.MDI_ACC, 164);  // 1 % of 0x4000
+}
+
+// Setup / velocity mode (ModePos 3) follows changed setpoints while
+// ExecuteMode stays TRUE; a change to an invalid one is refused and shown
+// (Status 16#8203), the task runs on at its last valid setpoint, and a valid
+// value is followed again. Before, Velocity 0 was ignored without a word.
+TEST_F(SinaPosTest, Table3_1_1_VelocityModeChangeToInvalidSetpointIsRefused) {
+  enable();
+  fb.Velocity = 3000;
+  fb.Positive = true;
+  execute(3);
+  run(300);
+  EXPECT_NEAR(b.model->velocity(), 50000, 100);
+  fb.Velocity = 0;
+  run(100);
+  EXPECT_EQ(fb.Status, kStatusBadSetpoint);
+  EXPECT_EQ(fb.DiagID, kErrVelocity);
+  EXPECT_NEAR(b.model->velocity(), 50000, 100);
+  fb.Velocity = 3000;
+  fb.OverAcc = 120;
+  run(100);
+  EXPECT_EQ(fb.DiagID, kErrAccel);
+  fb.OverAcc = 100;
+  fb.Velocity = 6000;
+  run(300);
+  EXPECT_EQ(fb.Status, kStatusRunning);
+  EXPECT_NEAR(b.model->velocity(), 100000, 200);
 }
 
 // MDI_ACC/MDI_DEC scale the Pt534/Pt537 ramps (0x4000 = 100 %, spec §7.6):

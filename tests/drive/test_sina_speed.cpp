@@ -1,6 +1,8 @@
 // SinaSpeed over telegram 3 against the simulated E1.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "drive_test_util.hpp"
 #include "plc/fb/drive/scaling.hpp"
 #include "plc/fb/drive/sina_speed.hpp"
@@ -53,11 +55,12 @@ TEST_F(SinaSpeedTest, SpeedSetpointScaledToNsollB) {
   ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));
 }
 
-TEST_F(SinaSpeedTest, SpeedClampedByPt316AndFaultAck) {
+TEST_F(SinaSpeedTest, SpeedNear200PercentAndFaultAck) {
   fb.EnableAxis = true;
-  fb.SpeedSp = 20000;  // beyond +200 % -> NSOLL_B saturates at 0x7FFFFFFF
+  fb.SpeedSp = 5999.99F;  // just below +200 %: the top of NSOLL_B
   ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));
-  EXPECT_EQ(b.axis.NSOLL_B, 0x7FFFFFFF);
+  EXPECT_EQ(b.axis.NSOLL_B, *to_nsoll_b(fb.SpeedSp, 3000));
+  EXPECT_GT(b.axis.NSOLL_B, 0x7FFF0000);
   run(500);
   EXPECT_NEAR(fb.ActVelocity, 6000, 10);  // ~200 % of 3000 rpm, below Pt316 = 10000
   b.model->trip_alarm(0x510);             // AL.510 overspeed
@@ -67,6 +70,71 @@ TEST_F(SinaSpeedTest, SpeedClampedByPt316AndFaultAck) {
   fb.AckError = true;
   run(2);
   fb.AckError = false;
+  // No automatic restart: Lockout until EnableAxis is given again.
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 100));
+  EXPECT_FALSE(fb.AxisEnabled);
+  EXPECT_TRUE(fb.Lockout);
+  EXPECT_EQ(fb.Status, kStatusLockout);
+  EXPECT_EQ(fb.DiagID, kErrRestartInhibit);
+  fb.EnableAxis = false;
+  run(1);
+  fb.EnableAxis = true;
+  ASSERT_TRUE(until([&] { return fb.AxisEnabled && !fb.Error; }, 100));
+}
+
+// Table 3.1.1: NSOLL_B is Int32 with 0x40000000 = 100 %, so |SpeedSp| must
+// stay below 200 % of RefSpeed, and RefSpeed must be > 0. An invalid setpoint
+// is refused: Status 16#8203, DiagID 16#8026, the last valid NSOLL_B stays on
+// the wire (before: 20000 rpm saturated to 0x7FFFFFFF, NaN went out as 0).
+TEST_F(SinaSpeedTest, Table3_1_1_SpeedSetpointOutsideNsollBIsRefusedNotSaturated) {
+  fb.EnableAxis = true;
+  fb.SpeedSp = 1500;
+  ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));
+  run(300);
+  EXPECT_EQ(fb.Status, kStatusRunning);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  struct Bad {
+    REAL sp, ref;
+  };
+  for (const Bad bad : {Bad{20000, 3000}, Bad{6000, 3000}, Bad{-7000, 3000}, Bad{nan, 3000},
+                        Bad{inf, 3000}, Bad{1500, 0}, Bad{1500, -3000}, Bad{1500, nan}}) {
+    fb.SpeedSp = bad.sp;
+    fb.RefSpeed = bad.ref;
+    run(100);
+    EXPECT_EQ(fb.Status, kStatusBadSetpoint) << bad.sp << " " << bad.ref;
+    EXPECT_EQ(fb.DiagID, kErrSpeedSetpoint) << bad.sp << " " << bad.ref;
+    EXPECT_TRUE(fb.Error);
+    EXPECT_EQ(io::load_be<std::int32_t>(b.dev->outputs(), Telegram3Out::kNsollB), 0x20000000);
+    EXPECT_NEAR(b.model->velocity(), 250000, 500);  // still 1500 rpm
+  }
+  fb.RefSpeed = 3000;
+  fb.SpeedSp = -6000;  // exactly -200 % = -2^31 is inside Int32
+  run(1);
+  EXPECT_EQ(b.axis.NSOLL_B, std::numeric_limits<std::int32_t>::min());
+  EXPECT_EQ(fb.Status, kStatusRunning);
+}
+
+// No automatic restart (PLCopen state diagram; ISO 13849-1 §5.2.2), SINA_SPEED
+// style: a communication loss leaves the drive off when it answers again, and
+// AckError alone does not power it: EnableAxis must be given again.
+TEST_F(SinaSpeedTest, NoRestart_AfterCommLossAndAckErrorUntilEnableAxisAgain) {
+  fb.EnableAxis = true;
+  fb.SpeedSp = 1500;
+  ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));
+  b.model->set_answering(false);
+  run(10);
+  b.model->set_answering(true);
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 200));
+  fb.AckError = true;
+  run(2);
+  fb.AckError = false;
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 200));
+  EXPECT_FALSE(fb.AxisEnabled);
+  EXPECT_EQ(fb.DiagID, kErrRestartInhibit);
+  fb.EnableAxis = false;
+  run(1);
+  fb.EnableAxis = true;
   ASSERT_TRUE(until([&] { return fb.AxisEnabled && !fb.Error; }, 100));
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <limits>
 #include <vector>
 
 #include "plc/fb/drive/parameter_channel.hpp"
@@ -200,18 +201,64 @@ TEST(Tables3_9_to_3_16, PositioningWords) {
 
 // Table 3.1.1 and §7.1: NSOLL_B/NIST_B, MDI_VELOCITY, MDI_ACC/DEC, OVERRIDE.
 TEST(Table3_1_1, Scaling) {
-  EXPECT_EQ(speed_to_nsoll_b(3000, 3000), 0x40000000);
-  EXPECT_EQ(speed_to_nsoll_b(1500, 3000), 0x20000000);
-  EXPECT_EQ(speed_to_nsoll_b(-3000, 3000), -0x40000000);
-  EXPECT_EQ(speed_to_nsoll_b(9000, 3000), 0x7FFFFFFF);  // saturates at ~200 %
+  EXPECT_EQ(to_nsoll_b(3000, 3000), 0x40000000);
+  EXPECT_EQ(to_nsoll_b(1500, 3000), 0x20000000);
+  EXPECT_EQ(to_nsoll_b(-3000, 3000), -0x40000000);
+  EXPECT_EQ(speed_to_nsoll_b(9000, 3000), 0x7FFFFFFF);  // an actual value saturates
   EXPECT_DOUBLE_EQ(nist_b_to_speed(0x20000000, 3000), 1500);
-  EXPECT_EQ(cu_per_s_to_mdi_velocity(1000.0 / 60.0), 1);  // 1 = 1000 CU/min
-  EXPECT_EQ(cu_per_s_to_mdi_velocity(-5), 0);             // never negative
-  EXPECT_EQ(percent_to_mdi_acc(100), 0x4000);
-  EXPECT_EQ(percent_to_mdi_acc(150), 16384);  // 0..16384
-  EXPECT_EQ(percent_to_override(100), 0x4000);
-  EXPECT_EQ(percent_to_override(250), 32767);  // 0..32767 (~200 %)
+  EXPECT_EQ(to_mdi_velocity(1000.0 / 60.0), 1);  // 1 = 1000 CU/min
+  EXPECT_EQ(cu_per_s_to_mdi_velocity(-5), 0);    // an actual value: magnitude only
+  EXPECT_EQ(to_mdi_acc(100), 0x4000);
+  EXPECT_EQ(to_override(100), 0x4000);
+  EXPECT_EQ(to_mdi_tarpos(-20000.4), -20000);
   EXPECT_NEAR(override_to_percent(32767), 199.99, 0.01);
+}
+
+// Table 3.1.1 "Valid range" column: a setpoint whose wire value falls outside
+// its field, or that is not a number, is refused (nullopt), never wrapped or
+// clamped. The edges of each range are accepted exactly.
+TEST(Table3_1_1, SetpointOutsideItsFieldIsRefused) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  // MDI_TARPOS Int32 -2^31 .. 2^31-1 (1 = 1 CU).
+  EXPECT_EQ(to_mdi_tarpos(2147483647.0), 2147483647);
+  EXPECT_EQ(to_mdi_tarpos(-2147483648.0), std::numeric_limits<std::int32_t>::min());
+  EXPECT_FALSE(to_mdi_tarpos(2147483648.0));
+  EXPECT_FALSE(to_mdi_tarpos(3e9));  // would wrap to -1294967296
+  EXPECT_FALSE(to_mdi_tarpos(-2147483649.0));
+  EXPECT_FALSE(to_mdi_tarpos(nan));
+  EXPECT_FALSE(to_mdi_tarpos(inf));
+  EXPECT_FALSE(to_mdi_tarpos(-inf));
+  // MDI_VELOCITY 0 .. 2^31-1 (1 = 1000 CU/min).
+  const double vmax = 2147483647.0 * 1000.0 / 60.0;
+  EXPECT_EQ(to_mdi_velocity(vmax), 2147483647);
+  EXPECT_FALSE(to_mdi_velocity(vmax + 100.0));
+  EXPECT_FALSE(to_mdi_velocity(-1000.0));
+  EXPECT_FALSE(to_mdi_velocity(nan));
+  EXPECT_FALSE(to_mdi_velocity(inf));
+  // MDI_ACC / MDI_DEC 0 .. 16384 (0x4000 = 100 %).
+  EXPECT_EQ(to_mdi_acc(0), 0);
+  EXPECT_EQ(to_mdi_acc(100), 16384);
+  EXPECT_FALSE(to_mdi_acc(100.01));
+  EXPECT_FALSE(to_mdi_acc(150));
+  EXPECT_FALSE(to_mdi_acc(-1));
+  EXPECT_FALSE(to_mdi_acc(nan));
+  // OVERRIDE 0 .. 32767 (0x4000 = 100 %, so ~199.99 %).
+  EXPECT_EQ(to_override(199), 32604);
+  EXPECT_FALSE(to_override(200));
+  EXPECT_FALSE(to_override(250));
+  EXPECT_FALSE(to_override(-1));
+  EXPECT_FALSE(to_override(inf));
+  // NSOLL_B Int32 (0x40000000 = 100 % of the reference).
+  EXPECT_EQ(to_nsoll_b(5999.99, 3000), 2147480069);
+  EXPECT_FALSE(to_nsoll_b(6000, 3000));  // 2^31: one past the top
+  EXPECT_EQ(to_nsoll_b(-6000, 3000), std::numeric_limits<std::int32_t>::min());
+  EXPECT_FALSE(to_nsoll_b(9000, 3000));
+  EXPECT_FALSE(to_nsoll_b(1500, 0));
+  EXPECT_FALSE(to_nsoll_b(1500, -3000));
+  EXPECT_FALSE(to_nsoll_b(nan, 3000));
+  EXPECT_FALSE(to_nsoll_b(1500, nan));
+  EXPECT_FALSE(to_nsoll_b(1500, inf));
 }
 
 TEST(SignOfLife, CountsOneToFifteenSkippingZero) {
@@ -333,6 +380,43 @@ TEST(Table4_3_5_1, FormatCodes) {
   EXPECT_STREQ(format_name(0x08), "Float32");
   EXPECT_DOUBLE_EQ(raw_to_double(0xFFFF, 0x03), -1);
   EXPECT_DOUBLE_EQ(raw_to_double(double_to_raw(1.5, 0x08), 0x08), 1.5);
+}
+
+// Table 4.3.5.1: the range of each value format; a write value outside it
+// (or not a number) does not fit and must not be sent (it would wrap).
+TEST(Table4_3_5_1, ValueFitsFormatRange) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_TRUE(value_fits_format(1, 0x01));
+  EXPECT_FALSE(value_fits_format(2, 0x01));
+  EXPECT_TRUE(value_fits_format(-128, 0x02));
+  EXPECT_FALSE(value_fits_format(128, 0x02));
+  EXPECT_TRUE(value_fits_format(-32768, 0x03));
+  EXPECT_FALSE(value_fits_format(40000, 0x03));
+  EXPECT_TRUE(value_fits_format(-2147483648.0, 0x04));
+  EXPECT_FALSE(value_fits_format(3e9, 0x04));
+  EXPECT_TRUE(value_fits_format(255, 0x05));
+  EXPECT_FALSE(value_fits_format(-1, 0x05));
+  EXPECT_TRUE(value_fits_format(65535, 0x06));
+  EXPECT_FALSE(value_fits_format(65536, 0x06));
+  EXPECT_FALSE(value_fits_format(-1, 0x06));  // would go out as 65535
+  EXPECT_TRUE(value_fits_format(4294967295.0, 0x07));
+  EXPECT_FALSE(value_fits_format(4294967296.0, 0x07));
+  EXPECT_TRUE(value_fits_format(255, 0x41));
+  EXPECT_FALSE(value_fits_format(256, 0x41));
+  EXPECT_TRUE(value_fits_format(65535, 0x42));
+  EXPECT_FALSE(value_fits_format(70000, 0x42));
+  EXPECT_TRUE(value_fits_format(4294967295.0, 0x43));
+  EXPECT_FALSE(value_fits_format(-1, 0x43));
+  EXPECT_FALSE(value_fits_format(-3.5e38, 0x08));
+  EXPECT_TRUE(value_fits_format(3.4e38, 0x08));
+  EXPECT_TRUE(value_fits_format(0.25, 0x08));
+  for (std::uint8_t f : {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x41, 0x42, 0x43}) {
+    EXPECT_FALSE(value_fits_format(nan, f)) << int(f);
+    EXPECT_FALSE(value_fits_format(inf, f)) << int(f);
+    EXPECT_FALSE(value_fits_format(-inf, f)) << int(f);
+  }
+  EXPECT_FALSE(value_fits_format(0, 0x44));  // Error is not a value format
 }
 
 TEST(Table4_3_6_1, ErrorNames) {

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 #include "plc/fb/weighing/batch_weigh.hpp"
 #include "plc/fb/weighing/read_value.hpp"
@@ -45,10 +46,16 @@ struct Ending {
 };
 
 // Execute until Done/Error/CommandAborted, then drop Execute (one scan).
-Ending run_batch(Cell& c, wg::PR5510_BatchWeigh& b, std::chrono::milliseconds limit = 60s) {
+// `each` runs after the block in every scan (observations).
+Ending run_batch(
+    Cell& c, wg::PR5510_BatchWeigh& b, std::chrono::milliseconds limit = 60s,
+    const std::function<void()>& each = [] {}) {
   b.Execute = true;
-  const auto t =
-      c.run_until([&] { return b.Done || b.Error || b.CommandAborted; }, limit, [&] { b(c.ctx); });
+  const auto t = c.run_until([&] { return b.Done || b.Error || b.CommandAborted; }, limit,
+                             [&] {
+                               b(c.ctx);
+                               each();
+                             });
   EXPECT_NE(-1ms, t) << "batch did not end, State " << int(b.State);
   const Ending e{b.Done, b.Error, b.CommandAborted, static_cast<std::uint16_t>(b.ErrorID)};
   b.Execute = false;
@@ -324,6 +331,176 @@ TEST(BatchWeigh, WeightInvalidStops) {
   EXPECT_TRUE(b.Error);
   EXPECT_EQ(eid::kWeightInvalid, b.ErrorID);
   EXPECT_FALSE(b.CoarseFeed);
+}
+
+// ---- Below zero: read byte 7 (spec §3.4 = manual §5.4): bit 3 Below Zero
+// (gross <= -1/4 d), bit 5 Inside ZSR, bit 7 Dimmed (at/above FSD or
+// negative). A weight clearly below zero stops feeding, reports 16#8209 and
+// is not counted, as Over-load and Adu Error do; flicker around zero on an
+// empty scale is tolerated. (The model's zero-set range is 1 kg.)
+
+// Did any feed valve open (block outputs or the PR5510's outputs 1/2)?
+bool feeding(Cell& c, const wg::PR5510_BatchWeigh& b) {
+  return b.CoarseFeed || b.FineFeed || (c.sim.w()[wg::w::kOutputs] & 0x03) != 0;
+}
+
+// The scale reads about -3 kg, outside the zero band: no valve opens, Error
+// 16#8209, not counted. Before: both feed valves opened, the batch completed
+// and was counted.
+TEST(BatchWeigh, Manual5_4_BelowZeroBeyondZeroBandNeverFeeds) {
+  Cell c(line_config(20));
+  c.model().process().add_load(-3.0);
+  wg::PR5510_BatchWeigh b;
+  setup(b, c.dev);
+  c.idle(500ms);
+  ASSERT_TRUE(c.dev.status().BelowZero);
+  ASSERT_TRUE(c.dev.status().Dimmed);
+  ASSERT_FALSE(c.dev.status().InsideZsr);
+  bool fed = false;
+  const Ending e = run_batch(c, b, 60s, [&] { fed |= feeding(c, b); });
+  EXPECT_TRUE(e.error);
+  EXPECT_EQ(eid::kBelowZero, e.error_id);
+  EXPECT_FALSE(fed);
+  EXPECT_EQ(0, b.BatchCount);
+  EXPECT_EQ(0, b.TotalWeight);
+  EXPECT_DOUBLE_EQ(-3.0, c.model().process().load());  // nothing was fed
+}
+
+// The reading drops to about -3 kg while coarse feeding (the hopper is
+// lifted, a load cell fails): feeding stops within one device cycle, Error
+// 16#8209, the batch is not counted. Before: it fed on and was counted.
+TEST(BatchWeigh, Manual5_4_BelowZeroBeyondZeroBandWhileFeedingStops) {
+  Cell c(line_config(21));
+  wg::PR5510_BatchWeigh b;
+  setup(b, c.dev);
+  c.idle(200ms);
+  b.Execute = true;
+  c.run_until([&] { return b.State == wg::BatchState::Coarse && b.ActualNet > 5.0f; }, 20s,
+              [&] { b(c.ctx); });
+  ASSERT_TRUE(b.CoarseFeed && b.FineFeed);
+  c.model().process().add_load(-(c.model().process().load() + 3.0));
+  const auto t = c.run_until([&] { return b.Error; }, 5s, [&] { b(c.ctx); });
+  EXPECT_NE(-1ms, t);
+  EXPECT_LE(t, 100ms);  // filter + one or two device cycles
+  EXPECT_EQ(eid::kBelowZero, b.ErrorID);
+  EXPECT_FALSE(feeding(c, b));
+  c.idle(40ms);
+  EXPECT_EQ(0, c.sim.w()[wg::w::kOutputs]);
+  c.run(10s, [&] { b(c.ctx); });
+  EXPECT_EQ(0, b.BatchCount);
+  EXPECT_EQ(wg::BatchResult::None, b.LastResult);
+}
+
+// Inside the zero band, but the feed does not lift a negative reading (the
+// scale starts at -0.5 kg and the feeder is blocked): Below Zero held for
+// BelowZeroTime while feeding stops the batch with 16#8209. Before: the
+// valves stayed open until MaxFillTime.
+TEST(BatchWeigh, Manual5_4_BelowZeroHeldWhileFeedingStops) {
+  Cell c(line_config(22));
+  c.model().process().add_load(-0.5);
+  wg::PR5510_BatchWeigh b;
+  setup(b, c.dev);
+  c.idle(500ms);
+  ASSERT_TRUE(c.dev.status().BelowZero);
+  ASSERT_TRUE(c.dev.status().InsideZsr);
+  c.model().process().set_flow_factor(0.0);
+  b.Execute = true;
+  c.run_until([&] { return b.State == wg::BatchState::Coarse; }, 10s, [&] { b(c.ctx); });
+  const auto t = c.run_until([&] { return b.Error; }, 20s, [&] { b(c.ctx); });
+  EXPECT_NE(-1ms, t);
+  EXPECT_LE(t, b.BelowZeroTime);
+  EXPECT_EQ(eid::kBelowZero, b.ErrorID);
+  EXPECT_FALSE(feeding(c, b));
+  EXPECT_EQ(0, b.BatchCount);
+}
+
+// A final weight that still reads negative is never counted: the scale
+// starts 0.5 kg low, a 0.3 kg dose ends at about -0.2 kg. With the held rule
+// out of the way (BelowZeroTime 30 s) the Check itself refuses it.
+TEST(BatchWeigh, Manual5_4_BelowZeroAtCheckIsNotCounted) {
+  auto cfg = line_config(23);
+  cfg.filling.coarse_rate = 0.2;  // a slow feeder: little material in flight
+  cfg.filling.fine_rate = 0.05;
+  Cell c(cfg);
+  c.model().process().add_load(-0.5);
+  wg::PR5510_BatchWeigh b;
+  setup(b, c.dev);
+  b.TargetWeight = 0.3f;
+  b.FineSwitchPoint = 0.1f;
+  b.Preact = 0.02f;
+  b.BelowZeroTime = 30s;
+  c.idle(500ms);
+  wg::BatchState last_busy = wg::BatchState::Idle;
+  const Ending e = run_batch(c, b, 60s, [&] {
+    if (b.Busy) last_busy = b.State;
+  });
+  EXPECT_TRUE(e.error);
+  EXPECT_EQ(eid::kBelowZero, e.error_id);
+  EXPECT_EQ(wg::BatchState::Check, last_busy);
+  EXPECT_NEAR(-0.2, c.model().process().load(), 0.05);
+  EXPECT_EQ(0, b.BatchCount);
+  EXPECT_EQ(wg::BatchResult::None, b.LastResult);
+}
+
+// Flicker around zero on an empty scale is tolerated: a vibrating scale
+// (Below Zero on about a fifth of the time while empty) and a quiet scale
+// whose zero is half a digit low (Below Zero on until the first material
+// lands) both dose normally and count every batch.
+TEST(BatchWeigh, Manual5_4_BelowZeroFlickerOnEmptyScaleIsTolerated) {
+  {
+    auto cfg = line_config(24);
+    cfg.filling.noise_kg = 0.03;
+    Cell c(cfg);
+    wg::PR5510_BatchWeigh b;
+    setup(b, c.dev);
+    c.idle(200ms);
+    int below_zero_scans = 0;
+    for (int i = 0; i < 5; ++i) {
+      const Ending e = run_batch(c, b, 60s, [&] { below_zero_scans += c.dev.status().BelowZero; });
+      EXPECT_TRUE(e.done) << "batch " << i << " ErrorID " << e.error_id;
+    }
+    EXPECT_EQ(5, b.BatchCount);
+    EXPECT_GT(below_zero_scans, 500);  // the flicker was there
+  }
+  for (std::uint64_t seed : {25, 26, 27}) {
+    auto cfg = line_config(seed);
+    Cell c(cfg);
+    c.model().process().add_load(-0.005);  // half a digit (d = 0.01 kg) low
+    wg::PR5510_BatchWeigh b;
+    setup(b, c.dev);
+    c.idle(500ms);
+    ASSERT_TRUE(c.dev.status().BelowZero);
+    bool fed_below_zero = false;
+    const Ending e =
+        run_batch(c, b, 60s, [&] { fed_below_zero |= feeding(c, b) && c.dev.status().BelowZero; });
+    EXPECT_TRUE(e.done) << "seed " << seed << " ErrorID " << e.error_id;
+    EXPECT_TRUE(fed_below_zero);  // the feed started on a Below Zero scale
+    EXPECT_EQ(1, b.BatchCount);
+    EXPECT_TRUE(b.InTolerance);
+  }
+}
+
+// Every state that acts on the weight treats it as invalid on Adu Error
+// (read byte 7 bit 0, spec §7.2), Discharge too: it decides "empty" from the
+// weight. Before: the discharge ran on and ended Done on an invalid value.
+TEST(BatchWeigh, Manual5_4_AduErrorDuringDischargeStops) {
+  Cell c(line_config(28));
+  wg::PR5510_BatchWeigh b;
+  setup(b, c.dev);
+  c.idle(200ms);
+  b.Execute = true;
+  c.run_until([&] { return b.State == wg::BatchState::Discharge && b.Discharge; }, 60s,
+              [&] { b(c.ctx); });
+  ASSERT_TRUE(b.Discharge);
+  c.run(100ms, [&] { b(c.ctx); });
+  ASSERT_TRUE(b.Discharge);  // emptying
+  c.model().set_adu_error(true);
+  const auto t = c.run_until([&] { return b.Error || b.Done; }, 5s, [&] { b(c.ctx); });
+  EXPECT_LE(t, 60ms);
+  EXPECT_TRUE(b.Error);
+  EXPECT_EQ(eid::kWeightInvalid, b.ErrorID);
+  EXPECT_FALSE(b.Discharge);
+  EXPECT_EQ(1, b.BatchCount);  // the dose itself was checked and counted
 }
 
 // The device stops answering mid-batch: Error kDeviceOffline, valves off.

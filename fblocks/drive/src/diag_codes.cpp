@@ -20,6 +20,8 @@ const char* diag_text(std::uint16_t c) {
       return "drive fault";
     case kErrErrorStop:
       return "axis in ErrorStop";
+    case kErrRestartInhibit:
+      return "restart inhibited after an error: give Enable again";
     case kErrDisabled:
       return "axis disabled";
     case kErrStopping:
@@ -29,13 +31,19 @@ const char* diag_text(std::uint16_t c) {
     case kErrNotStandstill:
       return "axis not in standstill";
     case kErrVelocity:
-      return "invalid velocity";
+      return "velocity not finite or outside the MDI_VELOCITY range";
     case kErrAccel:
-      return "invalid acceleration or deceleration";
+      return "acceleration or deceleration out of range";
     case kErrDirection:
       return "invalid direction";
     case kErrMode:
       return "mode not supported";
+    case kErrPosition:
+      return "position outside the Int32 range of MDI_TARPOS";
+    case kErrOverride:
+      return "velocity override outside 0..199 %";
+    case kErrSpeedSetpoint:
+      return "speed setpoint outside the NSOLL_B range";
     case kErrTaskNotAck:
       return "traversing task not acknowledged";
     case kErrHomingTimeout:
@@ -60,6 +68,8 @@ const char* diag_text(std::uint16_t c) {
       return "invalid block input";
     case kErrParamCount:
       return "response value count mismatch";
+    case kErrParamValue:
+      return "value does not fit the parameter format";
     case kErrAbsEnabled:
       return "refused: axis enabled";
     case kErrAbsDisableTimeout:

@@ -165,6 +165,7 @@ void DriveAxis::update_state() {
     if (State != AxisState::ErrorStop) abort_all();
     latch_error(e);
     State = AxisState::ErrorStop;
+    RestartInhibit = true;  // no restart until reset and a new enable
     return;
   }
   if (State == AxisState::ErrorStop) return;  // until MC_Reset clears error_
@@ -369,7 +370,10 @@ void DriveAxis::commit() {
   const auto out = Port.out();
   if (!is_supported_telegram(Telegram) || out.size() < out_bytes(tg)) return;
   std::uint16_t stw1 = Stw1Pos::kControlByPlc;
-  const bool power = CommOk && PowerRequest && !InhibitPower && !drive_fault();
+  // After an error the enable must be given again (header comment): the
+  // inhibit ends once the error is cleared and the request was withdrawn.
+  if (RestartInhibit && State != AxisState::ErrorStop && !PowerRequest) RestartInhibit = false;
+  const bool power = CommOk && PowerRequest && !InhibitPower && !drive_fault() && !RestartInhibit;
   if (power) {
     stw1 |= Stw1Pos::kNoCoastStop | Stw1Pos::kNoQuickStop | Stw1Pos::kEnableOperation;
     // From S1 the drive needs ON = 0 first (S1 -> S2), then ON = 1.

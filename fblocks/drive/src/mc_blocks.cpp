@@ -70,13 +70,16 @@ std::uint16_t McExecute::motion_refusal(const DriveAxis& axis) {
   }
 }
 
-INT accel_to_mdi(const DriveAxis& axis, LREAL accel, bool deceleration) {
-  if (accel <= 0) return 0x4000;
+std::optional<INT> accel_to_mdi(const DriveAxis& axis, LREAL accel, bool deceleration) {
+  if (accel == 0) return INT{0x4000};  // 0: the drive's own 100 % ramp
   const double ref = ramp_time_to_accel(rpm_to_cu_per_s(axis.RefSpeedRpm, axis.CuPerRev),
                                         deceleration ? axis.DecTimeMs : axis.AccTimeMs);
-  if (ref <= 0) return 0x4000;
-  const INT v = percent_to_mdi_acc(accel / ref * 100.0);
-  return v < 1 ? INT{1} : v;
+  // Negative, NaN, infinite, above 100 % (the E1's limit), or below the
+  // smallest step of MDI_ACC (a ramp that would never end): refused.
+  if (!(accel > 0) || !(ref > 0)) return std::nullopt;
+  const auto v = to_mdi_acc(accel / ref * 100.0);
+  if (!v || *v < 1) return std::nullopt;
+  return INT{*v};
 }
 
 // ------------------------------------------------------------ MC_Power
@@ -89,6 +92,9 @@ void MC_Power::operator()(const ScanContext& ctx, DriveAxis& axis) {
   if (mode_ok) axis.PowerStopMode = static_cast<drive::StopMode>(StopMode);
   Status = axis.CommOk && axis.operation_enabled();
   std::uint16_t e = !mode_ok ? kErrMode : axis.axis_error();
+  // The error is cleared but Enable was held through it: no restart until
+  // Enable is given again (DriveAxis::RestartInhibit).
+  if (!e && Enable && axis.RestartInhibit) e = kErrRestartInhibit;
   if (!e && Enable && !Status && ctx.now - enable_since_ > EnableTimeout)
     e = axis.drive_state() == DriveState::SwitchingOnInhibited ? kErrLockout : kErrEnableTimeout;
   if (Status) enable_since_ = ctx.now;
@@ -127,18 +133,23 @@ void MC_Reset::operator()(const ScanContext& ctx, DriveAxis& axis) {
 // ------------------------------------------------------------ moves
 void McExecute::start_positioning(DriveAxis& axis, TaskKind kind, LREAL target, LREAL velocity,
                                   LREAL acceleration, LREAL deceleration) {
+  // Table 3.1.1: every setpoint must fit its field; nothing is wrapped or
+  // clamped (MDI_TARPOS is Int32: 3e9 CU would go out as -1294967296).
   const std::uint16_t r = motion_refusal(axis);
-  const DINT v = cu_per_s_to_mdi_velocity(velocity);
+  const auto pos = to_mdi_tarpos(target);
+  const auto v = to_mdi_velocity(velocity);
+  const auto acc = accel_to_mdi(axis, acceleration, false);
+  const auto dec = accel_to_mdi(axis, deceleration, true);
   if (r)
     finish_error(r);
-  else if (velocity <= 0 || v <= 0)
+  else if (!pos)
+    finish_error(kErrPosition);
+  else if (!v || *v <= 0)
     finish_error(kErrVelocity);
-  else if (acceleration < 0 || deceleration < 0)
+  else if (!acc || !dec)
     finish_error(kErrAccel);
   else {
-    id_ = axis.start_task(kind, static_cast<DINT>(std::llround(target)), v,
-                          accel_to_mdi(axis, acceleration, false),
-                          accel_to_mdi(axis, deceleration, true));
+    id_ = axis.start_task(kind, *pos, *v, *acc, *dec);
     Busy = true;
   }
 }
@@ -163,20 +174,21 @@ void MC_MoveVelocity::operator()(const ScanContext& ctx, DriveAxis& axis) {
   axis.begin(ctx);
   if (on_call()) {
     const std::uint16_t r = motion_refusal(axis);
-    const DINT v = cu_per_s_to_mdi_velocity(Velocity);
+    const auto v = to_mdi_velocity(Velocity);
+    const auto acc = accel_to_mdi(axis, Acceleration, false);
+    const auto dec = accel_to_mdi(axis, Deceleration, true);
     InVelocity = false;
     if (r)
       finish_error(r);
-    else if (Velocity <= 0 || v <= 0)
+    else if (!v || *v <= 0)
       finish_error(kErrVelocity);
-    else if (Acceleration < 0 || Deceleration < 0)
+    else if (!acc || !dec)
       finish_error(kErrAccel);
     else if (Direction != kMcPositiveDirection && Direction != kMcNegativeDirection)
       finish_error(kErrDirection);
     else {
-      id_ = axis.start_task(TaskKind::Velocity, Direction == kMcNegativeDirection ? -1 : 1, v,
-                            accel_to_mdi(axis, Acceleration, false),
-                            accel_to_mdi(axis, Deceleration, true));
+      id_ = axis.start_task(TaskKind::Velocity, Direction == kMcNegativeDirection ? -1 : 1, *v,
+                            *acc, *dec);
       Busy = true;
     }
   }
@@ -191,6 +203,9 @@ void MC_Home::operator()(const ScanContext& ctx, DriveAxis& axis) {
   if (on_call()) {
     std::uint16_t r = motion_refusal(axis);
     if (!r && axis.State != AxisState::Standstill) r = kErrNotStandstill;
+    // Position is not sent (the E1 homes to its own parameters), but a value
+    // no drive could take is refused rather than dropped without a word.
+    if (!r && !to_mdi_tarpos(Position)) r = kErrPosition;
     if (r)
       finish_error(r);
     else {

@@ -3,6 +3,7 @@
 #include <bit>
 #include <cctype>
 #include <cmath>
+#include <limits>
 
 namespace plc::drive {
 
@@ -272,6 +273,46 @@ std::uint32_t double_to_raw(double v, std::uint8_t f) {
     default:
       return static_cast<std::uint32_t>(i);
   }
+}
+
+bool value_fits_format(double v, std::uint8_t f) {
+  if (!std::isfinite(v)) return false;
+  if (f == static_cast<std::uint8_t>(ParamFormat::Float32))
+    return std::fabs(v) <= static_cast<double>(std::numeric_limits<float>::max());
+  const double r = std::round(v);
+  double lo = 0, hi = 0;
+  switch (f) {
+    case 0x01:
+      hi = 1;
+      break;
+    case 0x02:
+      lo = -128;
+      hi = 127;
+      break;
+    case 0x03:
+      lo = -32768;
+      hi = 32767;
+      break;
+    case 0x04:
+      lo = -2147483648.0;
+      hi = 2147483647.0;
+      break;
+    case 0x05:
+    case 0x41:
+      hi = 255;
+      break;
+    case 0x06:
+    case 0x42:
+      hi = 65535;
+      break;
+    case 0x07:
+    case 0x43:
+      hi = 4294967295.0;
+      break;
+    default:
+      return false;  // not a value format
+  }
+  return r >= lo && r <= hi;
 }
 
 }  // namespace plc::drive

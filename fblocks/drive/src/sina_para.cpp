@@ -1,5 +1,7 @@
 #include "plc/fb/drive/sina_para.hpp"
 
+#include <algorithm>
+
 namespace plc::drive {
 
 void SinaPara::operator()(const ScanContext& ctx, DriveAxis& axis) {
@@ -22,8 +24,12 @@ void SinaPara::operator()(const ScanContext& ctx, DriveAxis& axis) {
     ErrorID = 0;
     ErrorText = "";
     const std::size_t n = Count == 0 ? 1 : Count;
+    if (ReadWrite) Values[0] = Value;
     if (Count > kMaxValues || (ReadWrite && !is_value_format(Format))) {
       finish_error(kErrParamInput);
+    } else if (ReadWrite && !std::all_of(Values.begin(), Values.begin() + n,
+                                         [&](LREAL v) { return value_fits_format(v, Format); })) {
+      finish_error(kErrParamValue);  // Table 4.3.5.1: never wrapped into the format
     } else if (axis.CommError) {
       finish_error(axis.CommError);
     } else {
@@ -34,7 +40,6 @@ void SinaPara::operator()(const ScanContext& ctx, DriveAxis& axis) {
       r.subindex = Subindex;
       r.num_elements = static_cast<std::uint8_t>(Count);
       if (ReadWrite) {
-        Values[0] = Value;
         r.format = Format;
         r.num_values = static_cast<std::uint8_t>(n);
         for (std::size_t i = 0; i < n; ++i) r.values[i] = double_to_raw(Values[i], Format);

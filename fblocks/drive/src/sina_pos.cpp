@@ -1,7 +1,5 @@
 #include "plc/fb/drive/sina_pos.hpp"
 
-#include <algorithm>
-
 #include "plc/fb/drive/scaling.hpp"
 
 namespace plc::drive {
@@ -29,9 +27,18 @@ void SinaPos::operator()(const ScanContext& ctx, DriveAxis& axis) {
     axis.reset_errors();
     axis.update_state();
   }
-  axis.OVERRIDE = percent_to_override(std::clamp<INT>(OverV, 0, 199));
-  const INT acc = percent_to_mdi_acc(std::clamp<INT>(OverAcc, 1, 100));
-  const INT dec = percent_to_mdi_acc(std::clamp<INT>(OverDec, 1, 100));
+  // Setpoint ranges (Table 3.1.1; SINA_POS: OverV 0..199 %, OverAcc/OverDec
+  // 1..100 %): a value outside is refused with Status 16#8203, never
+  // clamped. OverV is live: an invalid one leaves the last valid OVERRIDE.
+  const auto override_word =
+      OverV >= 0 && OverV <= 199 ? to_override(OverV) : std::optional<std::uint16_t>{};
+  if (override_word) axis.OVERRIDE = *override_word;
+  const auto acc_word =
+      OverAcc >= 1 && OverAcc <= 100 ? to_mdi_acc(OverAcc) : std::optional<std::int16_t>{};
+  const auto dec_word =
+      OverDec >= 1 && OverDec <= 100 ? to_mdi_acc(OverDec) : std::optional<std::int16_t>{};
+  const INT acc = acc_word.value_or(0), dec = dec_word.value_or(0);
+  const bool dynamics_ok = acc_word && dec_word;
 
   auto refuse = [&](std::uint16_t status, std::uint16_t diag) {
     cmd_status_ = status;
@@ -55,6 +62,8 @@ void SinaPos::operator()(const ScanContext& ctx, DriveAxis& axis) {
           refuse(kStatusTaskError, r);
         else if (Velocity <= 0)
           refuse(kStatusBadSetpoint, kErrVelocity);
+        else if (!dynamics_ok)
+          refuse(kStatusBadSetpoint, kErrAccel);
         else if (axis.State == AxisState::Homing)
           refuse(kStatusTaskError, kErrHoming);
         else
@@ -67,6 +76,8 @@ void SinaPos::operator()(const ScanContext& ctx, DriveAxis& axis) {
           refuse(kStatusTaskError, r);
         else if (Velocity <= 0)
           refuse(kStatusBadSetpoint, kErrVelocity);
+        else if (!dynamics_ok)
+          refuse(kStatusBadSetpoint, kErrAccel);
         else if (Positive == Negative)
           refuse(kStatusBadSetpoint, kErrDirection);
         else {
@@ -107,12 +118,21 @@ void SinaPos::operator()(const ScanContext& ctx, DriveAxis& axis) {
         break;
     }
   }
-  // Mode 3: follow changed setpoints while ExecuteMode stays TRUE; halt when it falls.
-  if (ModePos == 3 && ExecuteMode && !exec_edge && axis.status(id_) == CmdStatus::Busy &&
-      Positive != Negative &&
+  // Mode 3: follow changed setpoints while ExecuteMode stays TRUE; halt when
+  // it falls. A change to an invalid setpoint is refused (the task runs on
+  // with the last valid one) and shown as 16#8203 while it stays invalid.
+  const bool following =
+      ModePos == 3 && ExecuteMode && !exec_edge && axis.status(id_) == CmdStatus::Busy;
+  std::uint16_t setpoint_diag = override_word ? 0 : kErrOverride;
+  if (following && !setpoint_diag) {
+    setpoint_diag = Velocity <= 0          ? kErrVelocity
+                    : !dynamics_ok         ? kErrAccel
+                    : Positive == Negative ? kErrDirection
+                                           : 0;
+  }
+  if (following && !setpoint_diag &&
       (Velocity != sent_velocity_ || acc != sent_acc_ || dec != sent_dec_ ||
-       Positive != sent_positive_) &&
-      Velocity > 0) {
+       Positive != sent_positive_)) {
     id_ = axis.start_task(TaskKind::Velocity, Positive ? 1 : -1, Velocity, acc, dec);
     sent_velocity_ = Velocity;
     sent_acc_ = acc;
@@ -162,7 +182,7 @@ void SinaPos::operator()(const ScanContext& ctx, DriveAxis& axis) {
   AxisEnabled = axis.CommOk && axis.operation_enabled();
   AxisRef = axis.homed();
   AxisWarn = (axis.ZSW1 & Zsw1Pos::kWarning) != 0;
-  Lockout = (axis.ZSW1 & Zsw1Pos::kSwitchOnInhibited) != 0 && EnableAxis;
+  Lockout = ((axis.ZSW1 & Zsw1Pos::kSwitchOnInhibited) != 0 || axis.RestartInhibit) && EnableAxis;
   ActPosition = static_cast<DINT>(axis.ActPosition);
   ActVelocity =
       cu_per_s_to_mdi_velocity(axis.ActVelocity < 0 ? -axis.ActVelocity : axis.ActVelocity) *
@@ -185,9 +205,15 @@ void SinaPos::operator()(const ScanContext& ctx, DriveAxis& axis) {
   } else if (cmd_status_) {
     status = cmd_status_;
     diag = cmd_diag_;
+  } else if (setpoint_diag) {
+    status = kStatusBadSetpoint;
+    diag = setpoint_diag;
   } else if (axis.State == AxisState::ErrorStop) {
     status = kStatusTaskError;
     diag = kErrErrorStop;
+  } else if (EnableAxis && axis.RestartInhibit) {  // acknowledged: EnableAxis again
+    status = kStatusLockout;
+    diag = kErrRestartInhibit;
   } else if (Lockout && !axis.PowerRequest) {  // OFF2/OFF3 forced by ConfigEPos
     status = kStatusLockout;
     diag = kErrLockout;

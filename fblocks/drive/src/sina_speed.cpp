@@ -12,18 +12,20 @@ void SinaSpeed::operator()(const ScanContext& ctx, DriveAxis& axis) {
                        : !no_off3 ? StopMode::Off3Quick
                                   : StopMode::Off1Ramp;
   axis.AckRequest = AckError;
-  if (AckError && !prev_ack_) {
-  }
   if (AckError && !axis.drive_fault() && axis.State == AxisState::ErrorStop) {
     axis.reset_errors();
     axis.update_state();
   }
   prev_ack_ = AckError;
-  axis.NSOLL_B = speed_to_nsoll_b(SpeedSp, RefSpeed);
+  // Table 3.1.1: NSOLL_B is Int32 (0x40000000 = 100 %): a speed of 200 % of
+  // RefSpeed or more, a RefSpeed <= 0 or a non-finite input is refused (the
+  // last valid setpoint stays on the wire), never saturated.
+  const auto nsoll_b = to_nsoll_b(SpeedSp, RefSpeed);
+  if (nsoll_b) axis.NSOLL_B = *nsoll_b;
 
   AxisEnabled = axis.CommOk && axis.operation_enabled();
-  Lockout = (axis.ZSW1 & Zsw1Speed::kSwitchOnInhibited) != 0 && EnableAxis;
-  ActVelocity = static_cast<REAL>(nist_b_to_speed(axis.NIST_B, RefSpeed));
+  Lockout = ((axis.ZSW1 & Zsw1Speed::kSwitchOnInhibited) != 0 || axis.RestartInhibit) && EnableAxis;
+  ActVelocity = static_cast<REAL>(nist_b_to_speed(axis.NIST_B, RefSpeed > 0 ? RefSpeed : 0));
   SpeedReached = AxisEnabled && (axis.ZSW1 & Zsw1Speed::kSpeedReached) != 0;
   InTolerance = AxisEnabled && (axis.ZSW1 & Zsw1Speed::kSpeedErrorInTolerance) != 0;
   std::uint16_t status = AxisEnabled ? kStatusRunning : kStatusIdle, diag = 0;
@@ -36,9 +38,15 @@ void SinaSpeed::operator()(const ScanContext& ctx, DriveAxis& axis) {
   } else if (axis.drive_fault()) {
     status = kStatusDriveFault;
     diag = kErrDriveFault;
+  } else if (!nsoll_b) {
+    status = kStatusBadSetpoint;
+    diag = kErrSpeedSetpoint;
   } else if (axis.State == AxisState::ErrorStop) {
     status = kStatusTaskError;
     diag = kErrErrorStop;
+  } else if (EnableAxis && axis.RestartInhibit) {  // acknowledged: EnableAxis again
+    status = kStatusLockout;
+    diag = kErrRestartInhibit;
   } else if (Lockout && !axis.PowerRequest) {
     status = kStatusLockout;
     diag = kErrLockout;

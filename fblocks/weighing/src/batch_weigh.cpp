@@ -67,7 +67,8 @@ void PR5510_BatchWeigh::start(TIME now) {
   ErrorID = error_id::kNone;
   const bool params_ok = TargetWeight > 0 && FineSwitchPoint >= 0 && Preact >= 0 && TolPlus >= 0 &&
                          TolMinus >= 0 && AdaptGain >= 0 && AdaptGain <= 1 &&
-                         FineSwitchPoint < TargetWeight && MaxTopUps >= 0;
+                         FineSwitchPoint < TargetWeight && MaxTopUps >= 0 &&
+                         BelowZeroTime >= TIME::zero();
   if (Device == nullptr) return fail(error_id::kNoDevice, now);
   if (slot_ == PR5510_Device::kNoSlot) slot_ = Device->attach();
   if (slot_ == PR5510_Device::kNoSlot) return fail(error_id::kTooManyClients, now);
@@ -83,6 +84,7 @@ void PR5510_BatchWeigh::start(TIME now) {
   FineRate = 0;
   ActualNet = 0;
   active_time_ = TIME::zero();
+  below_zero_since_ = now;
   tare_step_ = TareStep::WaitReady;
   Device->ack_command(slot_);
   enter(BatchState::Tare, now);
@@ -197,6 +199,8 @@ void PR5510_BatchWeigh::operator()(const ScanContext& ctx) {
   Device->request_read(slot_, kNetCode, urgent);
   if (State != BatchState::Tare) ActualNet = net_ - start_net_;
 
+  if (!Device->status().BelowZero) below_zero_since_ = now;
+
   const bool feeding_state =
       State == BatchState::Coarse || State == BatchState::Fine || State == BatchState::Discharge;
   const bool was_paused = Paused;
@@ -215,15 +219,36 @@ void PR5510_BatchWeigh::operator()(const ScanContext& ctx) {
   run_state(ctx);
 }
 
+// The weight this state acts on is not usable (0 = it is): read byte 7,
+// spec §3.4 (manual §5.4), §7.2. Every busy state acts on the weight: Tare
+// takes the start weight, Coarse..Check measure the fill, Discharge decides
+// "empty". The header comment gives the rules.
+std::uint16_t PR5510_BatchWeigh::weight_error(TIME now) const {
+  const StatusBits& st = Device->status();
+  // Adu Error, Over-load, Above FSD (the at/above-FSD half of Dimmed): the
+  // value is invalid. Discharge goes on above FSD: the hopper must empty.
+  const bool invalid =
+      State == BatchState::Discharge ? st.AduError : st.AduError || st.Overload || st.AboveFsd;
+  if (invalid) return error_id::kWeightInvalid;
+  // Below Zero (the negative half of Dimmed) below the zero-set range: never
+  // the flicker of an empty scale.
+  if (st.BelowZero && !st.InsideZsr) return error_id::kBelowZero;
+  // Held Below Zero while a fill is measured: the feed does not lift the
+  // reading, not flicker either. At Check: a negative final weight.
+  const bool measuring_fill = State == BatchState::Coarse || State == BatchState::Fine ||
+                              State == BatchState::Settle ||
+                              (State == BatchState::Tare && tare_step_ == TareStep::Sample);
+  if (st.BelowZero &&
+      (State == BatchState::Check || (measuring_fill && now - below_zero_since_ >= BelowZeroTime)))
+    return error_id::kBelowZero;
+  return error_id::kNone;
+}
+
 void PR5510_BatchWeigh::run_state(const ScanContext& ctx) {
   const TIME now = ctx.now;
   const StatusBits& st = Device->status();
-  // Spec §7.2: Adu Error, Over-load and Dimmed mean "weight invalid"; only
-  // the at/above-FSD half of Dimmed counts (see the header).
-  const bool weight_invalid = st.AduError || st.Overload || st.AboveFsd;
+  if (const std::uint16_t e = weight_error(now); e != error_id::kNone) return fail(e, now);
   const bool filling = State == BatchState::Coarse || State == BatchState::Fine;
-  if ((filling || State == BatchState::Settle) && weight_invalid)
-    return fail(error_id::kWeightInvalid, now);
   if (filling && active_time_ > MaxFillTime) return fail(error_id::kFillTimeout, now);
 
   switch (State) {

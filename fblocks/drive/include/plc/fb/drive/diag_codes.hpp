@@ -61,12 +61,26 @@
 
 namespace plc::drive {
 
+// Setpoint range checks (spec Table 3.1.1) and the restart inhibit (PLCopen
+// MC Part 1 state diagram, ErrorStop) add:
+// | 16#8006 | kErrRestartInhibit | power refused after an error: MC_Reset/AckError done, now give
+// |         |                    | Enable a new rising edge (FALSE for a scan, then TRUE)
+// | 16#8024 | kErrPosition       | Position/Distance not finite or outside Int32 (MDI_TARPOS)
+// | 16#8025 | kErrOverride       | SinaPos OverV outside 0..199 % (OVERRIDE 0..32767)
+// | 16#8026 | kErrSpeedSetpoint  | SinaSpeed SpeedSp/RefSpeed: not finite, RefSpeed <= 0, or
+// |         |                    | NSOLL_B outside Int32 (|SpeedSp| >= 200 % of RefSpeed)
+// | 16#8206 | kErrParamValue     | SinaPara write value does not fit Format (Table 4.3.5.1
+// |         |                    | range) or is not finite
+// and widen kErrVelocity (not finite, or MDI_VELOCITY outside 1..2^31-1) and
+// kErrAccel (not finite, < 0, above 100 % of Pt534/Pt537 or below one step
+// of MDI_ACC/MDI_DEC; SinaPos OverAcc/OverDec outside 1..100).
 inline constexpr std::uint16_t kErrNone = 0x0000;
 inline constexpr std::uint16_t kErrOffline = 0x8001;
 inline constexpr std::uint16_t kErrSignOfLife = 0x8002;
 inline constexpr std::uint16_t kErrTelegram = 0x8003;
 inline constexpr std::uint16_t kErrDriveFault = 0x8004;
 inline constexpr std::uint16_t kErrErrorStop = 0x8005;
+inline constexpr std::uint16_t kErrRestartInhibit = 0x8006;
 inline constexpr std::uint16_t kErrDisabled = 0x8010;
 inline constexpr std::uint16_t kErrStopping = 0x8011;
 inline constexpr std::uint16_t kErrHoming = 0x8012;
@@ -75,6 +89,9 @@ inline constexpr std::uint16_t kErrVelocity = 0x8020;
 inline constexpr std::uint16_t kErrAccel = 0x8021;
 inline constexpr std::uint16_t kErrDirection = 0x8022;
 inline constexpr std::uint16_t kErrMode = 0x8023;
+inline constexpr std::uint16_t kErrPosition = 0x8024;
+inline constexpr std::uint16_t kErrOverride = 0x8025;
+inline constexpr std::uint16_t kErrSpeedSetpoint = 0x8026;
 inline constexpr std::uint16_t kErrTaskNotAck = 0x8030;
 inline constexpr std::uint16_t kErrHomingTimeout = 0x8031;
 inline constexpr std::uint16_t kErrEnableTimeout = 0x8032;
@@ -98,6 +115,7 @@ inline constexpr std::uint16_t kErrParamMalformed = 0x8202;
 inline constexpr std::uint16_t kErrParamTimeout = 0x8203;
 inline constexpr std::uint16_t kErrParamInput = 0x8204;
 inline constexpr std::uint16_t kErrParamCount = 0x8205;
+inline constexpr std::uint16_t kErrParamValue = 0x8206;
 inline constexpr std::uint16_t kErrParamRecord = 0x8300;
 
 inline constexpr std::uint16_t kErrAbsEnabled = 0x9001;

@@ -24,6 +24,16 @@
 //
 // Safe state: while the drive is not reachable or the sign-of-life is lost,
 // STW1 goes to OFF1 (0x0406: control by PLC, no OFF2/OFF3, ON = 0).
+//
+// No automatic restart (PLCopen MC Part 1 state diagram: ErrorStop is left
+// only through MC_Reset; ISO 13849-1 §5.2.2: a reset must not start the
+// machine by itself). Every axis error (communication lost, sign-of-life,
+// drive fault) sets RestartInhibit, and while it is set commit() never asks
+// for power (ON and enable operation stay 0), even when the drive answers
+// again. It is cleared only once the error has been cleared (MC_Reset,
+// SinaPos/SinaSpeed AckError, AbsEncoderInit after its own reset) AND the
+// enable request has been withdrawn (PowerRequest FALSE, e.g. MC_Power
+// Enable FALSE for a scan): the next Enable edge powers the drive again.
 #pragma once
 
 #include <cstdint>
@@ -93,6 +103,9 @@ struct DriveAxis {
   BOOL SignOfLifeLost{};
   WORD CommError{};  // kErrOffline / kErrSignOfLife / kErrTelegram or 0
   AxisState State = AxisState::Disabled;
+  // Set by any axis error; power is refused until the error is cleared and
+  // PowerRequest has been FALSE once after that (see the header comment).
+  BOOL RestartInhibit{};
 
   // ---------------- sent to the drive (composed by commit()) ----------------
   WORD STW1{}, STW2{}, POS_STW1{}, POS_STW2{}, SATZANW{}, MDI_MODE{}, G1_STW{};
@@ -153,10 +166,11 @@ struct DriveAxis {
   PLC_REFLECT(Port, Telegram, SignOfLifeTolerance, SignOfLifeCheck, CuPerRev, RefSpeedRpm,
               AccTimeMs, DecTimeMs, AckTimeout, ZSW1, ZSW2, POS_ZSW1, POS_ZSW2, MELDW, AKTSATZ,
               G1_ZSW, XIST_A, NIST_B, G1_XIST1, G1_XIST2, FAULT_CODE, WARN_CODE, ActPosition,
-              ActVelocity, CommOk, SignOfLifeLost, CommError, State, STW1, STW2, POS_STW1, POS_STW2,
-              SATZANW, MDI_MODE, G1_STW, OVERRIDE, MDI_TARPOS, MDI_VELOCITY, NSOLL_B, MDI_ACC,
-              MDI_DEC, PowerRequest, PowerStopMode, AckRequest, JogRequest1, JogRequest2,
-              IntermediateStop, RejectTask, StopActive, SetReferenceRequest, InhibitPower,
+              ActVelocity, CommOk, SignOfLifeLost, CommError, State, RestartInhibit, STW1, STW2,
+              POS_STW1, POS_STW2, SATZANW, MDI_MODE, G1_STW, OVERRIDE, MDI_TARPOS, MDI_VELOCITY,
+              NSOLL_B, MDI_ACC, MDI_DEC, PowerRequest, PowerStopMode, AckRequest, JogRequest1,
+              JogRequest2, IntermediateStop, RejectTask, StopActive, SetReferenceRequest,
+              InhibitPower,
               // internal state: shown by the debugger, kept in recording snapshots
               now_, last_scan_, last_cycle_, begun_, sol_out_, sol_in_last_, sol_stall_, sol_seen_,
               error_, cmd_id_, next_id_, kind_, phase_, task_kind_, cmd_err_, phase_start_,

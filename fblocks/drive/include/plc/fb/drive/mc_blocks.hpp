@@ -10,11 +10,19 @@
 //   kErrNotStandstill); a command replaced by another gives CommandAborted.
 // * Enable blocks (MC_Power, MC_Read*) report Valid while Enable is TRUE.
 // Units: Position in control units (CU), Velocity in CU/s, Acceleration and
-// Deceleration in CU/s^2 (0 = the drive's 100 % ramp Pt534/Pt537; more than
-// 100 % is not possible on the E1 and is clamped to 100 %). Jerk and
+// Deceleration in CU/s^2 (0 = the drive's 100 % ramp Pt534/Pt537). Jerk and
 // BufferMode are not supported (always Aborting).
+// Setpoints are range-checked against their telegram fields (spec Table
+// 3.1.1) on the Execute edge and refused, never wrapped or clamped:
+// Position/Distance not finite or outside Int32 (MDI_TARPOS) 16#8024;
+// Velocity not finite, <= 0, or outside MDI_VELOCITY 1..2^31-1 (x 1000
+// CU/min) 16#8020; Acceleration/Deceleration negative, not finite, above
+// 100 % of Pt534/Pt537 (the E1 cannot go faster) or below one MDI_ACC step
+// 16#8021.
 // ErrorID values: diag_codes.hpp.
 #pragma once
+
+#include <optional>
 
 #include "plc/fb/drive/drive_axis.hpp"
 #include "plc/reflect.hpp"
@@ -63,6 +71,10 @@ struct McExecute {
 // Status = operation enabled (ZSW1.2). Error when the axis has an error or
 // S4 is not reached within EnableTimeout (kErrLockout if the drive stayed in
 // switch-on inhibited, else kErrEnableTimeout).
+// No automatic restart: after an axis error power stays off, even when the
+// drive answers again, until MC_Reset has cleared the error and Enable has
+// been FALSE for a scan; Enable held TRUE through the reset gives Error with
+// kErrRestartInhibit (16#8006) until it is given again.
 struct MC_Power {
   BOOL Enable{};
   INT StopMode{0};
@@ -82,7 +94,8 @@ struct MC_Power {
 
 // MC_Reset: acknowledges a drive fault with a rising edge of STW1.7 (held
 // until the fault clears), waits for the fault to go away, and clears the
-// axis error (ErrorStop -> Standstill or Disabled). kErrResetTimeout if the
+// axis error (ErrorStop -> Disabled: power was taken away with the error and
+// comes back only with a new MC_Power Enable edge). kErrResetTimeout if the
 // fault is still there after Timeout (its cause is not gone).
 struct MC_Reset : McExecute {
   TIME Timeout = std::chrono::seconds(1);
@@ -130,8 +143,9 @@ struct MC_MoveVelocity : McExecute {
 
 // Drive-internal homing (STW1.11, spec §7.8): Done when ZSW1.11 (home set)
 // is back after the drive started homing and the motor stands. Position is
-// not sent: the E1 takes its home position from its own parameters. Only
-// from Standstill.
+// not sent: the E1 takes its home position from its own parameters; it must
+// still be a valid target (finite, Int32), else 16#8024. Only from
+// Standstill.
 struct MC_Home : McExecute {
   LREAL Position{};
   TIME Timeout = std::chrono::seconds(60);
@@ -181,7 +195,9 @@ struct MC_ReadActualPosition {
   PLC_REFLECT(Enable, Valid, Busy, Error, ErrorID, Position)
 };
 
-// Helpers shared with SinaPos: PLCopen dynamics -> MDI fields.
-INT accel_to_mdi(const DriveAxis& axis, LREAL accel, bool deceleration);
+// PLCopen dynamics (CU/s^2) -> MDI_ACC/MDI_DEC: 0 = the drive's 100 % ramp;
+// std::nullopt (kErrAccel) for a value that is negative, not finite, above
+// 100 % of Pt534/Pt537 or below the field's smallest step.
+std::optional<INT> accel_to_mdi(const DriveAxis& axis, LREAL accel, bool deceleration);
 
 }  // namespace plc::drive

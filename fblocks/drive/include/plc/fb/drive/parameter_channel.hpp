@@ -162,7 +162,15 @@ struct ParamResponse {
 bool decode_response(std::span<const std::uint8_t> in, ParamResponse& r);
 
 // Raw value <-> number for a format (sign extension, Float32 bit cast).
+// double_to_raw keeps the low bits of the rounded value: check a value to be
+// written with value_fits_format first.
 double raw_to_double(std::uint32_t raw, std::uint8_t format);
 std::uint32_t double_to_raw(double v, std::uint8_t format);
+// True if `v` is finite and, rounded to the nearest integer for the integer
+// formats, inside the range of `format` (Table 4.3.5.1: Boolean 0..1, Int8,
+// Int16, Int32, Uint8/Byte, Uint16/Word, Uint32/Double word; Float32 up to
+// its largest finite value). A write of a value that does not fit is
+// refused, never wrapped (70000 as Uint16 would arrive as 4464).
+bool value_fits_format(double v, std::uint8_t format);
 
 }  // namespace plc::drive

@@ -15,8 +15,10 @@
 // ValueRead (= ValuesRead[0]), ValuesRead.
 // ErrorID: 16#81xx negative response with error number xx (every number of
 // §6.5), 16#8200-16#8205 response matching and input errors, 16#83xx record
-// refused (plc::io::RecordError), 16#8001/8002/8003 the axis' communication
-// error (the request is not sent while the axis reports one).
+// refused (plc::io::RecordError), 16#8206 a write value that does not fit
+// Format (outside the type's range of Table 4.3.5.1, NaN or infinite; not
+// sent, never wrapped), 16#8001/8002/8003 the axis' communication error (the
+// request is not sent while the axis reports one).
 #pragma once
 
 #include <array>

@@ -16,12 +16,18 @@
 //   5 set reference point    POS_STW2.1 (telegram 111 only), at standstill
 //   7 jog                    Jog1/Jog2 levels -> STW1.8/.9 (Pt533 speed, Pt53A)
 // Other values give Status 16#8202. OverV (0..199 %) drives OVERRIDE live
-// (telegram 111), OverAcc/OverDec (1..100 %) MDI_ACC/MDI_DEC.
+// (telegram 111), OverAcc/OverDec (1..100 %) MDI_ACC/MDI_DEC. Values outside
+// these ranges are refused, never clamped (Status 16#8203, DiagID 16#8025
+// for OverV, 16#8021 for OverAcc/OverDec): an invalid OverV leaves the last
+// valid OVERRIDE on the wire, an invalid OverAcc/OverDec refuses the command
+// (in mode 3 the change; the task runs on with its last valid setpoints).
 // CancelTraversing = FALSE rejects the task (STW1.4 = 0, Pt538 ramp);
 // IntermediateStop = FALSE pauses it (STW1.5 = 0), TRUE again resumes.
 // ConfigEPos bit 0 = 0 forces OFF2, bit 1 = 0 forces OFF3 (default 16#3).
 // AckError: its rising edge acknowledges drive faults (STW1.7) and clears
-// the block's and the axis' errors once the fault is gone.
+// the block's and the axis' errors once the fault is gone. Power then comes
+// back only with a new EnableAxis edge (no automatic restart; until then
+// Lockout with Status 16#8402, DiagID 16#8006).
 //
 // Outputs: AxisEnabled (ZSW1.2), AxisPosOk (ZSW1.10 with no task running),
 // AxisRef (ZSW1.11), AxisWarn (ZSW1.7), AxisError, Lockout (ZSW1.6),
@@ -29,8 +35,9 @@
 // (POS_ZSW1/2), ActWarn (WARN_CODE), ActFault (FAULT_CODE), Error, Status,
 // DiagID. Status and DiagID values: diag_codes.hpp and README.md:
 //   16#7000 idle, 16#7002 job running, 16#8202 bad ModePos (DiagID 8023),
-//   16#8203 bad setpoint (DiagID 8020/8022), 16#8401 drive fault (DiagID =
-//   FAULT_CODE on telegram 111, 16#8004 on 9), 16#8402 lockout (DiagID 8033),
+//   16#8203 bad setpoint (DiagID 8020/8021/8022/8025), 16#8401 drive fault
+//   (DiagID = FAULT_CODE on telegram 111, 16#8004 on 9), 16#8402 lockout
+//   (DiagID 8033, or 8006 after an acknowledged error),
 //   16#8600 no valid cyclic data (DiagID 8001/8002/8003), 16#8601 handshake
 //   failed (DiagID 8030/8031/8035, or the refusal 8010-8013).
 #pragma once

@@ -2,13 +2,19 @@
 // standard telegram 3 of the HIWIN E1 (SINA_SPEED's own telegram 1 is not
 // supported by the E1, spec §9.2). NSOLL_B = SpeedSp / RefSpeed x 0x40000000
 // (spec §2, §7.1: 0x40000000 = 100 % of the reference speed Pt317; RefSpeed
-// must equal Pt317), saturated at +/-200 %; ActVelocity from NIST_B.
+// must equal Pt317); ActVelocity from NIST_B. A setpoint that does not fit
+// NSOLL_B (|SpeedSp| >= 200 % of RefSpeed, RefSpeed <= 0, NaN, infinity) is
+// refused: the last valid NSOLL_B stays on the wire and Status is 16#8203
+// with DiagID 16#8026 while the input stays invalid.
 // EnableAxis walks S1 -> S4 like MC_Power; ConfigAxis bit 0 = 0 forces OFF2,
 // bit 1 = 0 forces OFF3 (default 16#3); EnableAxis FALSE is OFF1.
-// AckError (rising edge) acknowledges faults and clears the axis error.
+// AckError acknowledges faults and clears the axis error; power comes back
+// only with a new EnableAxis edge after that (no automatic restart; until
+// then Lockout with Status 16#8402, DiagID 16#8006).
 // Status/DiagID as SinaPos (diag_codes.hpp): 16#7000 disabled/idle,
-// 16#7002 running (S4), 16#8401 fault (DiagID 16#8004), 16#8402 lockout,
-// 16#8600 no valid cyclic data (DiagID 8001/8002/8003).
+// 16#7002 running (S4), 16#8203 bad setpoint (DiagID 16#8026), 16#8401 fault
+// (DiagID 16#8004), 16#8402 lockout (DiagID 8033 or 8006), 16#8600 no valid
+// cyclic data (DiagID 8001/8002/8003).
 #pragma once
 
 #include "plc/fb/drive/drive_axis.hpp"

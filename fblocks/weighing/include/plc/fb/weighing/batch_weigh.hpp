@@ -44,11 +44,29 @@
 //  * Errors: device offline / read timeouts (16#80xx), tare refused
 //    (16#81nn device error), MaxFillTime (16#8202), no standstill within
 //    MaxSettleTime (16#8203), weight invalid: Adu Error, Over-load or above
-//    full scale (16#8204; spec §7.2 "weight invalid"; the negative half of
-//    Dimmed is ignored because an empty scale flickers around zero),
-//    discharge timeout (16#8205), out of tolerance with
-//    StopOnOutOfTolerance (16#8206 over, 16#8207 under: the batch is
-//    counted, not discharged, and waits for the operator).
+//    full scale (16#8204; spec §7.2 "weight invalid"; in Discharge only Adu
+//    Error, since an over-full hopper must still be emptied), discharge
+//    timeout (16#8205), out of tolerance with StopOnOutOfTolerance (16#8206
+//    over, 16#8207 under: the batch is counted, not discharged, and waits
+//    for the operator), weight clearly below zero (16#8209, see below).
+//    Each stops feeding at once (all valves closed), and a batch that has
+//    not reached Check is not counted.
+//  * Below zero (spec §3.4 = manual §5.4, read byte 7): Below Zero (bit 3,
+//    gross <= -1/4 d) is the negative half of Dimmed (bit 7). A weight is
+//    clearly below zero, and the batch fails with 16#8209, when
+//      - Below Zero is set while Inside ZSR (bit 5) is off: the gross is
+//        below the device's zero-set range, the zero band; in every state,
+//        from Tare to Discharge; or
+//      - Below Zero stays set for BelowZeroTime without a break while the
+//        block measures a fill (from the sample after the tare through
+//        Coarse, Fine and Settle): the feed does not lift the reading; or
+//      - Below Zero is set at Check: a final weight that reads negative is
+//        never counted.
+//    Any other Below Zero inside the zero band is the flicker of an empty
+//    scale around zero, or a zero a few digits low, and is tolerated (at
+//    the tare, at the start of the feed until the material lands, at the
+//    end of the discharge). A W&M device refuses the tare of a negative
+//    weight itself (error 33, 16#8121).
 // Totals: ResetTotals (rising edge) clears totals, counts and the learned
 // preact.
 #pragma once
@@ -106,6 +124,10 @@ class PR5510_BatchWeigh {
   TIME FlowSettleTime = std::chrono::milliseconds(600);  // coarse tail still landing
   BOOL DriveDeviceOutputs = true;                        // valves on PR5510 outputs 1/2/3 too
   BOOL ResetTotals{};
+  // Below Zero held this long while measuring a fill is not flicker (16#8209);
+  // longer than the fall time of the first material onto a scale whose zero
+  // is a little low, and than the flicker of a vibrating empty scale.
+  TIME BelowZeroTime = std::chrono::seconds(1);
 
   // ---- outputs ----
   BOOL CoarseFeed{};
@@ -136,13 +158,14 @@ class PR5510_BatchWeigh {
               TolPlus, TolMinus, SettleTime, MaxSettleTime, MaxFillTime, TareAtStart,
               DischargeEnable, EmptyWeight, MaxDischargeTime, StopOnOutOfTolerance, MaxTopUps,
               TopUpPulse, FlowCompensation, FlowSettleTime, DriveDeviceOutputs, ResetTotals,
-              CoarseFeed, FineFeed, Discharge, State, ActualNet, LastNet, LastResult, InTolerance,
-              LastDeviation, PreactActual, InFlightTime, FineRate, TotalWeight, BatchCount,
-              InTolCount, OutTolCount, TopUps, Busy, Done, Error, CommandAborted, Paused, ErrorID,
+              BelowZeroTime, CoarseFeed, FineFeed, Discharge, State, ActualNet, LastNet, LastResult,
+              InTolerance, LastDeviation, PreactActual, InFlightTime, FineRate, TotalWeight,
+              BatchCount, InTolCount, OutTolCount, TopUps, Busy, Done, Error, CommandAborted,
+              Paused, ErrorID,
               // internal state: shown by the debugger, kept in recording snapshots
               slot_, prev_execute_, prev_reset_, learned_, have_net_, closed_by_preact_, top_up_,
               adapted_, tare_step_, net_, start_net_, entered_, active_time_, last_now_,
-              rate_started_, time_learned_, rate_t1_, rate_n1_, top_up_len_)
+              rate_started_, time_learned_, rate_t1_, rate_n1_, top_up_len_, below_zero_since_)
 
   void operator()(const ScanContext& ctx);
 
@@ -156,6 +179,7 @@ class PR5510_BatchWeigh {
   void run_state(const ScanContext& ctx);
   void set_valves(bool coarse, bool fine, bool discharge);
   void measure_fine_rate(TIME now);
+  [[nodiscard]] std::uint16_t weight_error(TIME now) const;
   [[nodiscard]] REAL cutoff() const;
 
   int slot_ = PR5510_Device::kNoSlot;
@@ -171,6 +195,7 @@ class PR5510_BatchWeigh {
   TIME rate_t1_{};
   REAL rate_n1_ = 0.0f;
   TIME top_up_len_{};
+  TIME below_zero_since_{};  // last scan without Below Zero (R[7].3)
 };
 
 }  // namespace plc::weighing

@@ -30,6 +30,7 @@ inline constexpr std::uint16_t kDischargeTimeout = 0x8205;
 inline constexpr std::uint16_t kOverWeight = 0x8206;   // out of tolerance, too heavy
 inline constexpr std::uint16_t kUnderWeight = 0x8207;  // out of tolerance, too light
 inline constexpr std::uint16_t kNotReady = 0x8208;     // device format (code 4) unknown
+inline constexpr std::uint16_t kBelowZero = 0x8209;    // weight clearly below zero (R[7].3/.5)
 
 constexpr std::uint16_t device_error(std::uint8_t n) {
   return n == 0 ? kDeviceErrorUnknown : static_cast<std::uint16_t>(kDeviceErrorBase + n);
