@@ -42,7 +42,7 @@ void BM_DemoVirtualTick(benchmark::State& state) {
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
   std::uint64_t scans = 0;
-  for (const auto& t : rt.tasks()) scans += t->stats.scans;
+  for (const auto& t : rt.tasks()) scans += t->stats.scans();
   rt.finish();
   g_scans_per_s = double(scans) / wall;
   g_speed = std::chrono::duration<double>(rt.now()).count() / wall;
@@ -64,7 +64,7 @@ devices: [{name: tank1, plugin: sim, model: first_order, input: "%IB0", output: 
                                                "latency.yaml");
   plc::Runtime rt(cfg);
   rt.run(plc::io::ClockMode::RealTime, std::chrono::seconds(seconds));
-  const auto& s = rt.tasks()[0]->stats;
+  const plc::TaskStats s = rt.tasks()[0]->stats.snapshot();
   std::printf("rt_1ms_wake_latency_p50: %.1f us\n", double(s.latency_ns.percentile(0.50)) / 1000);
   std::printf("rt_1ms_wake_latency_p99: %.1f us\n", double(s.latency_ns.percentile(0.99)) / 1000);
   std::printf("rt_1ms_wake_latency_p999: %.1f us\n", double(s.latency_ns.percentile(0.999)) / 1000);
