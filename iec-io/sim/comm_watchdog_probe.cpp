@@ -22,16 +22,17 @@ CommWatchdogProbe::CommWatchdogProbe(const ModelParams& p)
 
 void CommWatchdogProbe::step(TIME, TIME dt, std::span<const std::uint8_t> from_plc,
                              std::span<std::uint8_t> to_plc) {
-  ++exchanges_;
-  if (dt > longest_gap_) longest_gap_ = dt;
-  if (dt > timeout_) tripped_ = true;
+  exchanges_.fetch_add(1, std::memory_order_relaxed);
+  if (dt.count() > longest_gap_ns_.load(std::memory_order_relaxed))
+    longest_gap_ns_.store(dt.count(), std::memory_order_relaxed);
+  if (dt > timeout_) tripped_.store(true, std::memory_order_relaxed);
   store_be<std::uint16_t>(to_plc, 0, load_be<std::uint16_t>(from_plc, 0));
-  store_be<std::uint16_t>(to_plc, 2, static_cast<std::uint16_t>((tripped_ ? 2U : 1U)));
+  store_be<std::uint16_t>(to_plc, 2, static_cast<std::uint16_t>((tripped() ? 2U : 1U)));
 }
 
 void CommWatchdogProbe::power_cycle() {
-  tripped_ = false;
-  longest_gap_ = TIME(0);
+  tripped_.store(false, std::memory_order_relaxed);
+  longest_gap_ns_.store(0, std::memory_order_relaxed);
 }
 
 PLC_REGISTER_DEVICE_MODEL("comm_watchdog", CommWatchdogProbe)

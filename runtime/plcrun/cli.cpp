@@ -56,12 +56,18 @@ std::vector<std::string> split_csv(const std::string& s) {
 }
 
 // A one-line live status (checked every 256 scans so the clock read stays
-// off the hot path).
+// off the hot path). In real time every task's thread calls the observer:
+// the count is atomic, one thread at a time prints (the others skip, never
+// wait), and the figures are snapshots of the tasks' statistics.
 class StatusLine {
  public:
   StatusLine(Runtime& rt, bool tty) : rt_(rt), tty_(tty), t0_(std::chrono::steady_clock::now()) {
     rt.add_scan_observer([this](const TaskRuntime&, const ScanContext&) {
-      if ((++calls_ & 255) == 0) maybe_print();
+      if (((calls_.fetch_add(1, std::memory_order_relaxed) + 1) & 255) == 0 &&
+          !printing_.test_and_set(std::memory_order_acquire)) {
+        maybe_print();
+        printing_.clear(std::memory_order_release);
+      }
     });
   }
   void done() {
@@ -86,9 +92,9 @@ class StatusLine {
     std::snprintf(b, sizeof b, "%.2f s", sim);
     line += b;
     for (const auto& t : rt_.tasks()) {
-      line += "  " + t->name + ": " + std::to_string(t->stats.scans) + " scans, avg " +
-              us(std::uint64_t(t->stats.scan_ns.mean())) + ", ovr " +
-              std::to_string(t->stats.overruns);
+      const TaskStats st = t->stats.snapshot();
+      line += "  " + t->name + ": " + std::to_string(st.scans) + " scans, avg " +
+              us(std::uint64_t(st.scan_ns.mean())) + ", ovr " + std::to_string(st.overruns);
     }
     if (rt_.mode() == io::ClockMode::Virtual && wall > 0) {
       std::snprintf(b, sizeof b, "  speed %.0fx", sim / wall);
@@ -105,7 +111,8 @@ class StatusLine {
   Runtime& rt_;
   bool tty_;
   bool printed_ = false;
-  std::uint64_t calls_ = 0;
+  std::atomic<std::uint64_t> calls_{0};
+  std::atomic_flag printing_;  // held by the thread that prints
   std::chrono::steady_clock::time_point t0_, last_{};
 };
 
@@ -118,7 +125,7 @@ void print_summary(const Runtime& rt) {
     std::printf("   virtual-to-real speed: %.0fx", sim / rt.wall_seconds());
   std::printf("\n");
   for (const auto& t : rt.tasks()) {
-    const TaskStats& s = t->stats;
+    const TaskStats s = t->stats.snapshot();
     std::printf(
         "task %-10s period %-10s cycles %-9llu overruns %llu (skipped %llu)\n", t->name.c_str(),
         format_iec_time(t->period).c_str(), static_cast<unsigned long long>(s.scans),
@@ -364,7 +371,7 @@ int plcrun_main(int argc, char** argv) {
   }
   if (rt->stop_requested()) std::printf("stopped by signal; outputs at their safe values\n");
   for (const auto& t : rt->tasks())
-    if (!t->stats.stop_reason.empty()) rc = 1;
+    if (!t->stats.snapshot().stop_reason.empty()) rc = 1;
   if (vm.count("stats-json")) {
     std::ofstream f(vm["stats-json"].as<std::string>());
     if (!f) {

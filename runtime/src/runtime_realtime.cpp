@@ -76,7 +76,7 @@ void Runtime::run_realtime(TIME span) {
     TaskRuntime& t = *tasks_[i];
     // A task the watchdog stopped may be stuck in its scan forever; it no
     // longer touches the image, so leave it behind rather than hang.
-    if (t.stats.watchdog_tripped && t.scan_started_ns.load() >= 0) {
+    if (t.stats.watchdog_tripped() && t.scan_started_ns.load() >= 0) {
       threads[i].detach();
     } else {
       threads[i].join();
@@ -107,22 +107,41 @@ void Runtime::realtime_task_loop(TaskRuntime& t, std::int64_t t0) {
     if (!rt_running_.load(std::memory_order_relaxed) || t.stopped.load(std::memory_order_relaxed))
       break;
     const std::int64_t wake = mono_ns();
+    // Busy before looking at the pause and stop flags (all sequentially
+    // consistent): either we see them, or wait_until_idle (or the debugger's
+    // check that the task is quiet) sees us busy.
+    t.busy.store(true);
+    if (t.stopped.load()) {
+      t.busy.store(false, std::memory_order_release);
+      break;
+    }
     // Paused (debugger): skip the scan entirely; the plugins keep
     // exchanging the last outputs. A step budget lets single scans through.
-    if (paused() && t.step_budget.load(std::memory_order_acquire) <= 0) {
-      ++t.paused_releases;
+    if (paused_.load() && t.step_budget.load(std::memory_order_acquire) <= 0) {
+      t.stats.record_paused_release();
+      t.busy.store(false, std::memory_order_release);
       k = next_release(k, t0, period, mono_ns()).index;
       continue;
     }
     if (paused()) t.step_budget.fetch_sub(1, std::memory_order_acq_rel);
-    t.stats.latency_ns.record(wake - release);
+    t.stats.record_latency(wake - release);
     scan(t, TIME(k * period));
     const NextRelease n = next_release(k, t0, period, mono_ns());
-    if (n.overrun) {
-      ++t.stats.overruns;
-      t.stats.skipped += n.skipped;
-    }
+    if (n.overrun) t.stats.record_overrun(n.skipped);
+    t.busy.store(false, std::memory_order_release);
     k = n.index;
+  }
+}
+
+bool Runtime::wait_until_idle(std::chrono::nanoseconds timeout) const {
+  if (!lock_image_) return true;  // virtual time: nothing runs concurrently
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    bool idle = true;
+    for (const auto& t : tasks_) idle &= !t->busy.load();  // pairs with the store above
+    if (idle) return true;
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
 }
 

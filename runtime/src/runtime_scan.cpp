@@ -92,17 +92,14 @@ void Runtime::scan(TaskRuntime& t, TIME now) {
   const std::int64_t end = steady_ns();
   io::DeviceLink::set_current_owner(-1);
   t.scan_started_ns.store(-1, std::memory_order_release);
-  t.stats.scan_ns.record(end - start);
-  ++t.stats.scans;
+  t.stats.record_scan(end - start);
   for (const auto& o : observers_) o(t, ctx);
   ++t.cycle;
 }
 
 void Runtime::trip(TaskRuntime& t, const std::string& reason, bool watchdog) {
   if (t.stopped.exchange(true)) return;
-  t.stats.watchdog_tripped = watchdog;
-  t.stats.faulted = !watchdog;
-  t.stats.stop_reason = reason;
+  t.stats.set_stopped(watchdog, reason);
   {
     MaybeLock lock(image_mutex_, lock_image_);
     apply_safe_outputs(&t.owned_q);

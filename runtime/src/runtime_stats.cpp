@@ -32,15 +32,16 @@ std::string Runtime::stats_json() const {
     << ",\n  \"tasks\": [";
   for (std::size_t i = 0; i < tasks_.size(); ++i) {
     const TaskRuntime& t = *tasks_[i];
+    const TaskStats st = t.stats.snapshot();
     o << (i ? "," : "") << "\n    {\"name\": \"" << escaped(t.name)
       << "\", \"period_ns\": " << t.period.count() << ", \"priority\": " << t.priority
-      << ", \"scans\": " << t.stats.scans << ", \"overruns\": " << t.stats.overruns
-      << ", \"skipped\": " << t.stats.skipped
-      << ", \"watchdog_tripped\": " << (t.stats.watchdog_tripped ? "true" : "false")
-      << ", \"stop_reason\": \"" << escaped(t.stats.stop_reason) << "\",\n     \"scan_ns\": ";
-    histogram_json(o, t.stats.scan_ns);
+      << ", \"scans\": " << st.scans << ", \"overruns\": " << st.overruns
+      << ", \"skipped\": " << st.skipped
+      << ", \"watchdog_tripped\": " << (st.watchdog_tripped ? "true" : "false")
+      << ", \"stop_reason\": \"" << escaped(st.stop_reason) << "\",\n     \"scan_ns\": ";
+    histogram_json(o, st.scan_ns);
     o << ",\n     \"latency_ns\": ";
-    histogram_json(o, t.stats.latency_ns);
+    histogram_json(o, st.latency_ns);
     o << "}";
   }
   o << "\n  ]\n}\n";

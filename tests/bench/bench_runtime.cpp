@@ -1,6 +1,7 @@
 // Runtime benchmarks (issue 2): virtual-time scans per second of the demo
 // cell, and real-time wake latency of a 1 ms task (with cyclictest from
-// rt-tests in the same run for comparison, when it is installed).
+// rt-tests in the same run for comparison, when it is installed); the cost
+// of a scan's statistics (issue 10).
 //
 // Prints one `name: value unit` line per figure on stdout. Environment:
 //   PLC_BENCH_RT_SECONDS  length of the real-time run (default 10)
@@ -13,6 +14,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "plc/cell_config.hpp"
 #include "plc/runtime.hpp"
@@ -42,7 +44,7 @@ void BM_DemoVirtualTick(benchmark::State& state) {
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count();
   std::uint64_t scans = 0;
-  for (const auto& t : rt.tasks()) scans += t->stats.scans;
+  for (const auto& t : rt.tasks()) scans += t->stats.scans();
   rt.finish();
   g_scans_per_s = double(scans) / wall;
   g_speed = std::chrono::duration<double>(rt.now()).count() / wall;
@@ -50,6 +52,55 @@ void BM_DemoVirtualTick(benchmark::State& state) {
   state.counters["scans_per_s"] = g_scans_per_s;
 }
 BENCHMARK(BM_DemoVirtualTick)->MinTime(2.0);
+
+// What the scan thread pays per scan for its statistics (wake latency and
+// scan time into their histograms, the scan count): into the live,
+// snapshot-able LiveTaskStats, and, for comparison, into plain fields that
+// no other thread may read (as before issue 10).
+double g_stats_live_ns = 0, g_stats_plain_ns = 0;
+
+void BM_TaskStatsLive(benchmark::State& state) {
+  plc::LiveTaskStats s;
+  std::int64_t v = 0;
+  for (auto _ : state) {
+    v = (v * 1103515245 + 12345) & 0xFFFFF;  // 0 .. 1 ms, spread over the buckets
+    s.record_latency(v >> 4);
+    s.record_scan(v);
+  }
+  benchmark::DoNotOptimize(s.scans());
+}
+BENCHMARK(BM_TaskStatsLive)->MinTime(0.5);
+
+void BM_TaskStatsPlain(benchmark::State& state) {
+  plc::Histogram scan, latency;
+  std::uint64_t scans = 0;
+  std::int64_t v = 0;
+  for (auto _ : state) {
+    v = (v * 1103515245 + 12345) & 0xFFFFF;
+    latency.record(v >> 4);
+    scan.record(v);
+    ++scans;
+    benchmark::ClobberMemory();
+  }
+  benchmark::DoNotOptimize(scans);
+  benchmark::DoNotOptimize(scan.count() + latency.count());
+}
+BENCHMARK(BM_TaskStatsPlain)->MinTime(0.5);
+
+// Keeps each benchmark's CPU time per iteration (wall time on a shared
+// machine counts the time other processes had the CPU).
+class Collect : public benchmark::ConsoleReporter {
+ public:
+  Collect() : ConsoleReporter(OO_Tabular) {}
+  void ReportRuns(const std::vector<Run>& runs) override {
+    for (const Run& r : runs) {
+      const std::string name = r.benchmark_name();
+      if (name.rfind("BM_TaskStatsLive", 0) == 0) g_stats_live_ns = r.GetAdjustedCPUTime();
+      if (name.rfind("BM_TaskStatsPlain", 0) == 0) g_stats_plain_ns = r.GetAdjustedCPUTime();
+    }
+    ConsoleReporter::ReportRuns(runs);
+  }
+};
 
 void realtime_latency() {
   const char* env = std::getenv("PLC_BENCH_RT_SECONDS");
@@ -64,7 +115,7 @@ devices: [{name: tank1, plugin: sim, model: first_order, input: "%IB0", output: 
                                                "latency.yaml");
   plc::Runtime rt(cfg);
   rt.run(plc::io::ClockMode::RealTime, std::chrono::seconds(seconds));
-  const auto& s = rt.tasks()[0]->stats;
+  const plc::TaskStats s = rt.tasks()[0]->stats.snapshot();
   std::printf("rt_1ms_wake_latency_p50: %.1f us\n", double(s.latency_ns.percentile(0.50)) / 1000);
   std::printf("rt_1ms_wake_latency_p99: %.1f us\n", double(s.latency_ns.percentile(0.99)) / 1000);
   std::printf("rt_1ms_wake_latency_p999: %.1f us\n", double(s.latency_ns.percentile(0.999)) / 1000);
@@ -105,8 +156,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   benchmark::Initialize(&argc, argv);
-  benchmark::RunSpecifiedBenchmarks();
+  Collect reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
   benchmark::Shutdown();
+  std::printf("task_stats_per_scan_live: %.2f ns\n", g_stats_live_ns);
+  std::printf("task_stats_per_scan_plain: %.2f ns\n", g_stats_plain_ns);
   std::printf("demo_virtual_scans_per_s: %.0f scans/s\n", g_scans_per_s);
   std::printf("demo_virtual_tick: %.3f us\n", g_us_per_tick);
   std::printf("demo_virtual_speed: %.0f x real time\n", g_speed);

@@ -67,7 +67,7 @@ TEST(Debugger, StartsPausedBeforeTheFirstScanAndStepsScanByScan) {
   EXPECT_TRUE(has(out, "task 'fast' at t=0.008000s")) << out;
   out = d->execute("step task slow 1");
   EXPECT_TRUE(has(out, "of task 'slow'")) << out;
-  EXPECT_EQ(d->runtime().task("slow")->stats.scans, 2u);
+  EXPECT_EQ(d->runtime().task("slow")->stats.scans(), 2u);
   EXPECT_EQ(d->scan_count(), 13u) << "fast at 9 and 10 ms, then slow at 10 ms";
   EXPECT_TRUE(has(d->execute("step 0"), "not a positive count"));
   EXPECT_TRUE(has(d->execute("step task nope"), "unknown task 'nope'"));
@@ -123,10 +123,10 @@ TEST(Debugger, RunUntilAndContinueFor) {
   EXPECT_TRUE(has(out, "condition 'Tank.level > 16#4000 AND Tank.step = 1' holds")) << out;
   EXPECT_TRUE(has(d->execute("breaks"), "no breakpoints"))
       << "run until leaves no breakpoint behind";
-  const auto before = d->runtime().task("fast")->stats.scans;
+  const auto before = d->runtime().task("fast")->stats.scans();
   out = d->execute("continue for 250ms");
   EXPECT_TRUE(has(out, "ran for T#250ms")) << out;
-  EXPECT_EQ(d->runtime().task("fast")->stats.scans - before, 250u);
+  EXPECT_EQ(d->runtime().task("fast")->stats.scans() - before, 250u);
 }
 
 TEST(Debugger, WriteAppliesOnceAtTheNextScan) {

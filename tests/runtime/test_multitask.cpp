@@ -34,9 +34,9 @@ programs:
     // Same tick: the fast task (priority 0) runs before the slow one.
     ASSERT_LT(fast->order[k * 10], slow->order[k]) << k;
   }
-  EXPECT_EQ(rt->task("fast")->stats.scans, 10000u);
-  EXPECT_EQ(rt->task("slow")->stats.scans, 1000u);
-  EXPECT_EQ(rt->task("fast")->stats.overruns, 0u);
+  EXPECT_EQ(rt->task("fast")->stats.scans(), 10000u);
+  EXPECT_EQ(rt->task("slow")->stats.scans(), 1000u);
+  EXPECT_EQ(rt->task("fast")->stats.snapshot().overruns, 0u);
 }
 
 TEST(MultiTask, NonHarmonicPeriodsUseTheirGreatestCommonDivisor) {

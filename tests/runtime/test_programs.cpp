@@ -43,7 +43,7 @@ void RecordPoller::cycle(const ScanContext&) {
 
 void PairWriter::cycle(const ScanContext&) {
   ++first;
-  const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(300);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(work_us);
   while (std::chrono::steady_clock::now() < until) {
   }
   second = first;

@@ -101,14 +101,15 @@ class RecordPoller : public ProgramBase<RecordPoller> {
 };
 
 // Sets `first` at the start of its scan and `second` at the end, with
-// 300 us of work between: a reader that looks in the middle of a scan sees
-// them differ.
+// `work_us` (300 us) of work between: a reader that looks in the middle of a
+// scan sees them differ.
 class PairWriter : public ProgramBase<PairWriter> {
  public:
   DINT first = 0;
   DINT second = 0;
+  DINT work_us = 300;
   void cycle(const ScanContext&) override;
-  PLC_REFLECT(first, second)
+  PLC_REFLECT(first, second, work_us)
 };
 
 // Throws on demand (fault isolation).

@@ -43,8 +43,8 @@ TEST(Watchdog, LongScanStopsOnlyItsTaskAndDrivesItsOutputsSafe) {
   spin->spin_us = 200000;
   for (int i = 0; i < 10; ++i) rt->tick();
   const TaskRuntime& fast = *rt->task("fast");
-  EXPECT_TRUE(fast.stats.watchdog_tripped);
-  EXPECT_NE(fast.stats.stop_reason.find("watchdog"), std::string::npos);
+  EXPECT_TRUE(fast.stats.snapshot().watchdog_tripped);
+  EXPECT_NE(fast.stats.snapshot().stop_reason.find("watchdog"), std::string::npos);
   EXPECT_EQ(spin->scans, 11) << "no scan after the trip";
   EXPECT_EQ(dev_out[0], 0x04);
   EXPECT_EQ(dev_out[1], 0x00) << "safe value 16#0400 configured for %QW0";
@@ -70,10 +70,10 @@ programs: [{name: T, type: Thrower}, {name: L, type: ReleaseLog}]
   t->fire = true;
   rt->tick();
   rt->tick();
-  EXPECT_TRUE(rt->task("a")->stats.faulted);
-  EXPECT_NE(rt->task("a")->stats.stop_reason.find("boom"), std::string::npos);
+  EXPECT_TRUE(rt->task("a")->stats.snapshot().faulted);
+  EXPECT_NE(rt->task("a")->stats.snapshot().stop_reason.find("boom"), std::string::npos);
   EXPECT_EQ(rt->image().area(io::Area::Output)[6], 0x00) << "its output went safe";
-  EXPECT_EQ(rt->task("b")->stats.scans, 3u);
+  EXPECT_EQ(rt->task("b")->stats.scans(), 3u);
   rt->finish();
 }
 
@@ -95,6 +95,6 @@ tasks: [{name: t, period: 1ms, watchdog: 2, programs: [L]}]
 programs: [{name: L, type: LoopCounter}]
 )");
   rt->run(io::ClockMode::Virtual, std::chrono::seconds(10));
-  EXPECT_FALSE(rt->task("t")->stats.watchdog_tripped);
-  EXPECT_EQ(rt->task("t")->stats.scans, 10000u);
+  EXPECT_FALSE(rt->task("t")->stats.snapshot().watchdog_tripped);
+  EXPECT_EQ(rt->task("t")->stats.scans(), 10000u);
 }

@@ -32,6 +32,7 @@
 #include <time.h>
 
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -71,8 +72,13 @@ struct TaskRuntime {
   io::ProcessImage image, before;       // private copy; its %Q/%M at scan start
   std::vector<DeviceRuntime*> devices;  // exchanged by this task
   std::vector<std::uint8_t> owned_q;    // bit mask of the %Q bits this task writes
-  TaskStats stats;
+  LiveTaskStats stats;                  // recorded by the task's thread; snapshot() from any
   std::atomic<bool> stopped{false};
+  // Real time: set from before the task looks at the pause flag until its
+  // scan is over, so that once the pause is set and this is seen clear, the
+  // task is at its next release and everything its scans wrote is visible
+  // (Runtime::wait_until_idle).
+  std::atomic<bool> busy{false};
   std::atomic<std::int64_t> scan_started_ns{-1};  // steady/monotonic ns, -1 = idle
   std::atomic<std::uint64_t> scan_seq{0};         // scans started (watchdog bookkeeping)
   // Virtual time: the watchdog thread asks, the scan thread stops the task
@@ -80,7 +86,6 @@ struct TaskRuntime {
   std::atomic<bool> trip_requested{false};
   std::string trip_reason;
   std::atomic<std::int64_t> step_budget{0};  // real time: scans allowed while paused
-  std::uint64_t paused_releases = 0;         // real time: releases skipped while paused
   std::uint64_t cycle = 0;
 };
 
@@ -142,11 +147,16 @@ class Runtime {
   // do not scan (no latch, no programs, no publish) and the plugins go on
   // exchanging the last outputs, so devices do not time out. allow_scans()
   // lets a paused task run n more scans (stepping).
-  void set_paused(bool p) { paused_.store(p, std::memory_order_release); }
+  void set_paused(bool p) { paused_.store(p); }  // seq_cst: see TaskRuntime::busy
   [[nodiscard]] bool paused() const { return paused_.load(std::memory_order_acquire); }
   void allow_scans(TaskRuntime& t, std::int64_t n) {
     t.step_budget.fetch_add(n, std::memory_order_acq_rel);
   }
+  // Real time: waits, at most `timeout`, until no task is inside a scan; true
+  // when none is. After set_paused(true) (and no step budget left) the logic
+  // has then stopped, and the caller sees everything the scans wrote: it may
+  // read the tasks' variables until it resumes them. Virtual time: true.
+  bool wait_until_idle(std::chrono::nanoseconds timeout) const;
 
   // Several hook sets may be active (debugger, recorder, replayer); they run
   // in the order they were added.

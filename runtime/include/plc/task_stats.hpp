@@ -1,11 +1,19 @@
 // Per-task timing statistics: scan (execution) time and wake latency as
 // histograms, plus overruns and skipped releases.
+//
+// TaskStats is a plain snapshot. LiveTaskStats is where a task's scan thread
+// keeps them while it runs: only that thread records (no lock, no
+// allocation, no waiting: a sequence lock, seqlock.hpp), and any thread
+// (the console's `stats` and `step`, plcrun's status line, the HMI) takes a
+// consistent snapshot at any time: every figure in it from the same scans.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 
 #include "plc/histogram.hpp"
+#include "plc/seqlock.hpp"
 
 namespace plc {
 
@@ -13,11 +21,42 @@ struct TaskStats {
   Histogram scan_ns;     // time from scan start to scan end (latch..publish)
   Histogram latency_ns;  // real time only: wake-up time minus release time
   std::uint64_t scans = 0;
-  std::uint64_t overruns = 0;  // scans that ended after their next release
-  std::uint64_t skipped = 0;   // releases dropped because of overruns
+  std::uint64_t overruns = 0;         // scans that ended after their next release
+  std::uint64_t skipped = 0;          // releases dropped because of overruns
+  std::uint64_t paused_releases = 0;  // real time: releases not scanned while paused
   bool watchdog_tripped = false;
   bool faulted = false;     // stopped by an exception from a program
   std::string stop_reason;  // why the task stopped early ("" = it did not)
+};
+
+class LiveTaskStats {
+ public:
+  // The task's scan thread only.
+  void record_scan(std::int64_t scan_ns);
+  void record_latency(std::int64_t latency_ns);
+  void record_overrun(std::uint64_t skipped);
+  void record_paused_release();
+
+  // Once, by the thread that stops the task (its scan thread, or the
+  // watchdog's in real time); readers see the reason only when it is
+  // complete.
+  void set_stopped(bool watchdog, std::string reason);
+
+  // Any thread. scans() is an acquire: whoever sees n scans sees everything
+  // the task's first n scans wrote (the debugger's `step` waits on it).
+  [[nodiscard]] std::uint64_t scans() const { return scans_; }
+  [[nodiscard]] bool watchdog_tripped() const {
+    return stop_published_.load(std::memory_order_acquire) && watchdog_tripped_;
+  }
+  [[nodiscard]] TaskStats snapshot() const;
+
+ private:
+  SeqLock seq_;
+  BasicHistogram<SeqLockCell> scan_ns_, latency_ns_;
+  SeqLockCell<std::uint64_t> scans_, overruns_, skipped_, paused_releases_;
+  std::atomic<bool> stop_published_{false};
+  bool watchdog_tripped_ = false, faulted_ = false;
+  std::string stop_reason_;
 };
 
 }  // namespace plc

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
 #include <stdexcept>
 
@@ -89,7 +90,10 @@ void Debugger::build() {
   rt_->add_hooks(this);
   rt_->add_scan_observer(
       [this](const TaskRuntime& t, const ScanContext& ctx) { on_scan_end(t, ctx); });
-  scans_ = 0;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    last_ = {};
+  }
   // Re-resolve everything that points into the old runtime.
   std::string err;
   for (Breakpoint& b : breaks_) {
@@ -117,6 +121,10 @@ void Debugger::build() {
   if (opt_.mode == io::ClockMode::Virtual) {
     rt_->start(io::ClockMode::Virtual);
   } else {
+    // Started here, before the thread: the mode and the image lock are set
+    // before any command can look at them (and a plugin that fails to start
+    // is an error of this call, not an exception on another thread).
+    rt_->start(io::ClockMode::RealTime);
     rt_thread_ = std::thread([this] { rt_->run(io::ClockMode::RealTime, opt_.span); });
   }
 }
@@ -148,7 +156,12 @@ std::optional<VarInfo> Debugger::resolve(const std::string& name, bool& image, s
   }
   VarInfo out = *v;
   image = v->address.has_value();
-  if (image) out.image_ptr = rt_->image().at(*v->address);  // act on the global image
+  if (image) {
+    // Act on the global image, which belongs to no task: it is read under
+    // the image lock, never as a quiet variable of the task.
+    out.image_ptr = rt_->image().at(*v->address);
+    out.task = -1;
+  }
   return out;
 }
 
@@ -161,13 +174,23 @@ void Debugger::after_latch(TaskRuntime&, io::ProcessImage&) {
 }
 
 void Debugger::before_programs(TaskRuntime& t, const ScanContext&) {
+  // A write into the global image needs the image lock, and that lock comes
+  // before mu_; only a scan with such writes waiting takes it.
+  if (image_writes_pending_.load(std::memory_order_acquire)) {
+    rt_->with_image_locked([&] { apply_writes(t, true); });
+  } else {
+    apply_writes(t, false);
+  }
+}
+
+void Debugger::apply_writes(TaskRuntime& t, bool image_locked) {
   std::lock_guard<std::mutex> lock(mu_);
   auto in_task_image = [&t](VarInfo v) {
     v.image_ptr = t.image.at(*v.address);
     return v;
   };
   for (auto it = writes_.begin(); it != writes_.end();) {
-    if (it->image ? true : it->task == static_cast<int>(t.order)) {
+    if (it->image ? image_locked : it->task == static_cast<int>(t.order)) {
       if (it->image) {
         const VarInfo v = in_task_image(it->var);
         VarRegistry::write(v, &it->value);
@@ -180,6 +203,7 @@ void Debugger::before_programs(TaskRuntime& t, const ScanContext&) {
       ++it;
     }
   }
+  if (image_locked) image_writes_pending_.store(false, std::memory_order_relaxed);
   for (const Force& f : forces_) {
     if (f.image) {
       if (f.var.address->area != io::Area::Input)
@@ -219,9 +243,9 @@ void Debugger::before_publish(TaskRuntime&, io::ProcessImage&) {
 void Debugger::on_scan_end(const TaskRuntime& t, const ScanContext& ctx) {
   std::lock_guard<std::mutex> lock(mu_);
   if (scan_reads_n_) serve_reads(t);
-  ++scans_;
-  last_scan_time_ = ctx.now;
-  last_scan_task_ = t.name;
+  ++last_.scans;
+  last_.time = ctx.now;
+  last_.task = static_cast<int>(t.order);
   if (trace_ && trace_->running()) {
     int fastest = 0;
     for (const auto& task : rt_->tasks())
@@ -254,7 +278,7 @@ void Debugger::freeze_loop(TaskRuntime& t, std::size_t index) {
   freeze_action_ = 0;
   if (writer_)
     writer_("frozen before program '" + t.program_names[index] + "' of task '" + t.name +
-            "' in scan " + std::to_string(scans_ + 1) + " (t=" + seconds(rt_->now()) + ")\n" +
+            "' in scan " + std::to_string(last_.scans + 1) + " (t=" + seconds(rt_->now()) + ")\n" +
             watch_lines());
   while (true) {
     auto line = reader_("[frozen before " + t.program_names[index] + "] > ");
@@ -292,10 +316,17 @@ bool Debugger::one_scan() {
   return rt_->step_scan() != nullptr;
 }
 
+Debugger::LastScan Debugger::last_scan() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return last_;
+}
+
 std::string Debugger::stop_report(const std::string& why) {
-  std::string s = why + "\n  at scan " + std::to_string(scans_);
-  if (scans_ > 0)
-    s += " (the last: task '" + last_scan_task_ + "' at t=" + seconds(last_scan_time_) + ")";
+  const LastScan last = last_scan();
+  std::string s = why + "\n  at scan " + std::to_string(last.scans);
+  if (last.scans > 0 && last.task >= 0)
+    s += " (the last: task '" + rt_->tasks()[std::size_t(last.task)]->name +
+         "' at t=" + seconds(last.time) + ")";
   if (replayer_) {
     s += ", replay " + std::to_string(replayer_->scans()) + " scans, " +
          std::to_string(replayer_->mismatches()) + " output mismatch(es)";
@@ -316,13 +347,33 @@ std::string Debugger::watch_lines() {
   return s;
 }
 
-void Debugger::realtime_wait_until_paused() {
+std::string Debugger::realtime_wait_until_paused() {
   while (!stop_hit_.load() && !interrupted_.load())
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  rt_->set_paused(true);
-  // The scan thread that stopped us holds mu_ until its on_scan_end is
-  // over; taking it here means stop_reason_ and the counters are complete.
+  const std::string note = pause_and_settle();
+  // The scan thread that stopped us wrote the reason under mu_.
   std::lock_guard<std::mutex> lock(mu_);
+  return (stop_hit_.load() ? stop_reason_ : std::string("interrupted")) + note;
+}
+
+std::string Debugger::pause_and_settle() {
+  rt_->set_paused(true);
+  std::int64_t longest = 0;
+  for (const auto& t : rt_->tasks()) longest = std::max<std::int64_t>(longest, t->period.count());
+  const auto wait = std::chrono::nanoseconds(std::max<std::int64_t>(1'000'000'000, 3 * longest));
+  if (rt_->wait_until_idle(wait)) return "";
+  std::string busy;
+  for (const auto& t : rt_->tasks())
+    if (t->busy.load()) busy += " '" + t->name + "'";
+  return "\n  note: still inside a scan:" + busy + " (its variables show when the scan ends)";
+}
+
+bool Debugger::task_quiet(const TaskRuntime& t) const {
+  if (opt_.mode != io::ClockMode::RealTime) return true;
+  // The pause (or the stop) first, then busy: the order the task thread
+  // checks them in reverse (TaskRuntime::busy).
+  const bool held = (rt_->paused() && t.step_budget.load() <= 0) || t.stopped.load();
+  return held && !t.busy.load();
 }
 
 std::string Debugger::cmd_step(const std::vector<std::string>& a) {
@@ -345,11 +396,12 @@ std::string Debugger::cmd_step(const std::vector<std::string>& a) {
     if (!target) return "step: unknown task '" + task_name + "'\n";
   }
   if (opt_.mode == io::ClockMode::RealTime) {
-    rt_->set_paused(true);
+    // Settled first, so the goal counts only the scans this step lets through.
+    pause_and_settle();
     std::vector<std::pair<const TaskRuntime*, std::uint64_t>> goal;
     for (const auto& t : rt_->tasks()) {
       if (target && t.get() != target) continue;
-      goal.emplace_back(t.get(), t->stats.scans + n);
+      goal.emplace_back(t.get(), t->stats.scans() + n);
       rt_->allow_scans(*t, static_cast<std::int64_t>(n));
     }
     interrupted_ = false;
@@ -357,22 +409,23 @@ std::string Debugger::cmd_step(const std::vector<std::string>& a) {
     for (bool done = false;
          !done && !interrupted_ && std::chrono::steady_clock::now() < deadline;) {
       done = true;
-      for (const auto& [t, g] : goal) done &= t->stats.scans >= g || t->stopped.load();
+      for (const auto& [t, g] : goal) done &= t->stats.scans() >= g || t->stopped.load();
       if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
+    const std::string note = pause_and_settle();
     return stop_report("stepped " + std::to_string(n) + " scan(s) of " +
-                       (target ? "task '" + task_name + "'" : "each task"));
+                       (target ? "task '" + task_name + "'" : "each task") + note);
   }
   // Virtual time: stepping ignores breakpoints (as TwinCAT's single cycle).
   std::uint64_t done = 0;
   std::string why;
   while (done < n) {
-    const std::uint64_t before = target ? target->stats.scans : 0;
+    const std::uint64_t before = target ? target->stats.scans() : 0;
     if (!one_scan()) {
       why = "; the session has ended (no more scans)";
       break;
     }
-    if (!target || target->stats.scans > before) ++done;
+    if (!target || target->stats.scans() > before) ++done;
     if (quit_) break;
   }
   stop_hit_ = false;
@@ -407,8 +460,7 @@ std::string Debugger::cmd_continue(const std::vector<std::string>& a, bool until
   if (opt_.mode == io::ClockMode::RealTime) {
     rt_->set_paused(false);
     if (!until) return "running (pause, or a breakpoint, stops it)\n";
-    realtime_wait_until_paused();
-    why = stop_hit_ ? stop_reason_ : "interrupted";
+    why = realtime_wait_until_paused();
   } else {
     const TIME end = for_time ? rt_->now() + *for_time : opt_.span;
     while (true) {
@@ -558,20 +610,31 @@ std::string Debugger::describe_values(const std::vector<std::string>& names) {
 }
 
 std::vector<std::string> Debugger::read_values(const std::vector<VarInfo>& vars) {
+  const std::vector<RawValue> raw = read_raw(vars);
   std::vector<std::string> out(vars.size());
-  // A variable of task t lives in t's program memory or image copy; with
-  // address and no task it is the global image.
-  auto global_image = [](const VarInfo& v) { return v.address && v.task < 0; };
-  const bool live = opt_.mode == io::ClockMode::RealTime && !rt_->paused();
-  std::vector<std::size_t> at_scan_end;
+  for (std::size_t i = 0; i < vars.size(); ++i)
+    out[i] =
+        raw[i].error.empty() ? format_value(vars[i].type, raw[i].bytes) : "<" + raw[i].error + ">";
+  return out;
+}
+
+std::vector<Debugger::RawValue> Debugger::read_raw(const std::vector<VarInfo>& vars) {
+  std::vector<RawValue> out(vars.size());
+  for (std::size_t i = 0; i < vars.size(); ++i)
+    if (vars[i].type == VarType::STRING) new (out[i].bytes) STRING();
+  // A variable of task t lives in t's program memory or image copy; one of
+  // no task (an address) in the global image, which the tasks' latch and
+  // merge write under the image lock. The global image is read last, so it
+  // is at least as new as the scans the task variables come from.
+  std::vector<std::size_t> at_scan_end, global;
   for (std::size_t i = 0; i < vars.size(); ++i) {
     const VarInfo& v = vars[i];
-    if (global_image(v)) {
-      rt_->with_image_locked([&] { out[i] = VarRegistry::format(v); });
-    } else if (live && v.task >= 0 && !rt_->tasks()[std::size_t(v.task)]->stopped.load()) {
-      at_scan_end.push_back(i);
+    if (v.task < 0) {
+      global.push_back(i);
+    } else if (task_quiet(*rt_->tasks()[std::size_t(v.task)])) {
+      VarRegistry::read(v, out[i].bytes);  // nothing writes it now
     } else {
-      out[i] = VarRegistry::format(v);  // nothing writes it now
+      at_scan_end.push_back(i);
     }
   }
   for (std::size_t first = 0; first < at_scan_end.size(); first += kMaxScanReads) {
@@ -584,8 +647,8 @@ std::vector<std::string> Debugger::read_values(const std::vector<VarInfo>& vars)
       if (r.var->type == VarType::STRING) new (r.value) STRING();
     }
     scan_reads_n_ = n;
-    // A 1 ms task answers within a few ms; a stopped or paused task never
-    // does, and then the value is read directly (nothing writes it).
+    // A 1 ms task answers within a few ms; one that a breakpoint paused
+    // meanwhile never does, and is then quiet.
     std::int64_t longest = 0;
     for (std::size_t k = 0; k < n; ++k)
       longest = std::max<std::int64_t>(
@@ -596,13 +659,25 @@ std::vector<std::string> Debugger::read_values(const std::vector<VarInfo>& vars)
         if (!scan_reads_[k].done) return false;
       return true;
     });
+    scan_reads_n_ = 0;
     for (std::size_t k = 0; k < n; ++k) {
       ScanRead& r = scan_reads_[k];
-      out[at_scan_end[first + k]] =
-          r.done ? format_value(r.var->type, r.value) : VarRegistry::format(*r.var);
+      RawValue& o = out[at_scan_end[first + k]];
+      const TaskRuntime& t = *rt_->tasks()[std::size_t(r.var->task)];
+      if (r.done) {
+        std::memcpy(o.bytes, r.value, sizeof o.bytes);
+      } else if (task_quiet(t)) {
+        VarRegistry::read(*r.var, o.bytes);
+      } else {
+        o.error = "no value: task '" + t.name + "' did not finish a scan in " +
+                  format_iec_time(TIME(wait));
+      }
     }
-    scan_reads_n_ = 0;
   }
+  if (!global.empty())
+    rt_->with_image_locked([&] {
+      for (std::size_t i : global) VarRegistry::read(vars[i], out[i].bytes);
+    });
   return out;
 }
 
@@ -636,6 +711,12 @@ std::string Debugger::cmd_write(const std::vector<std::string>& a, bool force) {
   const std::string value_text = rest_after(joined_line_, 2);
   err = parse_value(v->type, value_text, &value);
   if (!err.empty()) return std::string(what) + " " + a[1] + ": " + err + "\n";
+  std::uint64_t original = 0;  // the value before a force (read consistently)
+  if (force) {
+    const RawValue now = read_raw({*v}).front();
+    if (!now.error.empty()) return std::string(what) + " " + a[1] + ": " + now.error + "\n";
+    std::memcpy(&original, now.bytes, sizeof original);
+  }
   std::lock_guard<std::mutex> lock(mu_);
   if (!force) {
     if (in_freeze_) {
@@ -647,11 +728,10 @@ std::string Debugger::cmd_write(const std::vector<std::string>& a, bool force) {
       return "wrote " + a[1] + " := " + format_value(v->type, &value) + " (now, inside the scan)\n";
     }
     writes_.push_back({a[1], *v, image, value, image ? -1 : v->task});
+    if (image) image_writes_pending_.store(true, std::memory_order_release);
     return "will write " + a[1] + " := " + format_value(v->type, &value) +
            " at the start of the next scan\n";
   }
-  std::uint64_t original = 0;
-  VarRegistry::read(*v, &original);
   for (Force& f : forces_)
     if (f.name == a[1]) {
       f.value = value;
@@ -668,9 +748,11 @@ std::string Debugger::cmd_unforce(const std::vector<std::string>& a) {
   std::string s;
   for (auto it = forces_.begin(); it != forces_.end();) {
     if (a[1] == "all" || it->name == a[1]) {
-      if (restore)
+      if (restore) {
         writes_.push_back(
             {it->name, it->var, it->image, it->original, it->image ? -1 : it->var.task});
+        if (it->image) image_writes_pending_.store(true, std::memory_order_release);
+      }
       s += "unforced " + it->name +
            (restore ? ", restoring " + format_value(it->var.type, &it->original)
                     : ", keeping the value") +
@@ -719,9 +801,9 @@ std::string Debugger::cmd_watch(const std::vector<std::string>& a, bool add) {
 // ---------------------------------------------------------------- trace, record, goto
 
 std::string Debugger::cmd_trace(const std::vector<std::string>& a) {
+  std::lock_guard<std::mutex> lock(mu_);  // the sampling scan thread holds it
   if (a.size() < 2 || a[1] == "status") return "trace: " + trace_->describe() + "\n";
   const std::string& sub = a[1];
-  std::lock_guard<std::mutex> lock(mu_);
   if (sub == "add") {
     if (a.size() < 3) return "usage: trace add PATH|ADDRESS ...\n";
     std::string s;
@@ -788,8 +870,8 @@ std::string Debugger::cmd_record(const std::vector<std::string>& a) {
     return std::string("record: ") + e.what() + "\n";
   }
   std::string note;
-  if (scans_ > 0)
-    note = "note: the recording starts at scan " + std::to_string(scans_) +
+  if (const std::uint64_t at = scan_count(); at > 0)
+    note = "note: the recording starts at scan " + std::to_string(at) +
            " with a snapshot of the state the programs declare in PLC_REFLECT (all library blocks "
            "declare theirs); state a program keeps undeclared is not in it and would show as "
            "differences in the replay. A recording from scan 0 (goto 0 first) needs no snapshot.\n";
@@ -802,7 +884,7 @@ std::string Debugger::cmd_goto(const std::vector<std::string>& a) {
   auto n = parse_iec_unsigned(a[1]);
   if (!n) return "goto: '" + a[1] + "' is not a scan number\n";
   std::string note;
-  if (*n < scans_) {
+  if (*n < scan_count()) {
     // Backwards: rebuild the cell and run forward from the start (the
     // simulation, or the recording, reproduces the same scans exactly).
     if (recorder_) note += "; recording stopped";
@@ -810,20 +892,20 @@ std::string Debugger::cmd_goto(const std::vector<std::string>& a) {
     build();
     note = "; re-ran from the start" + note;
   }
-  while (scans_ < *n)
+  while (scan_count() < *n)
     if (!one_scan()) {
-      note += "; the session ends at scan " + std::to_string(scans_);
+      note += "; the session ends at scan " + std::to_string(scan_count());
       break;
     }
   stop_hit_ = false;
-  return stop_report("at scan " + std::to_string(scans_) + note);
+  return stop_report("at scan " + std::to_string(scan_count()) + note);
 }
 
 std::string Debugger::cmd_stats() {
   std::string s;
   char b[256];
   for (const auto& t : rt_->tasks()) {
-    const TaskStats& st = t->stats;
+    const TaskStats st = t->stats.snapshot();  // one consistent set per task
     std::snprintf(b, sizeof b,
                   "task %s: period %s, %llu scans, %llu overruns (%llu skipped)%s\n"
                   "  scan time us: min %.1f avg %.1f p99 %.1f max %.1f\n",
@@ -841,7 +923,7 @@ std::string Debugger::cmd_stats() {
           "  wake latency us: min %.1f avg %.1f p99 %.1f max %.1f; %llu releases paused\n",
           st.latency_ns.min() / 1e3, st.latency_ns.mean() / 1e3,
           st.latency_ns.percentile(0.99) / 1e3, st.latency_ns.max() / 1e3,
-          static_cast<unsigned long long>(t->paused_releases));
+          static_cast<unsigned long long>(st.paused_releases));
       s += b;
     }
   }
@@ -853,7 +935,8 @@ std::string Debugger::cmd_stats() {
 std::string Debugger::prompt() const {
   if (opt_.mode == io::ClockMode::RealTime)
     return std::string("[realtime ") + (rt_->paused() ? "paused" : "running") + "] > ";
-  return "[scan " + std::to_string(scans_) + " t=" + seconds(last_scan_time_) + "] > ";
+  const LastScan last = last_scan();
+  return "[scan " + std::to_string(last.scans) + " t=" + seconds(last.time) + "] > ";
 }
 
 std::string Debugger::help() const {
@@ -900,8 +983,9 @@ std::string Debugger::execute(std::string_view line_in) {
   if (c == "pause") {
     if (opt_.mode == io::ClockMode::Virtual)
       return "paused (in virtual time the cell is paused between commands)\n";
-    rt_->set_paused(true);
-    return "paused: the logic is held at its next release; the fieldbus keeps exchanging\n";
+    const std::string note = pause_and_settle();
+    return "paused: the logic is held at its next release; the fieldbus keeps exchanging" + note +
+           "\n";
   }
   if (c == "break" || c == "b") return cmd_break(a);
   if (c == "breaks") return breaks_list();

@@ -1,6 +1,8 @@
 // A device with a communication watchdog (see comm_watchdog_probe.cpp).
 #pragma once
 
+#include <atomic>
+
 #include "plc/io/device_model.hpp"
 
 namespace plc::io {
@@ -14,15 +16,22 @@ class CommWatchdogProbe final : public DeviceModel {
             std::span<std::uint8_t> to_plc) override;
   void power_cycle() override;
 
-  [[nodiscard]] bool tripped() const { return tripped_; }
-  [[nodiscard]] std::uint64_t exchanges() const { return exchanges_; }
-  [[nodiscard]] TIME longest_gap() const { return longest_gap_; }
+  // Read by a test's thread while, in real time, the sim plugin's thread
+  // steps the model: hence atomics (each figure on its own; relaxed is
+  // enough, nothing else is published with them).
+  [[nodiscard]] bool tripped() const { return tripped_.load(std::memory_order_relaxed); }
+  [[nodiscard]] std::uint64_t exchanges() const {
+    return exchanges_.load(std::memory_order_relaxed);
+  }
+  [[nodiscard]] TIME longest_gap() const {
+    return TIME(longest_gap_ns_.load(std::memory_order_relaxed));
+  }
 
  private:
   TIME timeout_;
-  bool tripped_ = false;
-  std::uint64_t exchanges_ = 0;
-  TIME longest_gap_{0};
+  std::atomic<bool> tripped_{false};
+  std::atomic<std::uint64_t> exchanges_{0};
+  std::atomic<std::int64_t> longest_gap_ns_{0};
 };
 
 }  // namespace plc::io

@@ -66,7 +66,7 @@ class Debugger final : public ScanHooks {
   }
 
   Runtime& runtime() { return *rt_; }
-  [[nodiscard]] std::uint64_t scan_count() const { return scans_; }
+  [[nodiscard]] std::uint64_t scan_count() const { return last_scan().scans; }
 
   // ScanHooks
   void after_latch(TaskRuntime& t, io::ProcessImage& global) override;
@@ -125,7 +125,8 @@ class Debugger final : public ScanHooks {
   bool one_scan();
   void on_scan_end(const TaskRuntime& t, const ScanContext& ctx);
   void freeze_loop(TaskRuntime& t, std::size_t index);
-  void realtime_wait_until_paused();
+  // Real time: waits for a breakpoint or Ctrl-C, pauses; the stop reason.
+  std::string realtime_wait_until_paused();
 
   Factory factory_;
   Options opt_;
@@ -138,12 +139,21 @@ class Debugger final : public ScanHooks {
   std::vector<Force> forces_;
   std::vector<Write> writes_;
   std::vector<std::string> watches_;
-  std::mutex mu_;  // tables above, shared with real-time scan threads
+  // The tables above and the scan counters below, shared with real-time scan
+  // threads. Lock order: the runtime's image lock before mu_ (the hooks that
+  // run under the image lock take mu_), never the other way round.
+  mutable std::mutex mu_;
   std::thread rt_thread_;
   int next_break_id_ = 1;
-  std::uint64_t scans_ = 0;
-  TIME last_scan_time_{};
-  std::string last_scan_task_;
+  // Counted at the end of every scan (mu_). The task is an index, not a
+  // name: a scan thread must not allocate.
+  struct LastScan {
+    std::uint64_t scans = 0;
+    TIME time{};
+    int task = -1;
+  };
+  LastScan last_;
+  [[nodiscard]] LastScan last_scan() const;  // a copy, taken under mu_
   std::string describe_value(const std::string& name);
   std::string describe_values(const std::vector<std::string>& names);
   // The values of `vars`, formatted, each read where it is consistent: in
@@ -152,7 +162,26 @@ class Debugger final : public ScanHooks {
   // the global image under the image lock, so no value is ever torn and
   // variables of one task never mix two scans.
   std::vector<std::string> read_values(const std::vector<VarInfo>& vars);
+  // The same as raw values (native layout, as VarRegistry::read gives them);
+  // `error` says why a value could not be read consistently (a task that
+  // stays inside a scan): then `bytes` hold no value.
+  struct RawValue {
+    alignas(8) unsigned char bytes[sizeof(STRING)];
+    std::string error;
+  };
+  std::vector<RawValue> read_raw(const std::vector<VarInfo>& vars);
+  // Real time: nothing writes the variables of task t now (it is held by the
+  // pause or stopped, and not inside a scan), so they may be read directly.
+  // Virtual time: always.
+  [[nodiscard]] bool task_quiet(const TaskRuntime& t) const;
   void serve_reads(const TaskRuntime& t);  // on a scan thread, mu_ held
+  // Real time: pause the logic and wait until no task is inside a scan; a
+  // note for the user when one stays in its scan.
+  std::string pause_and_settle();
+  // Writes for the global image are waiting in writes_: the next scan takes
+  // the image lock (before mu_) to apply them.
+  std::atomic<bool> image_writes_pending_{false};
+  void apply_writes(TaskRuntime& t, bool image_locked);
 
   // Real time: reads waiting for the end of a task's scan (mu_).
   static constexpr std::size_t kMaxScanReads = 32;

@@ -1,0 +1,211 @@
+// What the console and other threads read while real-time task threads run
+// (issue 10, point 4). Each of these raced before, and a ThreadSanitizer
+// build reports that (scripts/test-tsan runs them); the checks on the values
+// fail without TSan too when the race strikes.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <thread>
+
+#include "plc/debug/debugger.hpp"
+#include "test_helpers.hpp"
+#include "test_programs.hpp"
+
+using namespace plc;
+
+namespace {
+
+bool has(const std::string& out, const std::string& what) {
+  return out.find(what) != std::string::npos;
+}
+
+std::unique_ptr<debug::Debugger> realtime_debugger(const std::string& yaml) {
+  const CellConfig cfg = parse_cell_config(yaml, "rt_sync.yaml");
+  debug::Debugger::Options o;
+  o.mode = io::ClockMode::RealTime;
+  o.span = std::chrono::seconds(60);
+  return std::make_unique<debug::Debugger>([cfg] { return std::make_unique<Runtime>(cfg); }, o);
+}
+
+// "NAME = V" in the output of `print`; -1 when missing.
+long value_of(const std::string& out, const std::string& name) {
+  const std::size_t p = out.find(name + " = ");
+  if (p == std::string::npos) return -1;
+  return std::strtol(out.c_str() + p + name.size() + 3, nullptr, 10);
+}
+
+// Task a (1 ms) stops at a breakpoint while task b (10 ms, 5 ms of work per
+// scan between setting `first` and `second`) is usually in the middle of a
+// scan. What the console prints after the stop must come from settled
+// tasks: b's pair equal, and the located %QX8.0 read from the global image.
+const char* kTwoTasks = R"(
+tasks:
+  - {name: a, period: 1ms, programs: [A]}
+  - {name: b, period: 10ms, programs: [B, W]}
+programs:
+  - {name: A, type: PairWriter, init: {work_us: 100}}
+  - {name: B, type: PairWriter, init: {work_us: 5000}}
+  - {name: W, type: BitWriter}
+)";
+
+}  // namespace
+
+// A stop (breakpoint, pause, step) waits until no task is inside a scan, so
+// reading the variables afterwards never sees half a scan.
+TEST(RealTimeSync, AStopWaitsForTheScansInFlightBeforeValuesAreRead) {
+  auto dbg = realtime_debugger(kTwoTasks);
+  debug::Debugger& d = *dbg;
+  long last_a = 0;
+  for (int i = 1; i <= 12; ++i) {
+    const std::string stop = d.execute("run until A.first >= " + std::to_string(last_a + 3));
+    ASSERT_TRUE(has(stop, "holds")) << stop;
+    const std::string out = d.execute("print A.first A.second B.first B.second W.mine %QX8.0");
+    EXPECT_EQ(value_of(out, "B.first"), value_of(out, "B.second")) << "half a scan of b:\n" << out;
+    EXPECT_EQ(value_of(out, "A.first"), value_of(out, "A.second")) << out;
+    EXPECT_TRUE(has(out, "%QX8.0 = ")) << out;
+    last_a = value_of(out, "A.first");
+    // Paused: nothing scans, so a second look shows the same.
+    EXPECT_EQ(d.execute("print A.first B.first"), d.execute("print A.first B.first"));
+    if (i % 3 == 0) {
+      // `pause` from running settles the same way.
+      EXPECT_TRUE(has(d.execute("continue"), "running"));
+      EXPECT_TRUE(has(d.execute("pause"), "paused"));
+      const std::string p = d.execute("print B.first B.second A.first");
+      EXPECT_EQ(value_of(p, "B.first"), value_of(p, "B.second")) << p;
+      last_a = value_of(p, "A.first");
+    }
+  }
+  d.execute("quit");
+}
+
+// `step N` counts only the scans it lets through: a scan that was in flight
+// when it paused is not one of them.
+TEST(RealTimeSync, StepRunsExactlyTheScansItAllows) {
+  auto dbg = realtime_debugger(kTwoTasks);
+  debug::Debugger& d = *dbg;
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_TRUE(has(d.execute("continue"), "running"));
+    const std::string before = d.execute("step task b 1");
+    ASSERT_TRUE(has(before, "stepped 1 scan(s) of task 'b'")) << before;
+    const long b0 = value_of(d.execute("print B.first"), "B.first");
+    const std::string out = d.execute("step task b 2");
+    EXPECT_TRUE(has(out, "stepped 2 scan(s) of task 'b'")) << out;
+    const std::string p = d.execute("print B.first B.second");
+    EXPECT_EQ(value_of(p, "B.first"), b0 + 2) << p;
+    EXPECT_EQ(value_of(p, "B.second"), b0 + 2) << p;
+  }
+  d.execute("quit");
+}
+
+// `stats` while the tasks run: each task's figures are one snapshot (and,
+// for TSan, read without racing the scan threads that record them).
+TEST(RealTimeSync, StatsWhileRunningAreOneSnapshotPerTask) {
+  auto dbg = realtime_debugger(kTwoTasks);
+  debug::Debugger& d = *dbg;
+  EXPECT_TRUE(has(d.execute("continue"), "running"));
+  unsigned long long last = 0;
+  for (int i = 0; i < 50; ++i) {
+    const std::string out = d.execute("stats");
+    unsigned long long scans = 0, overruns = 0, skipped = 0;
+    double mn = 0, avg = 0, p99 = 0, mx = 0;
+    ASSERT_EQ(std::sscanf(out.c_str(),
+                          "task a: period T#1ms, %llu scans, %llu overruns (%llu skipped)\n"
+                          "  scan time us: min %lf avg %lf p99 %lf max %lf",
+                          &scans, &overruns, &skipped, &mn, &avg, &p99, &mx),
+              7)
+        << out;
+    EXPECT_GE(scans, last);
+    last = scans;
+    if (scans > 0) {
+      EXPECT_LE(mn, avg) << out;
+      EXPECT_LE(avg, mx) << out;
+      EXPECT_LE(p99, mx) << out;
+    }
+    // Give the tasks time to scan between two looks: a print waits for the
+    // end of a scan of task a.
+    d.execute("print A.first");
+  }
+  EXPECT_GT(last, 0u);
+  d.execute("quit");
+}
+
+// The watchdog thread stops a real-time task and writes why while another
+// thread reads the task's statistics: the reader sees no reason or the
+// whole one, never one being written.
+TEST(RealTimeSync, AWatchdogStopIsSeenWholeByAReaderOfTheStatistics) {
+  // The other task keeps the run going until the spinning scan has ended,
+  // so its thread is joined, not left behind.
+  auto rt = plctest::make_runtime(R"(
+tasks:
+  - {name: fast, period: 1ms, watchdog: 3, programs: [Spin]}
+  - {name: other, period: 10ms, programs: [Loop]}
+programs:
+  - {name: Spin, type: Spinner, init: {spin: TRUE, spin_us: 50000}}
+  - {name: Loop, type: LoopCounter}
+)");
+  const TaskRuntime& t = *rt->task("fast");
+  std::thread runner([&] { rt->run(io::ClockMode::RealTime, std::chrono::milliseconds(400)); });
+  TaskStats seen;
+  for (int i = 0; i < 2'000'000 && seen.stop_reason.empty(); ++i) {  // ends with the trip
+    seen = t.stats.snapshot();
+    if (seen.stop_reason.empty()) std::this_thread::yield();
+  }
+  runner.join();
+  EXPECT_TRUE(seen.watchdog_tripped);
+  EXPECT_FALSE(seen.faulted);
+  EXPECT_EQ(seen.stop_reason.rfind("watchdog: scan running for ", 0), 0u) << seen.stop_reason;
+  EXPECT_EQ(t.stats.snapshot().stop_reason, seen.stop_reason) << "written once";
+}
+
+// A real-time plcrun --commands session on the demo cell with the commands
+// that read while the tasks run or right after they stop (in a TSan build
+// the child exits non-zero on any race, and the test fails).
+TEST(RealTimeSync, PlcrunCommandsSessionInRealTime) {
+  const char* src = std::getenv("PLC_SOURCE_DIR");
+  const std::string demo = std::string(src ? src : ".") + "/programs/demo/cell.yaml";
+  const std::string cmds = plctest::write_temp("rt_session.txt", R"(stats
+step 5
+print Tank.level Tank.valve %QW0 %IW0 Tank.enable Supervisor.enable
+watch Tank.step Tank.valve %QW0 Supervisor.batches_seen
+step task slow 2
+continue
+print Tank.level Tank.valve %QW0 %IW0 %MX0.0 Supervisor.enable
+stats
+status
+pause
+print Tank.level Tank.valve %QW0 %IW0 %MX0.0
+stats
+write Tank.low_level 3000
+write %QW0 100
+force Tank.high_level 9000
+force %MX0.0 TRUE
+forces
+step 3
+print Tank.high_level %MX0.0
+continue
+print Tank.high_level %MX0.0 %QW0
+unforce Tank.high_level restore
+unforce all
+break Tank.valve > 0
+continue
+delete all
+run until Supervisor.enable
+stats
+continue
+print Tank.level Tank.valve %QW0 %IW0
+trace status
+pause
+quit
+)");
+  const auto r =
+      plctest::run_command(plctest::plcrun_path() + " " + demo + " --realtime --commands " + cmds);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  for (const char* expect :
+       {"stepped 5 scan(s) of each task", "stepped 2 scan(s) of task 'slow'", "paused: the logic",
+        "Tank.high_level = 9000  (INT, forced)", "restoring 22000",
+        "condition 'Supervisor.enable' holds", "task slow: period T#10ms"})
+    EXPECT_TRUE(has(r.output, expect)) << "missing: " << expect << "\n" << r.output;
+  EXPECT_FALSE(has(r.output, "ThreadSanitizer")) << r.output;
+  EXPECT_FALSE(has(r.output, "<no value")) << r.output;
+  std::remove(cmds.c_str());
+}
