@@ -5,14 +5,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <filesystem>
+
 #include "test_helpers.hpp"
 
 namespace {
 
-std::string demo() {
-  const char* src = std::getenv("PLC_SOURCE_DIR");
-  return std::string(src ? src : ".") + "/programs/demo/cell.yaml";
-}
+std::string demo() { return plctest::source_path("programs/demo/cell.yaml"); }
 
 }  // namespace
 
@@ -90,4 +89,16 @@ TEST(PlcrunCli, SigintStopsARealTimeRunCleanly) {
   EXPECT_EQ(WEXITSTATUS(status), 0) << out;
   EXPECT_NE(out.find("stopped by signal; outputs at their safe values"), std::string::npos) << out;
   EXPECT_NE(out.find("== summary"), std::string::npos) << out;
+}
+
+// Issue 10 point 9: the tests run the plcrun of their own build, whatever the
+// build folder is called (they used to fall back to build/bin when ctest lost
+// PLC_BIN_DIR, and so ran a stale plcrun, or none, from another build).
+TEST(PlcrunCli, TestsRunThePlcrunBuiltNextToThem) {
+  namespace fs = std::filesystem;
+  const fs::path self = fs::read_symlink("/proc/self/exe").parent_path();
+  const fs::path plcrun = plctest::plcrun_path();
+  ASSERT_TRUE(fs::exists(plcrun)) << plcrun;
+  EXPECT_TRUE(fs::equivalent(plcrun.parent_path(), self))
+      << plcrun << " is not in this test's build folder " << self;
 }
