@@ -102,3 +102,33 @@ TEST(PlcrunCli, TestsRunThePlcrunBuiltNextToThem) {
   EXPECT_TRUE(fs::equivalent(plcrun.parent_path(), self))
       << plcrun << " is not in this test's build folder " << self;
 }
+
+// Issue 10 point 8: the command line's numbers have ranges. --cycles times
+// the fastest period overflowed TIME, --trace-pre 2^64-1 made a ring of 0
+// slots (a division by zero at the first sample), --for had no upper end.
+// (`timeout` bounds the old behaviour.)
+TEST(PlcrunCli, RunLengthAndPretriggerOutsideTheirRangesAreUsageErrors) {
+  const std::string trace = plctest::temp_path("pre.csv");
+  struct Row {
+    std::string args;
+    const char* message;
+  };
+  const Row rows[] = {
+      {" --cycles 18446744073709551615", "--cycles: 18446744073709551615 out of range [1, "},
+      {" --cycles=-1", "--cycles: 18446744073709551615 out of range [1, "},
+      {" --cycles 0", "--cycles: 0 out of range [1, 3153600000000]"},
+      {" --for 36501d", "--for: '36501d' is not a duration from 1ns to T#36500d"},
+      {" --cycles 5 --trace " + trace +
+           " --trace-vars Tank.level --trace-trigger 'Tank.level > 30000'"
+           " --trace-pre 18446744073709551615",
+       "--trace-pre: 18446744073709551615 out of range [0, 1000000]"},
+  };
+  for (const Row& r : rows) {
+    const auto out =
+        plctest::run_command("timeout 60 " + plctest::plcrun_path() + " " + demo() + r.args);
+    EXPECT_EQ(out.exit_code, 2) << r.args << ": " << out.output;
+    EXPECT_NE(out.output.find(r.message), std::string::npos) << r.args << ": " << out.output;
+    EXPECT_EQ(out.output.find("summary"), std::string::npos) << r.args << ": " << out.output;
+  }
+  std::remove(trace.c_str());
+}
