@@ -40,6 +40,11 @@ std::string replaced(std::string s, const std::string& from, const std::string& 
   return s;
 }
 
+// kGood with another device model and parameters.
+std::string with_model(const std::string& model, const std::string& params) {
+  return replaced(replaced(kGood, "model: loopback", "model: " + model), "{size: 4}", params);
+}
+
 struct Case {
   const char* name;
   std::string yaml;
@@ -132,33 +137,20 @@ const Case kCases[] = {
     {"plugin_step_zero",
      replaced(kGood, "    type: sim\n", "    type: sim\n    params: {step: 0s}\n"), 12, "step",
      "out of range [T#10us, T#1s]"},
-    {"model_time_negative",
-     replaced(replaced(kGood, "model: loopback", "model: first_order"), "{size: 4}", "{tau: -1s}"),
-     18, "tau", "out of range [T#1us, T#1d]"},
-    {"model_number_out_of_range",
-     replaced(replaced(kGood, "model: loopback", "model: first_order"), "{size: 4}",
-              "{gain: 1e300}"),
-     18, "gain", "out of range [-1000, 1000]"},
-    {"pr5510_weight_beyond_dint",
-     replaced(replaced(kGood, "model: loopback", "model: pr5510"), "{size: 4}",
-              "{full_scale: 30000000}"),
-     18, "full_scale", "weights are DINTs"},
-    {"pr5510_negative_filter_time",
-     replaced(replaced(kGood, "model: loopback", "model: pr5510"), "{size: 4}",
-              "{filter_time: -40ms}"),
-     18, "filter_time", "out of range [T#0s, T#1h]"},
-    {"hiwin_telegram_beyond_range",
-     replaced(replaced(kGood, "model: loopback", "model: hiwin_e1"), "{size: 4}",
-              "{telegram: 4294967407}"),
-     18, "telegram", "out of range [0, 65535]"},
-    {"hiwin_position_beyond_range",
-     replaced(replaced(kGood, "model: loopback", "model: hiwin_e1"), "{size: 4}",
-              "{initial_position: 1e300}"),
-     18, "initial_position", "out of range [-1e+18, 1e+18]"},
-    {"nord_iparam_beyond_its_word",
-     replaced(replaced(kGood, "model: loopback", "model: nord_profisafe"), "{size: 4}",
-              "{p803: 9999999999}"),
-     18, "p803", "out of range [-32768, 65535]"},
+    {"model_time_negative", with_model("first_order", "{tau: -1s}"), 18, "tau",
+     "out of range [T#1us, T#1d]"},
+    {"model_number_out_of_range", with_model("first_order", "{gain: 1e300}"), 18, "gain",
+     "out of range [-1000, 1000]"},
+    {"pr5510_weight_beyond_dint", with_model("pr5510", "{full_scale: 30000000}"), 18, "full_scale",
+     "weights are DINTs"},
+    {"pr5510_negative_filter_time", with_model("pr5510", "{filter_time: -40ms}"), 18, "filter_time",
+     "out of range [T#0s, T#1h]"},
+    {"hiwin_telegram_beyond_range", with_model("hiwin_e1", "{telegram: 4294967407}"), 18,
+     "telegram", "out of range [0, 65535]"},
+    {"hiwin_position_beyond_range", with_model("hiwin_e1", "{initial_position: 1e300}"), 18,
+     "initial_position", "out of range [-1e+18, 1e+18]"},
+    {"nord_iparam_beyond_its_word", with_model("nord_profisafe", "{p803: 9999999999}"), 18, "p803",
+     "out of range [-32768, 65535]"},
 };
 
 INSTANTIATE_TEST_SUITE_P(EachClass, ConfigErrors, ::testing::ValuesIn(kCases),
