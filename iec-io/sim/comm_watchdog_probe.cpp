@@ -15,8 +15,8 @@
 namespace plc::io {
 
 CommWatchdogProbe::CommWatchdogProbe(const ModelParams& p)
-    : timeout_(p.get_time("timeout", std::chrono::milliseconds(100))) {
-  if (timeout_.count() <= 0) throw ParamError("timeout", "timeout must be positive");
+    : timeout_(p.get_time("timeout", std::chrono::milliseconds(100), std::chrono::microseconds(1),
+                          std::chrono::hours(24))) {
   p.reject_unknown();
 }
 

@@ -8,6 +8,9 @@
 //
 // dy/dt = (gain * u - y) / tau, integrated exactly for each step (so the
 // result does not depend on the step size beyond rounding).
+//
+// Parameters: tau (1us .. 1d, default 2s), gain, initial and high (in units
+// of the full range, -1000 .. 1000; defaults 1, 0, 0.9).
 #include <algorithm>
 #include <cmath>
 
@@ -20,11 +23,13 @@ namespace {
 class FirstOrderPlant final : public DeviceModel {
  public:
   explicit FirstOrderPlant(const ModelParams& p)
-      : tau_s_(std::chrono::duration<double>(p.get_time("tau", std::chrono::seconds(2))).count()),
-        gain_(p.get_double("gain", 1.0)),
-        y_(p.get_double("initial", 0.0)),
-        high_(p.get_double("high", 0.9)) {
-    if (tau_s_ <= 0) throw ParamError("tau", "tau must be positive");
+      : tau_s_(std::chrono::duration<double>(p.get_time("tau", std::chrono::seconds(2),
+                                                        std::chrono::microseconds(1),
+                                                        std::chrono::hours(24)))
+                   .count()),
+        gain_(p.get_double("gain", 1.0, -kRange, kRange)),
+        y_(p.get_double("initial", 0.0, -kRange, kRange)),
+        high_(p.get_double("high", 0.9, -kRange, kRange)) {
     p.reject_unknown();
   }
   std::size_t input_size() const override { return 4; }
@@ -46,6 +51,7 @@ class FirstOrderPlant final : public DeviceModel {
   }
 
  private:
+  static constexpr double kRange = 1000;  // x full range: far beyond any plant, finite
   double tau_s_, gain_, y_, high_;
 };
 

@@ -9,8 +9,9 @@ namespace plc::io {
 SimPlugin::~SimPlugin() { stop(); }
 
 void SimPlugin::configure(const ModelParams& params) {
-  step_ = params.get_time("step", step_);
-  if (step_.count() <= 0) throw ParamError("step", "step must be positive");
+  // Real time only. Below 10 us the stepping thread would keep a core busy;
+  // above 1 s devices would answer too rarely for any bus.
+  step_ = params.get_time("step", step_, std::chrono::microseconds(10), std::chrono::seconds(1));
   params.reject_unknown();
 }
 

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 
 #include "plc/iec_literal.hpp"
 
@@ -14,13 +15,29 @@ const std::string* ModelParams::find(const std::string& key) const {
   return &it->second;
 }
 
-double ModelParams::get_double(const std::string& key, double def) const {
+namespace {
+
+std::string number_text(double d) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.10g", d);
+  return b;
+}
+
+[[noreturn]] void out_of_range(const std::string& key, const std::string& value,
+                               const std::string& min, const std::string& max) {
+  throw ParamError(key, "value " + value + " out of range [" + min + ", " + max + "]");
+}
+
+}  // namespace
+
+double ModelParams::get_double(const std::string& key, double def, double min, double max) const {
   const std::string* v = find(key);
   if (!v) return def;
   double d = 0;
   auto [p, ec] = std::from_chars(v->data(), v->data() + v->size(), d);
   if (ec != std::errc() || p != v->data() + v->size() || !std::isfinite(d))
     throw ParamError(key, "expected a number, got '" + *v + "'");
+  if (d < min || d > max) out_of_range(key, *v, number_text(min), number_text(max));
   return d;
 }
 
@@ -31,8 +48,7 @@ std::int64_t ModelParams::get_int(const std::string& key, std::int64_t def, std:
   auto parsed = parse_iec_integer(*v);
   if (!parsed) throw ParamError(key, "expected an integer, got '" + *v + "'");
   if (*parsed < min || *parsed > max)
-    throw ParamError(key, "value " + *v + " out of range [" + std::to_string(min) + ", " +
-                              std::to_string(max) + "]");
+    out_of_range(key, *v, std::to_string(min), std::to_string(max));
   return *parsed;
 }
 
@@ -44,11 +60,12 @@ bool ModelParams::get_bool(const std::string& key, bool def) const {
   throw ParamError(key, "expected true or false, got '" + *v + "'");
 }
 
-TIME ModelParams::get_time(const std::string& key, TIME def) const {
+TIME ModelParams::get_time(const std::string& key, TIME def, TIME min, TIME max) const {
   const std::string* v = find(key);
   if (!v) return def;
   auto t = parse_iec_time(*v);
   if (!t) throw ParamError(key, "expected a duration (e.g. 20ms, T#1s500ms), got '" + *v + "'");
+  if (*t < min || *t > max) out_of_range(key, *v, format_iec_time(min), format_iec_time(max));
   return *t;
 }
 

@@ -1,5 +1,6 @@
 #include "plc/io/process_image.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 namespace plc::io {
@@ -31,9 +32,11 @@ bool ProcessImage::contains(const IecAddress& a) const {
 }
 
 void ProcessImage::copy_from(const ProcessImage& o) {
-  std::memcpy(i_.data(), o.i_.data(), i_.size());
-  std::memcpy(q_.data(), o.q_.data(), q_.size());
-  std::memcpy(m_.data(), o.m_.data(), m_.size());
+  // std::copy, not memcpy: an area may be empty (image: {memory: 0}), and
+  // an empty vector's data() may be null, which memcpy must never get.
+  std::copy(o.i_.begin(), o.i_.end(), i_.begin());
+  std::copy(o.q_.begin(), o.q_.end(), q_.begin());
+  std::copy(o.m_.begin(), o.m_.end(), m_.begin());
 }
 
 void merge_changes(std::span<std::uint8_t> dst, std::span<const std::uint8_t> before,

@@ -223,19 +223,42 @@ int plcrun_main(int argc, char** argv) {
     return 0;
   }
 
+  // The virtual clock needs a useful common tick (Runtime::kMaxTicksPerRelease).
+  if (mode == io::ClockMode::Virtual && rt->virtual_clock_error()) {
+    std::cerr << rt->virtual_clock_error()->what() << "\n";
+    return 2;
+  }
+
   // Default span: 10 s in virtual time; in real time until Ctrl-C.
   TIME span = mode == io::ClockMode::Virtual ? TIME(std::chrono::seconds(10))
                                              : TIME(std::chrono::hours(24 * 365));
-  if (vm.count("cycles"))
-    span = rt->fastest_period() * static_cast<std::int64_t>(vm["cycles"].as<std::uint64_t>());
+  // Runs end within kMaxRunSpan, so the clock stays inside TIME's range.
+  if (vm.count("cycles")) {
+    const std::uint64_t n = vm["cycles"].as<std::uint64_t>();
+    const std::uint64_t most = std::uint64_t(kMaxRunSpan / rt->fastest_period());
+    if (n < 1 || n > most) {
+      std::cerr << "plcrun: --cycles: " << n << " out of range [1, " << most << "] ("
+                << format_iec_time(kMaxRunSpan) << " of periods of "
+                << format_iec_time(rt->fastest_period()) << ")\n";
+      return 2;
+    }
+    span = rt->fastest_period() * static_cast<std::int64_t>(n);
+  }
   if (vm.count("for")) {
     const auto t = parse_iec_time(vm["for"].as<std::string>());
-    if (!t || t->count() <= 0) {
+    if (!t || t->count() <= 0 || *t > kMaxRunSpan) {
       std::cerr << "plcrun: --for: '" << vm["for"].as<std::string>()
-                << "' is not a positive duration (e.g. 10s)\n";
+                << "' is not a duration from 1ns to " << format_iec_time(kMaxRunSpan)
+                << " (e.g. 10s)\n";
       return 2;
     }
     span = *t;
+  }
+  if (vm.count("trace-pre") &&
+      vm["trace-pre"].as<std::size_t>() > debug::Trace::kMaxPretriggerRows) {
+    std::cerr << "plcrun: --trace-pre: " << vm["trace-pre"].as<std::size_t>()
+              << " out of range [0, " << debug::Trace::kMaxPretriggerRows << "]\n";
+    return 2;
   }
 
   if (vm.count("replay") && mode == io::ClockMode::RealTime) {

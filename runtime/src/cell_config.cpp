@@ -173,7 +173,9 @@ class Loader {
     check_keys(n, {"name", "period", "priority", "programs", "watchdog"}, "task");
     t.name = scalar(require(n, "name", "task"), "name");
     t.period = time(require(n, "period", "task '" + t.name.value + "'"), "period");
-    if (t.period.value.count() <= 0) fail(n["period"], "key 'period': must be positive");
+    if (t.period.value < kMinPeriod || t.period.value > kMaxPeriod)
+      fail(n["period"], "key 'period': " + format_iec_time(t.period.value) + " out of range [" +
+                            format_iec_time(kMinPeriod) + ", " + format_iec_time(kMaxPeriod) + "]");
     if (t.period.value.count() % 1000 != 0)
       fail(n["period"], "key 'period': must be a whole number of microseconds");
     t.priority = {0, t.mark};
@@ -190,6 +192,9 @@ class Loader {
              "key 'watchdog': '" + s.value + "' is not a multiple of the period >= 0 (0 = off)");
       if (*d > 0 && *d < 1)
         fail(n["watchdog"], "key 'watchdog': a multiple below 1 would trip on every scan");
+      if (*d > kMaxWatchdog)
+        fail(n["watchdog"], "key 'watchdog': " + s.value + " out of range [1, " +
+                                std::to_string(int(kMaxWatchdog)) + "] (0 = off)");
       t.watchdog = {*d, s.mark};
     }
     const YAML::Node progs = require(n, "programs", "task '" + t.name.value + "'");

@@ -94,9 +94,18 @@ void Runtime::build(const CellConfig& cfg) {
       [](const TaskRuntime* a, const TaskRuntime* b) { return a->priority < b->priority; });
   std::int64_t g = 0;
   std::int64_t fastest = INT64_MAX;
-  for (const auto& t : tasks_) {
-    g = std::gcd(g, t->period.count());
-    fastest = std::min(fastest, t->period.count());
+  for (std::size_t i = 0; i < tasks_.size(); ++i) {
+    g = std::gcd(g, tasks_[i]->period.count());
+    fastest = std::min(fastest, tasks_[i]->period.count());
+    // Named at the first task whose period makes the tick too fine.
+    if (!virtual_clock_error_ && fastest / g > kMaxTicksPerRelease)
+      virtual_clock_error_.emplace(
+          file, cfg.tasks[i].period.mark,
+          "key 'period': virtual time steps the devices every " + format_iec_time(TIME(g)) +
+              " (the greatest common divisor of the task periods), " + std::to_string(fastest / g) +
+              " steps from one scan of the fastest task to the next (at most " +
+              std::to_string(kMaxTicksPerRelease) +
+              "): choose periods with a larger common divisor (e.g. whole milliseconds)");
   }
   base_tick_ = TIME(g);
   fastest_period_ = TIME(fastest);

@@ -128,6 +128,7 @@ void Runtime::publish_all() {
 
 void Runtime::start(io::ClockMode mode) {
   if (started_) return;
+  if (mode == io::ClockMode::Virtual && virtual_clock_error_) throw *virtual_clock_error_;
   mode_ = mode;
   lock_image_ = mode == io::ClockMode::RealTime;
   for (auto& [name, p] : plugins_) {
@@ -242,7 +243,9 @@ void Runtime::run(io::ClockMode mode, TIME span) {
 }
 
 void Runtime::run_virtual(TIME span) {
-  const TIME end = now_ + span;
+  // Saturating: the clock must not run past the end of TIME's int64 range.
+  const TIME last = TIME::max() - base_tick_;
+  const TIME end = span > last - now_ ? last : now_ + span;
   while (now_ < end && !stop_requested()) {
     bool any = false;
     for (const auto& t : tasks_) any |= !t->stopped.load(std::memory_order_relaxed);

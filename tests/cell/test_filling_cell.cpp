@@ -9,15 +9,13 @@
 
 #include "plc/cell_config.hpp"
 #include "plc/debug/debugger.hpp"
+#include "plc_test_paths.hpp"
 
 using namespace plc;
 
 namespace {
 
-std::string cell_path() {
-  const char* src = std::getenv("PLC_SOURCE_DIR");
-  return std::string(src ? src : ".") + "/programs/filling_cell/cell.yaml";
-}
+std::string cell_path() { return plctest::source_path("programs/filling_cell/cell.yaml"); }
 
 bool has(const std::string& s, const std::string& what) {
   return s.find(what) != std::string::npos;

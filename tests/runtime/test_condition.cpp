@@ -96,3 +96,85 @@ TEST(Condition, KnowsTheTaskOfItsFirstVariable) {
   EXPECT_EQ(f.compile("S.mode = 3", err)->task(), 0);
   EXPECT_EQ(f.compile("%QX0.0", err)->task(), -1);
 }
+
+// Issue 10 point 6: integer arithmetic is LINT that wraps around (header of
+// condition.hpp), never a trap or undefined behaviour. (-2^63) / -1 used to
+// raise SIGFPE; the other rows were signed overflow.
+TEST(Condition, IntegerArithmeticWrapsAroundLikeLint) {
+  Fixture f;
+  const std::string min = "(-9223372036854775807 - 1)";
+  EXPECT_TRUE(f.eval(min + " / -1 = " + min));
+  EXPECT_TRUE(f.eval(min + " MOD -1 = 0"));
+  EXPECT_TRUE(f.eval("-" + min + " = " + min));
+  EXPECT_TRUE(f.eval("9223372036854775807 + 1 = " + min));
+  EXPECT_TRUE(f.eval(min + " - 1 = 9223372036854775807"));
+  EXPECT_TRUE(f.eval("9223372036854775807 * 2 = -2"));
+  EXPECT_TRUE(f.eval(min + " * -1 = " + min));
+  EXPECT_TRUE(f.eval("-7 / 2 = -3 AND -7 MOD 2 = -1")) << "IEC: truncating division";
+}
+
+TEST(Condition, DivisionAndModByZeroGiveZero) {
+  Fixture f;
+  EXPECT_TRUE(f.eval("10 / 0 = 0"));
+  EXPECT_TRUE(f.eval("10 MOD 0 = 0"));
+  EXPECT_TRUE(f.eval("S.x / 0 = 0"));
+  EXPECT_TRUE(f.eval("S.x MOD 0.0 = 0"));
+  EXPECT_FALSE(f.eval("S.w / (S.mode - 3) > 1")) << "false while the divisor is 0";
+}
+
+// REAL follows IEEE 754: overflow is inf, inf - inf is NaN, and NaN is
+// unordered. The old comparison called NaN equal to everything.
+TEST(Condition, RealNanComparesUnordered) {
+  Fixture f;
+  const std::string nan = "(1.0E308 * 10 - 1.0E308 * 10)";
+  EXPECT_FALSE(f.eval(nan + " = 0"));
+  EXPECT_FALSE(f.eval(nan + " = " + nan));
+  EXPECT_FALSE(f.eval(nan + " < 1 OR " + nan + " >= 1 OR " + nan + " <= 1 OR " + nan + " > 1"));
+  EXPECT_TRUE(f.eval(nan + " <> 0"));
+  EXPECT_TRUE(f.eval("1.0E308 * 10 > 9223372036854775807")) << "+inf above every LINT";
+  EXPECT_TRUE(f.eval("-1.0E308 * 10 < -9223372036854775807 - 1"));
+}
+
+// Integers meet reals exactly; converting the integer to double rounds
+// above 2^53 (2^53 + 1 -> 2^53, 2^63 - 1 -> 2^63).
+TEST(Condition, IntegerAgainstRealComparesExactly) {
+  Fixture f;
+  EXPECT_TRUE(f.eval("9007199254740993 > 9007199254740992.0"));
+  EXPECT_TRUE(f.eval("9007199254740992.0 < 9007199254740993"));
+  EXPECT_TRUE(f.eval("9223372036854775807 < 9223372036854775808.0"));
+  EXPECT_FALSE(f.eval("9223372036854775807 = 9223372036854775808.0"));
+  EXPECT_TRUE(f.eval("-9223372036854775807 - 1 = -9223372036854775808.0"));
+  EXPECT_TRUE(f.eval("2 > 1.5 AND 1 < 1.5 AND -2 < -1.5 AND 3 = 3.0 AND 3 <= 3.0"));
+  EXPECT_TRUE(f.eval("S.x > 1 AND 2 > S.x")) << "S.x = 1.5";
+}
+
+// Issue 10 point 6: nesting is limited while parsing (each '(' / NOT / '-'
+// recursed; 5,000 parentheses or 200,000 NOT overflowed the stack).
+TEST(Condition, NestingBeyondTheLimitIsRefusedNamingTheColumn) {
+  Fixture f;
+  const int lim = Condition::kMaxNesting;
+  auto parens = [](int n) { return std::string(n, '(') + "1" + std::string(n, ')') + " = 1"; };
+  EXPECT_TRUE(f.eval(parens(lim)));
+  struct Row {
+    std::string text;
+    std::size_t column;  // of the token that opens level kMaxNesting + 1
+  };
+  std::string nots;
+  for (int i = 0; i < 200000; ++i) nots += "NOT ";
+  std::string minus;
+  for (int i = 0; i < 200000; ++i) minus += "- ";
+  const Row rows[] = {
+      {parens(5000), std::size_t(lim) + 1},
+      {nots + "TRUE", std::size_t(lim) * 4 + 1},
+      {"1 = " + minus + "1", 4 + std::size_t(lim) * 2 + 1},
+      {"NOT (-(NOT " + parens(lim) + "))", 0},
+  };
+  for (const Row& r : rows) {
+    std::string err;
+    EXPECT_FALSE(f.compile(r.text, err)) << r.text.substr(0, 40);
+    EXPECT_NE(err.find("nested too deeply"), std::string::npos) << err;
+    if (r.column) {
+      EXPECT_NE(err.find("at column " + std::to_string(r.column) + " "), std::string::npos) << err;
+    }
+  }
+}

@@ -40,6 +40,11 @@ std::string replaced(std::string s, const std::string& from, const std::string& 
   return s;
 }
 
+// kGood with another device model and parameters.
+std::string with_model(const std::string& model, const std::string& params) {
+  return replaced(replaced(kGood, "model: loopback", "model: " + model), "{size: 4}", params);
+}
+
 struct Case {
   const char* name;
   std::string yaml;
@@ -117,6 +122,35 @@ const Case kCases[] = {
      "not an output"},
     {"bad_clock", replaced(kGood, "cell: t\n", "cell: t\nclock: sometimes\n"), 2, "clock",
      "not virtual or realtime"},
+    // Issue 10 point 8: every number in a config has a range (docs/config.md).
+    // 100000d made --cycles overflow; 1e12 x period overflowed the watchdog
+    // limit into a trip; the model values used to be taken as they came.
+    {"period_too_long", replaced(kGood, "period: 1ms", "period: 100000d"), 4, "period",
+     "out of range [T#1us, T#1d]"},
+    {"period_of_a_day_and_a_microsecond", replaced(kGood, "period: 1ms", "period: 1d1us"), 4,
+     "period", "out of range [T#1us, T#1d]"},
+    {"period_below_a_microsecond", replaced(kGood, "period: 1ms", "period: 999ns"), 4, "period",
+     "out of range [T#1us, T#1d]"},
+    {"watchdog_too_large",
+     replaced(kGood, "    period: 1ms\n", "    period: 1ms\n    watchdog: 1e12\n"), 5, "watchdog",
+     "out of range [1, 1000]"},
+    {"plugin_step_zero",
+     replaced(kGood, "    type: sim\n", "    type: sim\n    params: {step: 0s}\n"), 12, "step",
+     "out of range [T#10us, T#1s]"},
+    {"model_time_negative", with_model("first_order", "{tau: -1s}"), 18, "tau",
+     "out of range [T#1us, T#1d]"},
+    {"model_number_out_of_range", with_model("first_order", "{gain: 1e300}"), 18, "gain",
+     "out of range [-1000, 1000]"},
+    {"pr5510_weight_beyond_dint", with_model("pr5510", "{full_scale: 30000000}"), 18, "full_scale",
+     "weights are DINTs"},
+    {"pr5510_negative_filter_time", with_model("pr5510", "{filter_time: -40ms}"), 18, "filter_time",
+     "out of range [T#0s, T#1h]"},
+    {"hiwin_telegram_beyond_range", with_model("hiwin_e1", "{telegram: 4294967407}"), 18,
+     "telegram", "out of range [0, 65535]"},
+    {"hiwin_position_beyond_range", with_model("hiwin_e1", "{initial_position: 1e300}"), 18,
+     "initial_position", "out of range [-1e+18, 1e+18]"},
+    {"nord_iparam_beyond_its_word", with_model("nord_profisafe", "{p803: 9999999999}"), 18, "p803",
+     "out of range [-32768, 65535]"},
 };
 
 INSTANTIATE_TEST_SUITE_P(EachClass, ConfigErrors, ::testing::ValuesIn(kCases),
@@ -136,3 +170,21 @@ TEST(ConfigErrorsMisc, TheGoodConfigRuns) {
 }
 
 }  // namespace
+
+// Issue 10 point 8: 1h and 1h1us share a 1us tick, 3.6e9 device steps per
+// scan of the faster task: the virtual clock looked hung. plcrun now refuses
+// it before anything runs, at the period that makes the tick that fine.
+// (`timeout` bounds the old behaviour.)
+TEST(ConfigErrorsMisc, PeriodsWithoutAUsefulCommonTickAreRefusedInVirtualTime) {
+  const std::string path = plctest::write_temp(
+      "tick.yaml",
+      replaced(replaced(kGood, "period: 1ms", "period: 1h"), "    programs: [Tank]\n",
+               "    programs: [Tank]\n  - {name: slow, period: 1h1us, programs: []}\n"));
+  const auto r =
+      plctest::run_command("timeout 60 " + plctest::plcrun_path() + " " + path + " --cycles 1 -q");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(path + ":6:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("choose periods with a larger common divisor"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("summary"), std::string::npos) << "nothing may start: " << r.output;
+}

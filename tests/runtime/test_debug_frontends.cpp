@@ -22,10 +22,7 @@ using namespace plc;
 
 namespace {
 
-std::string demo() {
-  const char* src = std::getenv("PLC_SOURCE_DIR");
-  return std::string(src ? src : ".") + "/programs/demo/cell.yaml";
-}
+std::string demo() { return plctest::source_path("programs/demo/cell.yaml"); }
 
 bool has(const std::string& out, const std::string& what) {
   return out.find(what) != std::string::npos;

@@ -14,10 +14,7 @@ using plc::debug::Debugger;
 
 namespace {
 
-std::string demo_path() {
-  const char* src = std::getenv("PLC_SOURCE_DIR");
-  return std::string(src ? src : ".") + "/programs/demo/cell.yaml";
-}
+std::string demo_path() { return plctest::source_path("programs/demo/cell.yaml"); }
 
 std::unique_ptr<Debugger> demo_debugger(std::string replay = "", CellConfig* cfg_out = nullptr) {
   static CellConfig cfg;

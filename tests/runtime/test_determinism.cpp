@@ -7,10 +7,7 @@
 
 namespace {
 
-std::string demo_config() {
-  const char* src = std::getenv("PLC_SOURCE_DIR");
-  return std::string(src ? src : ".") + "/programs/demo/cell.yaml";
-}
+std::string demo_config() { return plctest::source_path("programs/demo/cell.yaml"); }
 
 }  // namespace
 

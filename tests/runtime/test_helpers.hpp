@@ -13,6 +13,7 @@
 
 #include "plc/cell_config.hpp"
 #include "plc/runtime.hpp"
+#include "plc_test_paths.hpp"
 
 namespace plctest {
 
@@ -20,10 +21,7 @@ inline std::unique_ptr<plc::Runtime> make_runtime(const std::string& yaml) {
   return std::make_unique<plc::Runtime>(plc::parse_cell_config(yaml, "test.yaml"));
 }
 
-inline std::string plcrun_path() {
-  const char* d = std::getenv("PLC_BIN_DIR");
-  return std::string(d ? d : "build/bin") + "/plcrun";
-}
+inline std::string plcrun_path() { return bin_dir() + "/plcrun"; }
 
 inline std::string temp_path(const std::string& name) {
   const char* t = std::getenv("TMPDIR");

@@ -71,3 +71,56 @@ programs:
   auto* p2 = static_cast<plctest::ReleaseLog*>(rt->program("P2"));
   for (std::size_t k = 0; k < 5; ++k) EXPECT_LT(p1->order[k], p2->order[k]);
 }
+
+// Issue 10 point 8: a cell with empty image areas runs (each scan copies the
+// global image into the task's, area by area).
+TEST(MultiTask, RunsWithEmptyImageAreas) {
+  auto rt = plctest::make_runtime(R"(
+image: {inputs: 0, outputs: 0, memory: 0}
+tasks: [{name: a, period: 1ms, programs: [A]}]
+programs: [{name: A, type: ReleaseLog}]
+)");
+  rt->run(plc::io::ClockMode::Virtual, 10ms);
+  EXPECT_EQ(static_cast<plctest::ReleaseLog*>(rt->program("A"))->times.size(), 10u);
+}
+
+// Issue 10 point 8: devices step at every base tick (Runtime::
+// kMaxTicksPerRelease says why), so periods whose greatest common divisor is
+// tiny against the fastest period (1h and 1h1us: 3.6e9 device steps per
+// scan) used to hang the virtual clock. Such a cell is refused when the
+// virtual clock starts, with the config position of the period that causes
+// it; 1000 steps per release is still accepted.
+TEST(MultiTask, VirtualClockRefusesPeriodsWithoutAUsefulCommonTick) {
+  auto rt = plctest::make_runtime(R"(
+tasks:
+  - {name: a, period: 1h, programs: [A]}
+  - {name: b, period: 1h1us, programs: [B]}
+programs:
+  - {name: A, type: ReleaseLog}
+  - {name: B, type: ReleaseLog}
+)");
+  ASSERT_TRUE(rt->virtual_clock_error());
+  EXPECT_EQ(rt->virtual_clock_error()->mark.line, 4);
+  EXPECT_NE(rt->virtual_clock_error()->message.find("3600000000 steps"), std::string::npos)
+      << rt->virtual_clock_error()->message;
+  EXPECT_THROW(rt->start(plc::io::ClockMode::Virtual), plc::ConfigError);
+  EXPECT_EQ(rt->task("a")->stats.scans, 0u);
+}
+
+TEST(MultiTask, VirtualClockTakesAtMostAThousandTicksPerRelease) {
+  auto cell = [](const std::string& pa, const std::string& pb) {
+    return plctest::make_runtime("tasks:\n  - {name: a, period: " + pa +
+                                 ", programs: [A]}\n  - {name: b, period: " + pb +
+                                 ", programs: [B]}\nprograms:\n  - {name: A, type: ReleaseLog}\n"
+                                 "  - {name: B, type: ReleaseLog}\n");
+  };
+  EXPECT_TRUE(cell("1001us", "2ms")->virtual_clock_error());  // 1us tick, 1001 per release
+  EXPECT_TRUE(cell("2ms", "1999us")->virtual_clock_error());  // 1us tick, 1999 per release
+  EXPECT_FALSE(cell("1ms", "2ms")->virtual_clock_error());    // 1 per release
+  EXPECT_FALSE(cell("2ms", "3ms")->virtual_clock_error());    // 1ms tick, 2 per release
+  auto rt = cell("1ms", "1001us");                            // 1us tick, exactly 1000
+  ASSERT_FALSE(rt->virtual_clock_error());
+  rt->run(plc::io::ClockMode::Virtual, 1001ms);
+  EXPECT_EQ(static_cast<plctest::ReleaseLog*>(rt->program("A"))->times.size(), 1001u);
+  EXPECT_EQ(static_cast<plctest::ReleaseLog*>(rt->program("B"))->times.size(), 1000u);
+}

@@ -5,14 +5,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <filesystem>
+
 #include "test_helpers.hpp"
 
 namespace {
 
-std::string demo() {
-  const char* src = std::getenv("PLC_SOURCE_DIR");
-  return std::string(src ? src : ".") + "/programs/demo/cell.yaml";
-}
+std::string demo() { return plctest::source_path("programs/demo/cell.yaml"); }
 
 }  // namespace
 
@@ -90,4 +89,46 @@ TEST(PlcrunCli, SigintStopsARealTimeRunCleanly) {
   EXPECT_EQ(WEXITSTATUS(status), 0) << out;
   EXPECT_NE(out.find("stopped by signal; outputs at their safe values"), std::string::npos) << out;
   EXPECT_NE(out.find("== summary"), std::string::npos) << out;
+}
+
+// Issue 10 point 9: the tests run the plcrun of their own build, whatever the
+// build folder is called (they used to fall back to build/bin when ctest lost
+// PLC_BIN_DIR, and so ran a stale plcrun, or none, from another build).
+TEST(PlcrunCli, TestsRunThePlcrunBuiltNextToThem) {
+  namespace fs = std::filesystem;
+  const fs::path self = fs::read_symlink("/proc/self/exe").parent_path();
+  const fs::path plcrun = plctest::plcrun_path();
+  ASSERT_TRUE(fs::exists(plcrun)) << plcrun;
+  EXPECT_TRUE(fs::equivalent(plcrun.parent_path(), self))
+      << plcrun << " is not in this test's build folder " << self;
+}
+
+// Issue 10 point 8: the command line's numbers have ranges. --cycles times
+// the fastest period overflowed TIME, --trace-pre 2^64-1 made a ring of 0
+// slots (a division by zero at the first sample), --for had no upper end.
+// (`timeout` bounds the old behaviour.)
+TEST(PlcrunCli, RunLengthAndPretriggerOutsideTheirRangesAreUsageErrors) {
+  const std::string trace = plctest::temp_path("pre.csv");
+  struct Row {
+    std::string args;
+    const char* message;
+  };
+  const Row rows[] = {
+      {" --cycles 18446744073709551615", "--cycles: 18446744073709551615 out of range [1, "},
+      {" --cycles=-1", "--cycles: 18446744073709551615 out of range [1, "},
+      {" --cycles 0", "--cycles: 0 out of range [1, 3153600000000]"},
+      {" --for 36501d", "--for: '36501d' is not a duration from 1ns to T#36500d"},
+      {" --cycles 5 --trace " + trace +
+           " --trace-vars Tank.level --trace-trigger 'Tank.level > 30000'"
+           " --trace-pre 18446744073709551615",
+       "--trace-pre: 18446744073709551615 out of range [0, 1000000]"},
+  };
+  for (const Row& r : rows) {
+    const auto out =
+        plctest::run_command("timeout 60 " + plctest::plcrun_path() + " " + demo() + r.args);
+    EXPECT_EQ(out.exit_code, 2) << r.args << ": " << out.output;
+    EXPECT_NE(out.output.find(r.message), std::string::npos) << r.args << ": " << out.output;
+    EXPECT_EQ(out.output.find("summary"), std::string::npos) << r.args << ": " << out.output;
+  }
+  std::remove(trace.c_str());
 }

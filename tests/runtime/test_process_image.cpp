@@ -81,3 +81,20 @@ TEST(Located, UnboundVariablesUseScratchStorage) {
   v = 42;
   EXPECT_EQ(v.get(), 42);
 }
+
+// Issue 10 point 8: `image: {memory: 0}` is a valid config. An empty area's
+// data() may be null, which copy_from passed to memcpy (undefined behaviour;
+// UBSan: "null pointer passed as argument").
+TEST(ProcessImage, CopiesImagesWithEmptyAreas) {
+  ProcessImage a, b;
+  a.resize({4, 0, 0});
+  b.resize({4, 0, 0});
+  a.area(Area::Input)[3] = 0x5A;
+  b.copy_from(a);
+  EXPECT_EQ(b.area(Area::Input)[3], 0x5A);
+  ProcessImage empty_a, empty_b;
+  empty_a.resize({0, 0, 0});
+  empty_b.resize({0, 0, 0});
+  empty_b.copy_from(empty_a);
+  EXPECT_TRUE(empty_b.area(Area::Memory).empty());
+}

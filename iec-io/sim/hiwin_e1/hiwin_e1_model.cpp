@@ -32,39 +32,46 @@ constexpr std::uint16_t kAbsInit = 0x3200, kResetDrive = 0x3215, kSaveFlash = 0x
 
 double sgn(double v) { return v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0); }
 
+// Ranges: positions and windows are in control units (CU); the telegrams
+// carry positions as DINT, so windows stop at 2^31 - 1, while encoder
+// positions (multi-turn counts) may go to +-1e18 CU (the default "no limit"),
+// which keeps turns = position / cu_per_rev inside an int64. Speeds to
+// 100,000 rpm, times to an hour: beyond any servo, still finite.
 HiwinE1Config config_from(const io::ModelParams& p) {
   HiwinE1Config c;
-  const auto tg = p.get_int("telegram", 111);
+  const auto tg = p.get_int("telegram", 111, 0, 65535);
   if (!is_supported_telegram(static_cast<unsigned>(tg)))
     throw io::ParamError("telegram",
                          "telegram must be 3, 9 or 111 (spec §1.2), got " + std::to_string(tg));
   c.telegram = static_cast<TelegramType>(tg);
-  c.cu_per_rev = p.get_double("cu_per_rev", c.cu_per_rev);
-  if (c.cu_per_rev <= 0) throw io::ParamError("cu_per_rev", "cu_per_rev must be > 0");
+  constexpr double kDint = 2147483647.0, kPos = 1e18, kRpm = 100000, kMs = 3600000;
+  c.cu_per_rev = p.get_double("cu_per_rev", c.cu_per_rev, 1, kDint);
   c.absolute_encoder = p.get_bool("absolute_encoder", c.absolute_encoder);
   c.sign_of_life_monitoring = p.get_bool("sign_of_life_monitoring", c.sign_of_life_monitoring);
-  c.kv = p.get_double("kv", c.kv);
-  if (c.kv <= 0) throw io::ParamError("kv", "kv must be > 0");
-  c.speed_tau_ms = p.get_double("speed_tau_ms", c.speed_tau_ms);
-  c.standstill_rpm = p.get_double("standstill_rpm", c.standstill_rpm);
-  c.following_window = p.get_double("following_window", c.following_window);
-  c.following_error_limit = p.get_double("following_error_limit", c.following_error_limit);
-  c.target_window = p.get_double("target_window", c.target_window);
-  c.speed_window_rpm = p.get_double("speed_window_rpm", c.speed_window_rpm);
-  c.homing_speed_rpm = p.get_double("homing_speed_rpm", c.homing_speed_rpm);
-  c.home_switch = p.get_double("home_switch", c.home_switch);
-  c.home_position = p.get_double("home_position", c.home_position);
-  c.neg_limit = p.get_double("neg_limit", c.neg_limit);
-  c.pos_limit = p.get_double("pos_limit", c.pos_limit);
-  c.initial_position = p.get_double("initial_position", c.initial_position);
-  c.db_time_ms = p.get_double("db_time_ms", c.db_time_ms);
-  c.coast_time_ms = p.get_double("coast_time_ms", c.coast_time_ms);
+  c.kv = p.get_double("kv", c.kv, 0.001, 100000);
+  c.speed_tau_ms = p.get_double("speed_tau_ms", c.speed_tau_ms, 0, kMs);
+  c.standstill_rpm = p.get_double("standstill_rpm", c.standstill_rpm, 0, kRpm);
+  c.following_window = p.get_double("following_window", c.following_window, 0, kDint);
+  c.following_error_limit =
+      p.get_double("following_error_limit", c.following_error_limit, 0, kDint);
+  c.target_window = p.get_double("target_window", c.target_window, 0, kDint);
+  c.speed_window_rpm = p.get_double("speed_window_rpm", c.speed_window_rpm, 0, kRpm);
+  c.homing_speed_rpm = p.get_double("homing_speed_rpm", c.homing_speed_rpm, 0, kRpm);
+  c.home_switch = p.get_double("home_switch", c.home_switch, -kPos, kPos);
+  c.home_position = p.get_double("home_position", c.home_position, -kPos, kPos);
+  c.neg_limit = p.get_double("neg_limit", c.neg_limit, -kPos, kPos);
+  c.pos_limit = p.get_double("pos_limit", c.pos_limit, -kPos, kPos);
+  c.initial_position = p.get_double("initial_position", c.initial_position, -kPos, kPos);
+  c.db_time_ms = p.get_double("db_time_ms", c.db_time_ms, 0, kMs);
+  c.coast_time_ms = p.get_double("coast_time_ms", c.coast_time_ms, 0, kMs);
+  using std::chrono::hours;
+  using std::chrono::milliseconds;
   c.multiturn_clear_ms =
-      std::chrono::duration_cast<std::chrono::milliseconds>(
-          p.get_time("multiturn_clear_time", std::chrono::milliseconds(c.multiturn_clear_ms)))
+      std::chrono::duration_cast<milliseconds>(
+          p.get_time("multiturn_clear_time", milliseconds(c.multiturn_clear_ms), TIME(0), hours(1)))
           .count();
-  c.reset_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
-                   p.get_time("reset_time", std::chrono::milliseconds(c.reset_ms)))
+  c.reset_ms = std::chrono::duration_cast<milliseconds>(
+                   p.get_time("reset_time", milliseconds(c.reset_ms), TIME(0), hours(1)))
                    .count();
   p.reject_unknown();
   return c;

@@ -10,15 +10,28 @@ namespace plc::sim {
 namespace err = plc::safety::nord::err;
 
 namespace {
+// What a config may give: anything a 16-bit parameter word holds (signed or
+// unsigned; with the parameter's decimals for the REAL ones). A value the
+// word holds but the manual's range excludes reaches the device, which
+// reports it as its fatal range error (check() below); one the word cannot
+// hold is a config error.
+constexpr std::int64_t kWordMin = -32768, kWordMax = 65535;
+std::int64_t word(const io::ModelParams& p, const std::string& key, std::int64_t def) {
+  return p.get_int(key, def, kWordMin, kWordMax);
+}
+// P811 has two decimals, P821/P822 one (spec §4.5).
+double word_real(const io::ModelParams& p, const std::string& key, double def, double scale) {
+  return p.get_double(key, def, double(kWordMin) / scale, double(kWordMax) / scale);
+}
 template <std::size_t N>
 void read_ints(const io::ModelParams& p, const char* name, std::array<std::int64_t, N>& a) {
   for (std::size_t i = 0; i < N; ++i)
-    a[i] = p.get_int(std::string(name) + "_" + std::to_string(i + 1), a[i]);
+    a[i] = word(p, std::string(name) + "_" + std::to_string(i + 1), a[i]);
 }
 template <std::size_t N>
 void read_doubles(const io::ModelParams& p, const char* name, std::array<double, N>& a) {
   for (std::size_t i = 0; i < N; ++i)
-    a[i] = p.get_double(std::string(name) + "_" + std::to_string(i + 1), a[i]);
+    a[i] = word_real(p, std::string(name) + "_" + std::to_string(i + 1), a[i], 10);
 }
 bool bit01(std::int64_t v) { return v == 0 || v == 1; }
 }  // namespace
@@ -26,15 +39,15 @@ bool bit01(std::int64_t v) { return v == 0 || v == 1; }
 NordIParams NordIParams::from(const io::ModelParams& p) {
   NordIParams r;
   read_ints(p, "p800", r.p800);
-  r.p801 = p.get_int("p801", r.p801);
+  r.p801 = word(p, "p801", r.p801);
   read_ints(p, "p802", r.p802);
-  r.p803_ms = p.get_int("p803", r.p803_ms);
-  r.p804 = p.get_int("p804", r.p804);
-  r.p805_ms = p.get_int("p805", r.p805_ms);
+  r.p803_ms = word(p, "p803", r.p803_ms);
+  r.p804 = word(p, "p804", r.p804);
+  r.p805_ms = word(p, "p805", r.p805_ms);
   read_ints(p, "p806", r.p806);
-  r.p810 = p.get_int("p810", r.p810);
-  r.p811 = p.get_double("p811", r.p811);
-  r.p812 = p.get_int("p812", r.p812);
+  r.p810 = word(p, "p810", r.p810);
+  r.p811 = word_real(p, "p811", r.p811, 100);
+  r.p812 = word(p, "p812", r.p812);
   read_ints(p, "p820", r.p820);
   read_doubles(p, "p821", r.p821_s);
   read_doubles(p, "p822", r.p822_s);

@@ -24,7 +24,7 @@ NordProfisafeModel::NordProfisafeModel(const io::ModelParams& p)
   dip_ = static_cast<std::uint16_t>(p.get_int("dip_address", 1, 0, 65535));
   p831_ = static_cast<std::uint16_t>(p.get_int("p831", 0, 0, 65535));
   max_sil_ = static_cast<int>(p.get_int("max_sil", 3, 0, 3));
-  speed_rpm_ = p.get_double("speed_rpm", 0.0);
+  speed_rpm_ = p.get_double("speed_rpm", 0.0, -100000, 100000);  // beyond any motor, finite
   si_raw_ = {p.get_bool("si1", false), p.get_bool("si2", false)};
   si_ = si_raw_;
   p.reject_unknown();

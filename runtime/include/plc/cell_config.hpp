@@ -43,6 +43,14 @@ struct Params {
   Mark mark;                          // the params block itself
 };
 
+// Ranges of the task keys (docs/config.md). A period from 1 us to a day,
+// and a watchdog of at most 1000 periods: the watchdog time (at most 1000
+// days) and every release time of a run stay far inside the int64
+// nanoseconds of TIME.
+inline constexpr TIME kMinPeriod = std::chrono::microseconds(1);
+inline constexpr TIME kMaxPeriod = std::chrono::hours(24);
+inline constexpr double kMaxWatchdog = 1000;
+
 struct TaskConfig {
   Item<std::string> name;
   Item<TIME> period;

@@ -115,8 +115,23 @@ class ScanHooks {
   virtual void before_publish(TaskRuntime&, io::ProcessImage& /*global*/) {}
 };
 
+// The longest run plcrun accepts (--for, --cycles): 100 years. With periods
+// of at most a day (kMaxPeriod) the clock then never comes near the end of
+// TIME's int64 nanoseconds (292 years).
+inline constexpr TIME kMaxRunSpan = std::chrono::hours(24 * 36500);
+
 class Runtime {
  public:
+  // Virtual time steps the devices at every base tick, also at ticks where
+  // no task is due, because their dynamics (ramps, filters, noise drawn per
+  // step, communication watchdogs) depend on the step size: advancing them
+  // in one jump to the next release would change results. So the clock may
+  // take at most this many base ticks from one release of the fastest task
+  // to the next. Sensible period sets need 1 to 10 (1ms/10ms, 2ms/3ms,
+  // 4ms/6ms); 1h and 1h1us would need 3.6e9 device steps per scan, which
+  // looks like a hang.
+  static constexpr std::int64_t kMaxTicksPerRelease = 1000;
+
   // Builds the whole cell; throws ConfigError naming file:line:column.
   explicit Runtime(const CellConfig& cfg);
   ~Runtime();
@@ -134,6 +149,7 @@ class Runtime {
 
   // Fine-grained virtual-time control (tests, debugger): start() the
   // plugins, tick() one base tick at a time, finish() to go safe and stop.
+  // start(Virtual) throws virtual_clock_error() when there is one.
   void start(io::ClockMode mode);
   void tick();
   // Virtual time: run exactly the next due scan (stepping the devices first
@@ -175,6 +191,12 @@ class Runtime {
   [[nodiscard]] TIME now() const { return now_; }
   [[nodiscard]] TIME base_tick() const { return base_tick_; }
   [[nodiscard]] TIME fastest_period() const { return fastest_period_; }
+  // Why the virtual clock cannot run this cell (too many base ticks per
+  // release, see kMaxTicksPerRelease), located at the task period that
+  // causes it; empty when it can. Real time is not affected.
+  [[nodiscard]] const std::optional<ConfigError>& virtual_clock_error() const {
+    return virtual_clock_error_;
+  }
   [[nodiscard]] io::ClockMode mode() const { return mode_; }
 
   VarRegistry& vars() { return vars_; }
@@ -243,6 +265,7 @@ class Runtime {
   TIME now_{};
   TIME base_tick_{};
   TIME fastest_period_{};
+  std::optional<ConfigError> virtual_clock_error_;
   PiMutex image_mutex_;
   bool lock_image_ = false;  // only real time has concurrent tasks
   std::atomic<bool> stop_requested_{false};

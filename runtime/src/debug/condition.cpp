@@ -3,10 +3,22 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstring>
 
 #include "plc/iec_literal.hpp"
 
 namespace plc::debug {
+
+namespace {
+
+template <class T>
+T load(const unsigned char* buf) {
+  T x;
+  std::memcpy(&x, buf, sizeof x);
+  return x;
+}
+
+}  // namespace
 
 Value read_value(const VarInfo& v) {
   alignas(8) unsigned char buf[16] = {};
@@ -15,44 +27,46 @@ Value read_value(const VarInfo& v) {
   VarRegistry::read(v, buf);
   switch (v.type) {
     case VarType::BOOL:
-      out.i = *reinterpret_cast<bool*>(buf) ? 1 : 0;
+      out.i = load<bool>(buf) ? 1 : 0;
       break;
     case VarType::SINT:
-      out.i = *reinterpret_cast<std::int8_t*>(buf);
+      out.i = load<std::int8_t>(buf);
       break;
     case VarType::INT:
-      out.i = *reinterpret_cast<std::int16_t*>(buf);
+      out.i = load<std::int16_t>(buf);
       break;
     case VarType::DINT:
-      out.i = *reinterpret_cast<std::int32_t*>(buf);
+      out.i = load<std::int32_t>(buf);
       break;
     case VarType::LINT:
     case VarType::TIME:
-      out.i = *reinterpret_cast<std::int64_t*>(buf);
+      out.i = load<std::int64_t>(buf);
       break;
     case VarType::USINT:
     case VarType::BYTE:
-      out.i = *reinterpret_cast<std::uint8_t*>(buf);
+      out.i = load<std::uint8_t>(buf);
       break;
     case VarType::UINT:
     case VarType::WORD:
-      out.i = *reinterpret_cast<std::uint16_t*>(buf);
+      out.i = load<std::uint16_t>(buf);
       break;
     case VarType::UDINT:
     case VarType::DWORD:
-      out.i = *reinterpret_cast<std::uint32_t*>(buf);
+      out.i = load<std::uint32_t>(buf);
       break;
     case VarType::ULINT:
     case VarType::LWORD:
-      out.i = static_cast<std::int64_t>(*reinterpret_cast<std::uint64_t*>(buf));
+      // The bit pattern as a LINT (two's complement): values from 2^63 up
+      // read as negative numbers, as a PLC's LINT view of the same 64 bits.
+      out.i = static_cast<std::int64_t>(load<std::uint64_t>(buf));
       break;
     case VarType::REAL:
       out.real = true;
-      out.d = *reinterpret_cast<float*>(buf);
+      out.d = load<float>(buf);
       break;
     case VarType::LREAL:
       out.real = true;
-      out.d = *reinterpret_cast<double*>(buf);
+      out.d = load<double>(buf);
       break;
     case VarType::STRING:
       break;
@@ -150,6 +164,20 @@ class ConditionParser {
     if (err_.empty()) err_ = m;
     return false;
   }
+  // One level of '(', NOT or unary '-': each recurses, so the depth is
+  // bounded here rather than by the thread's stack.
+  struct Nest {
+    explicit Nest(int& d) : depth(d) { ++depth; }
+    ~Nest() { --depth; }
+    Nest(const Nest&) = delete;
+    Nest& operator=(const Nest&) = delete;
+    int& depth;
+  };
+  bool too_deep(const Token& t) {
+    return fail("condition nested too deeply at column " + std::to_string(t.pos + 1) +
+                " (at most " + std::to_string(Condition::kMaxNesting) +
+                " levels of parentheses, NOT and unary '-')");
+  }
   void emit(Condition::Op op, std::uint32_t index = 0) { c_.code_.push_back({op, index}); }
   bool is_op(const char* o) const { return tok_.kind == Tok::Op && tok_.text == o; }
 
@@ -182,6 +210,8 @@ class ConditionParser {
   }
   bool expr_not() {
     if (is_op("NOT")) {
+      const Nest nest(depth_);
+      if (depth_ > Condition::kMaxNesting) return too_deep(tok_);
       next();
       if (!expr_not()) return false;
       emit(Condition::Op::Not);
@@ -228,6 +258,8 @@ class ConditionParser {
   }
   bool unary() {
     if (is_op("-")) {
+      const Nest nest(depth_);
+      if (depth_ > Condition::kMaxNesting) return too_deep(tok_);
       next();
       if (!unary()) return false;
       emit(Condition::Op::Neg);
@@ -243,6 +275,8 @@ class ConditionParser {
   bool primary() {
     const Token t = tok_;
     if (t.kind == Tok::LParen) {
+      const Nest nest(depth_);
+      if (depth_ > Condition::kMaxNesting) return too_deep(t);
       next();
       if (!expr_or()) return false;
       if (tok_.kind != Tok::RParen)
@@ -300,6 +334,7 @@ class ConditionParser {
   std::size_t p_ = 0;
   Token tok_;
   std::string err_;
+  int depth_ = 0;  // open '(' / NOT / unary '-' levels
   const VarRegistry& vars_;
   io::ProcessImage& global_;
   io::ByteOrder order_;
@@ -322,20 +357,69 @@ std::optional<Condition> Condition::compile(std::string_view text, const VarRegi
       --depth;
     max_depth = std::max(max_depth, depth);
   }
-  if (max_depth > 32) {
-    error = "condition too deeply nested (more than 32 operands pending)";
+  if (max_depth > kMaxOperands) {
+    error = "condition too deeply nested (more than " + std::to_string(kMaxOperands) +
+            " operands pending)";
     return std::nullopt;
   }
   return c;
 }
 
+namespace {
+
+// LINT arithmetic as a PLC's 64-bit integer unit does it: two's-complement
+// wrap-around, computed on the unsigned bit pattern so that no overflow is
+// undefined behaviour.
+std::int64_t wrap(std::uint64_t x) { return static_cast<std::int64_t>(x); }
+std::uint64_t bits(std::int64_t x) { return static_cast<std::uint64_t>(x); }
+
+// Division and MOD never trap: by zero they give 0, and the one quotient
+// that does not fit, LINT_MIN / -1, wraps to LINT_MIN (its remainder is 0).
+std::int64_t int_div(std::int64_t a, std::int64_t b) {
+  if (b == 0) return 0;
+  if (b == -1) return wrap(0 - bits(a));
+  return a / b;
+}
+std::int64_t int_mod(std::int64_t a, std::int64_t b) {
+  if (b == 0 || b == -1) return 0;
+  return a % b;
+}
+
+enum class Order { Less, Equal, Greater, Unordered };
+
+template <class T>
+Order order_of(T a, T b) {
+  return a < b ? Order::Less : b < a ? Order::Greater : a == b ? Order::Equal : Order::Unordered;
+}
+
+// An integer against a real, exactly: converting the integer to double
+// would round above 2^53 (and make 2^63-1 equal 2^63); converting an
+// out-of-range double to an integer would be undefined.
+Order order_int_real(std::int64_t i, double d) {
+  if (std::isnan(d)) return Order::Unordered;
+  constexpr double kTwo63 = 9223372036854775808.0;
+  if (d >= kTwo63) return Order::Less;
+  if (d < -kTwo63) return Order::Greater;
+  const double whole = std::trunc(d);  // in [-2^63, 2^63): fits
+  const auto w = static_cast<std::int64_t>(whole);
+  if (i != w) return i < w ? Order::Less : Order::Greater;
+  const double frac = d - whole;
+  return frac > 0 ? Order::Less : frac < 0 ? Order::Greater : Order::Equal;
+}
+
+Order compare(const Value& a, const Value& b) {
+  if (!a.real && !b.real) return order_of(a.i, b.i);
+  if (a.real && b.real) return order_of(a.d, b.d);
+  if (!a.real) return order_int_real(a.i, b.d);
+  const Order o = order_int_real(b.i, a.d);  // the mirror image
+  return o == Order::Less ? Order::Greater : o == Order::Greater ? Order::Less : o;
+}
+
+}  // namespace
+
 Value Condition::evaluate() const {
-  std::array<Value, 32> st;
+  std::array<Value, kMaxOperands> st;
   int sp = 0;
-  auto bin_cmp = [](const Value& a, const Value& b) -> int {
-    if (a.real || b.real) return a.as_real() < b.as_real() ? -1 : a.as_real() > b.as_real() ? 1 : 0;
-    return a.i < b.i ? -1 : a.i > b.i ? 1 : 0;
-  };
   for (const Instr& in : code_) {
     switch (in.op) {
       case Op::Const:
@@ -349,7 +433,7 @@ Value Condition::evaluate() const {
         if (a.real)
           a.d = -a.d;
         else
-          a.i = -a.i;
+          a.i = wrap(0 - bits(a.i));
         break;
       }
       case Op::Not:
@@ -359,55 +443,48 @@ Value Condition::evaluate() const {
         const Value b = st[--sp];
         Value& a = st[sp - 1];
         const bool real = a.real || b.real;
+        const double x = a.as_real(), y = b.as_real();
+        // IEEE 754 for REAL/LREAL (inf and NaN are values, never traps),
+        // except that division and MOD by zero give 0 like the integers.
         switch (in.op) {
           case Op::Add:
-            if (real)
-              a = {true, 0, a.as_real() + b.as_real()};
-            else
-              a.i += b.i;
+            a = real ? Value{true, 0, x + y} : Value{false, wrap(bits(a.i) + bits(b.i)), 0};
             break;
           case Op::Sub:
-            if (real)
-              a = {true, 0, a.as_real() - b.as_real()};
-            else
-              a.i -= b.i;
+            a = real ? Value{true, 0, x - y} : Value{false, wrap(bits(a.i) - bits(b.i)), 0};
             break;
           case Op::Mul:
-            if (real)
-              a = {true, 0, a.as_real() * b.as_real()};
-            else
-              a.i *= b.i;
+            a = real ? Value{true, 0, x * y} : Value{false, wrap(bits(a.i) * bits(b.i)), 0};
             break;
           case Op::Div:
-            if (real)
-              a = {true, 0, b.as_real() == 0 ? 0.0 : a.as_real() / b.as_real()};
-            else
-              a.i = b.i == 0 ? 0 : a.i / b.i;  // division by zero gives 0, never a trap
+            a = real ? Value{true, 0, y == 0 ? 0.0 : x / y} : Value{false, int_div(a.i, b.i), 0};
             break;
           case Op::Mod:
-            if (real)
-              a = {true, 0, b.as_real() == 0 ? 0.0 : std::fmod(a.as_real(), b.as_real())};
-            else
-              a.i = b.i == 0 ? 0 : a.i % b.i;
+            a = real ? Value{true, 0, y == 0 ? 0.0 : std::fmod(x, y)}
+                     : Value{false, int_mod(a.i, b.i), 0};
             break;
           case Op::Eq:
-            a = {false, bin_cmp(a, b) == 0, 0};
+            a = {false, compare(a, b) == Order::Equal, 0};
             break;
           case Op::Ne:
-            a = {false, bin_cmp(a, b) != 0, 0};
+            a = {false, compare(a, b) != Order::Equal, 0};
             break;
           case Op::Lt:
-            a = {false, bin_cmp(a, b) < 0, 0};
+            a = {false, compare(a, b) == Order::Less, 0};
             break;
-          case Op::Le:
-            a = {false, bin_cmp(a, b) <= 0, 0};
+          case Op::Le: {
+            const Order o = compare(a, b);
+            a = {false, o == Order::Less || o == Order::Equal, 0};
             break;
+          }
           case Op::Gt:
-            a = {false, bin_cmp(a, b) > 0, 0};
+            a = {false, compare(a, b) == Order::Greater, 0};
             break;
-          case Op::Ge:
-            a = {false, bin_cmp(a, b) >= 0, 0};
+          case Op::Ge: {
+            const Order o = compare(a, b);
+            a = {false, o == Order::Greater || o == Order::Equal, 0};
             break;
+          }
           case Op::And:
             a = {false, a.truthy() && b.truthy(), 0};
             break;

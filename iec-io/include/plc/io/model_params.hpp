@@ -27,12 +27,17 @@ class ModelParams {
   [[nodiscard]] bool has(const std::string& key) const { return values_.count(key) != 0; }
 
   // Typed getters: return the default when absent, throw ParamError when the
-  // value does not parse or is out of range. Each getter marks the key used.
-  double get_double(const std::string& key, double def) const;
-  std::int64_t get_int(const std::string& key, std::int64_t def, std::int64_t min = INT64_MIN,
-                       std::int64_t max = INT64_MAX) const;
+  // value does not parse or lies outside [min, max]. Each getter marks the
+  // key used. Every number a model takes states its range: a value the
+  // model cannot represent or compute with (a weight beyond a DINT, a
+  // negative time constant) is a config error naming the key, never a
+  // wrapped value or undefined behaviour later.
+  double get_double(const std::string& key, double def, double min, double max) const;
+  std::int64_t get_int(const std::string& key, std::int64_t def, std::int64_t min,
+                       std::int64_t max) const;
   bool get_bool(const std::string& key, bool def) const;
-  TIME get_time(const std::string& key, TIME def) const;  // "T#2s", "20ms", "1.5s"
+  // "T#2s", "20ms", "1.5s"
+  TIME get_time(const std::string& key, TIME def, TIME min, TIME max) const;
   std::string get_string(const std::string& key, const std::string& def) const;
 
   // Throws ParamError naming the first key no getter asked for: a typo in a

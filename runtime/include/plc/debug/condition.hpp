@@ -9,6 +9,22 @@
 // (T#...). Operands are variable paths from the registry or IEC addresses
 // (read from the global image). Parsed and compiled once into postfix code;
 // evaluation reads the variables and never allocates.
+//
+// Arithmetic, defined for every input (no trap, no undefined behaviour):
+// * Integers of every type (BOOL, ANY_INT, ANY_BIT, TIME in ns) are taken as
+//   LINT and computed in 64-bit two's complement that wraps around, as a
+//   PLC's LINT does: 9223372036854775807 + 1 = -9223372036854775808.
+//   ULINT/LWORD values from 2^63 up read as their (negative) LINT pattern.
+// * Division and MOD by zero give 0 (REAL too), so a condition such as
+//   `a / b > 3` is simply false while b = 0 instead of stopping the scan;
+//   LINT_MIN / -1 wraps to LINT_MIN and LINT_MIN MOD -1 is 0.
+// * REAL/LREAL follow IEEE 754: overflow gives +-inf, and NaN compares
+//   unordered (=, <, <=, >, >= are FALSE, <> is TRUE).
+// * An integer compared with a real is compared exactly (no rounding of
+//   the integer to double).
+// * At most kMaxNesting levels of parentheses, NOT and unary '-', and
+//   kMaxOperands operands pending at once; deeper conditions are refused
+//   when compiled, naming the column.
 #pragma once
 
 #include <cstdint>
@@ -35,6 +51,12 @@ Value read_value(const VarInfo& v);
 
 class Condition {
  public:
+  // People nest a handful of levels; 64 keeps the recursive-descent parser
+  // far inside any thread's stack, also under sanitizers.
+  static constexpr int kMaxNesting = 64;
+  // The evaluator's fixed operand stack (no allocation while evaluating).
+  static constexpr int kMaxOperands = 32;
+
   // Compiles `text`; on failure returns nullopt and sets `error` (which names
   // the unknown variable or the position of the syntax error).
   static std::optional<Condition> compile(std::string_view text, const VarRegistry& vars,

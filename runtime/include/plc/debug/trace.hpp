@@ -42,6 +42,9 @@ class Trace {
   std::string add(const std::string& path_or_address);
   void clear() { columns_.clear(); }
   std::string set_trigger(const std::string& condition);  // "" clears it
+  // Rows kept from before the trigger, at most kMaxPretriggerRows (the ring
+  // of rows x columns values is allocated when the trace starts).
+  static constexpr std::size_t kMaxPretriggerRows = 1'000'000;
   void set_pretrigger(std::size_t rows) { pre_rows_ = rows; }
   // Off for real time: never make a scan thread wait for the disk.
   void set_backpressure(bool on) { backpressure_ = on; }
