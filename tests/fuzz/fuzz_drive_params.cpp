@@ -126,16 +126,6 @@ void sina_para(FuzzInput& in) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   FuzzInput in(data, size);
-  switch (in.byte() % 3) {
-    case 0:
-      decoders(in);
-      break;
-    case 1:
-      parameter_server(in);
-      break;
-    default:
-      sina_para(in);
-      break;
-  }
+  plc::fuzz::run_one_of(in, decoders, parameter_server, sina_para);
   return 0;
 }

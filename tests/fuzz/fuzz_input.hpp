@@ -62,4 +62,13 @@ class FuzzInput {
   std::size_t pos_ = 0;
 };
 
+// Runs the one of `parts` that the input's next byte picks (byte modulo
+// their number), each a function of the rest of the input.
+template <class... Part>
+void run_one_of(FuzzInput& in, Part... parts) {
+  const std::size_t pick = in.byte() % sizeof...(Part);
+  std::size_t i = 0;
+  ((i++ == pick ? parts(in) : void()), ...);
+}
+
 }  // namespace plc::fuzz

@@ -117,16 +117,6 @@ void f_device(FuzzInput& in) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   FuzzInput in(data, size);
-  switch (in.byte() % 3) {
-    case 0:
-      crc2(in);
-      break;
-    case 1:
-      f_host(in);
-      break;
-    default:
-      f_device(in);
-      break;
-  }
+  plc::fuzz::run_one_of(in, crc2, f_host, f_device);
   return 0;
 }

@@ -145,16 +145,6 @@ void blocks(FuzzInput& in) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   FuzzInput in(data, size);
-  switch (in.byte() % 3) {
-    case 0:
-      codec(in);
-      break;
-    case 1:
-      device_model(in);
-      break;
-    default:
-      blocks(in);
-      break;
-  }
+  plc::fuzz::run_one_of(in, codec, device_model, blocks);
   return 0;
 }

@@ -63,29 +63,22 @@ def trace_bytes(plcrun, tmp, scans):
     return rows
 
 
-def changes(rows, key, every=1):
-    """The frames of one area, with a leading 'new frame' flag byte: 1 and
-    the bytes when they changed, else 0 (keep)."""
+def changes(rows, key, every=1, new=b"\x01", keep=b"\x00"):
+    """The frames of one area, each behind a control byte: `new` and the
+    bytes when they changed, else `keep` (the target keeps the last ones)."""
     out, last = b"", None
     for r in rows[::every]:
         if r[key] != last:
-            out += b"\x01" + r[key]
+            out += new + r[key]
             last = r[key]
         else:
-            out += b"\x00"
+            out += keep
     return out
 
 
 def device_frames(rows, key, every=1):
     """FuzzDevice control bytes: answering (bit 1), new inputs (bit 0)."""
-    out, last = b"", None
-    for r in rows[::every]:
-        if r[key] != last:
-            out += b"\x03" + r[key]
-            last = r[key]
-        else:
-            out += b"\x02"
-    return out
+    return changes(rows, key, every, new=b"\x03", keep=b"\x02")
 
 
 def recordings(plcrun, out, tmp):
