@@ -1,7 +1,7 @@
 // Fuzz target: the debugger's command line (Debugger::execute), one command
 // per input line, on the filling cell in virtual time; freeze points read
 // their commands from the following lines. Every line gets an answer, never
-// a crash. The session ends after 3 s of virtual time (so `continue` and
+// a crash. The session ends after 1 s of virtual time (so `continue` and
 // `goto` are bounded) and files are written only where the target says:
 // `record FILE` and `trace start FILE` go to a temporary file.
 #include <unistd.h>
@@ -20,7 +20,7 @@
 
 namespace {
 
-constexpr int kMaxCommands = 48;
+constexpr int kMaxCommands = 32;
 
 std::string temp_file(const char* ext) {
   return "/tmp/plc_fuzz_debugger_" + std::to_string(::getpid()) + ext;
@@ -48,7 +48,7 @@ std::string confine_files(std::string_view line) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   plc::fuzz::FuzzInput in(data, size);
   plc::debug::Debugger::Options opt;
-  opt.span = std::chrono::seconds(3);
+  opt.span = std::chrono::seconds(1);
   plc::debug::Debugger dbg([] { return std::make_unique<plc::Runtime>(plc::fuzz::filling_cell()); },
                            opt);
   int commands = 0;
