@@ -470,5 +470,31 @@ TEST(Pr5510Model, Spec71_ScaleInterfaceDisabled) {
   for (auto b : h.r()) EXPECT_EQ(0, b);
 }
 
+// A weight beyond what the display can show (here the analog test value,
+// as likely a steep span calibration) saturates at the display limit: Above
+// FSD and Over-load (§3.4 R[7]) and a positive gross, never a wrapped DINT
+// (found by tests/fuzz/fuzz_weighing_windows: signed overflow in the
+// standstill check).
+TEST(Pr5510Model, Spec34_WeightBeyondTheDisplaySaturates) {
+  auto c = quiet_config();
+  c.test_value = 3e7;  // kg: 3e9 digits at 0.01 kg, more than a DINT holds
+  Harness h(c);
+  h.run(100ms);
+  pulse(h, wg::CommandBit::SetTest);
+  ASSERT_TRUE(st(h).TestActive);
+  h.run(100ms);
+  EXPECT_GT(h.model.gross_digits(), 0) << "the display saturates, it does not wrap";
+  EXPECT_TRUE(st(h).AboveFsd);
+  EXPECT_TRUE(st(h).Overload);
+  c.test_value = -3e7;
+  Harness low(c);
+  low.run(100ms);
+  pulse(low, wg::CommandBit::SetTest);
+  low.run(100ms);
+  EXPECT_LT(low.model.gross_digits(), 0);
+  EXPECT_TRUE(st(low).BelowZero);
+  EXPECT_FALSE(st(low).AboveFsd);
+}
+
 INSTANTIATE_TEST_SUITE_P(Pr5510Model, BothBuses,
                          ::testing::Values(wg::Bus::Profibus, wg::Bus::DeviceNet));

@@ -107,8 +107,14 @@ void Pr5510Model::update_weight_and_status() {
       st_.TestActive ? cfg_.test_value : (filtered_kg_ - zero_offset_kg_) * span_gain_;
   const double exact = kg * digits_per_kg_;
   const double d = std::max<double>(1.0, cfg_.division);
-  gross_ = static_cast<DINT>(std::lround(exact / d) * static_cast<long>(d));
-  gross100_ = std::llround(exact * 100.0);
+  // What the display can show: weights beyond it (a steep span calibration,
+  // a huge test value) saturate, so every value and every difference of two
+  // (net = gross - tare, the standstill check) fits a DINT.
+  constexpr double kDisplayMax = 999'999'999.0;
+  const double shown = std::round(exact / d) * d;
+  gross_ = std::isnan(shown) ? 0 : static_cast<DINT>(std::clamp(shown, -kDisplayMax, kDisplayMax));
+  gross100_ =
+      std::isnan(exact) ? 0 : std::llround(std::clamp(exact, -kDisplayMax, kDisplayMax) * 100.0);
 
   // Standstill: the displayed weight stays within +- range for the time.
   if (std::abs(gross_ - still_ref_) <= cfg_.standstill_range) {

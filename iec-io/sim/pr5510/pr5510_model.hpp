@@ -132,7 +132,6 @@ class Pr5510Model final : public io::DeviceModel {
   TIME since_cycle_{};
   TIME since_ms_{};
   std::uint64_t cycles_ = 0;
-  bool started_ = false;
 
   // weighing state
   double filtered_kg_ = 0.0;

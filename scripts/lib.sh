@@ -1,0 +1,25 @@
+# Shared by the scripts/ jobs (sourced, not run).
+
+# plc_configure DIR [cmake options...]: configures DIR with Ninja; uses
+# ccache when it is installed (developers' machines), never needs it (CI).
+plc_configure() {
+  local dir="$1"
+  shift
+  local launcher=()
+  if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+  cmake -S . -B "$dir" -G Ninja "${launcher[@]}" "$@" >/dev/null
+}
+
+# plc_jobs: parallel build and test jobs (PLC_JOBS, default: all cores).
+plc_jobs() { echo "${PLC_JOBS:-$(nproc)}"; }
+
+# plc_configure_asan: the AddressSanitizer + UndefinedBehaviorSanitizer build
+# in build-asan/, shared by scripts/test-asan (the whole suite) and
+# scripts/fuzz (the fuzz targets): clang, everything also instrumented for
+# libFuzzer (fuzzer-no-link), tests/fuzz/ targets as libFuzzer executables.
+# -O1 without NDEBUG (asserts stay on); any sanitizer report is fatal.
+plc_configure_asan() {
+  plc_configure build-asan -DCMAKE_CXX_COMPILER="${PLC_ASAN_CXX:-clang++}" -DPLC_EXCLUDE="" \
+    -DPLC_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
+    -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
+}

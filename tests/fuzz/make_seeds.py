@@ -1,0 +1,186 @@
+#!/usr/bin/env python3
+"""Writes the seed corpora of the fuzz targets into corpus/<target>/.
+
+Seeds are real inputs: the example cell configs, conditions and debugger
+commands on the filling cell, recordings made by plcrun, and the bytes the
+filling cell's devices and blocks exchanged in a traced virtual-time run
+(plcrun --trace of the %I/%Q bytes of each device), laid out the way each
+target reads its input. Rerun after a wire or file format changes:
+
+    tests/fuzz/make_seeds.py build/bin/plcrun
+
+Files named crash-* (reproducers of fixed crashes) are left alone.
+`make_seeds.py PLCRUN --recordings DIR` writes only the two recordings, into
+DIR (scripts/fuzz does, so the recording target always starts from the
+current file format).
+"""
+import csv
+import os
+import pathlib
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+CORPUS = pathlib.Path(__file__).resolve().parent / "corpus"
+CELL = ROOT / "programs/filling_cell/cell.yaml"
+
+
+def put(target, name, data):
+    d = CORPUS / target
+    d.mkdir(parents=True, exist_ok=True)
+    (d / name).write_bytes(data.encode() if isinstance(data, str) else bytes(data))
+
+
+def clear(target):
+    d = CORPUS / target
+    if d.exists():
+        for f in d.iterdir():
+            if not f.name.startswith("crash-"):
+                f.unlink()
+
+
+def trace_bytes(plcrun, tmp, scans):
+    """Per scan, the bytes of each device's input and output area."""
+    areas = {"e1_in": ("I", 0, 24), "e1_out": ("Q", 0, 24), "w_in": ("I", 32, 8),
+             "w_out": ("Q", 32, 8), "fs_in": ("I", 48, 8), "fs_out": ("Q", 48, 8)}
+    cols = [f"%{a}D{o + 4 * k}" for a, o, n in areas.values() for k in range(n // 4)]
+    out = tmp / "bytes.csv"
+    subprocess.run([plcrun, str(CELL), "--virtual", "--cycles", str(scans), "--trace", str(out),
+                    "--trace-vars", ",".join(cols), "-q"], check=True, capture_output=True)
+    rows = []
+    with open(out) as f:
+        for r in csv.DictReader(f):
+            scan = {}
+            for name, (a, o, n) in areas.items():
+                b = b""
+                for k in range(n // 4):
+                    b += int(r[f"%{a}D{o + 4 * k}"].replace("16#", ""), 16).to_bytes(4, "big")
+                scan[name] = b
+            rows.append(scan)
+    return rows
+
+
+def changes(rows, key, every=1, new=b"\x01", keep=b"\x00"):
+    """The frames of one area, each behind a control byte: `new` and the
+    bytes when they changed, else `keep` (the target keeps the last ones)."""
+    out, last = b"", None
+    for r in rows[::every]:
+        if r[key] != last:
+            out += new + r[key]
+            last = r[key]
+        else:
+            out += keep
+    return out
+
+
+def device_frames(rows, key, every=1):
+    """FuzzDevice control bytes: answering (bit 1), new inputs (bit 0)."""
+    return changes(rows, key, every, new=b"\x03", keep=b"\x02")
+
+
+def recordings(plcrun, out, tmp):
+    """A recording from scan 0 and one started mid-session (with a snapshot)."""
+    out.mkdir(parents=True, exist_ok=True)
+    subprocess.run([plcrun, str(CELL), "--virtual", "--cycles", "12", "--record",
+                    str(out / "from_scan_0.rec"), "-q"], check=True, capture_output=True)
+    cmds = tmp / "cmds.txt"
+    cmds.write_text(f"step 300\nrecord {out / 'mid_session.rec'}\nstep 10\nrecord stop\nquit\n")
+    subprocess.run([plcrun, str(CELL), "--virtual", "--commands", str(cmds)], check=True,
+                   capture_output=True)
+
+
+def main():
+    plcrun = sys.argv[1] if len(sys.argv) > 1 else str(ROOT / "build/bin/plcrun")
+    tmp = pathlib.Path(tempfile.mkdtemp())
+    if len(sys.argv) > 3 and sys.argv[2] == "--recordings":
+        try:
+            recordings(plcrun, pathlib.Path(sys.argv[3]).resolve(), tmp)
+        finally:
+            shutil.rmtree(tmp)
+        return
+    try:
+        for t in ["config", "condition", "debugger", "recording", "drive_telegrams", "drive_params",
+                  "safety_pdu", "safety_fparams", "weighing_windows"]:
+            clear(t)
+
+        for cell in sorted((ROOT / "programs").glob("*/cell.yaml")):
+            put("config", cell.parent.name + ".yaml", cell.read_text())
+
+        for i, c in enumerate([
+                "Cell.dose.State = 3 AND Cell.dose.ActualNet > 19.5",
+                "NOT Cell.guard.QBAD OR (Cell.conveyor.ActPosition >= 16#5000 AND Cell.dose.SettleTime > T#1s)",
+                "%IX0.3 AND %QW0 <> 0 XOR Cell.run",
+                "(Cell.containers MOD 7 + 2 * -Cell.dose.BatchCount) / 3 <= Cell.target_kg - 1.5e1",
+                "Cell.conveyor.ZSW1 & 2#0000_0100 = 8#4",
+                "Cell.pitch < 0.5 OR Cell.dose.MaxFillTime = T#1m30s500ms"]):
+            put("condition", f"cond{i}.txt", c)
+
+        for i, script in enumerate([
+                "break Cell.dose.State = 3\ncontinue\nprint Cell.dose.ActualNet Cell.dose.PreactActual\n"
+                "watch Cell.containers %QW0\nstep 10\ngoto 5\nbreaks\ndelete all\nstatus\n",
+                "force Cell.guard.FMOD.PASS_ON TRUE\nstep task main 50\nforces\nunforce all restore\n"
+                "write Cell.target_kg 12.5\nwrite %QB2 16#FF\nstep\nprint %IW0 Cell.target_kg\nstats\n",
+                "trace add Cell.dose.ActualNet Cell.containers\ntrace trigger Cell.dose.State = 2\n"
+                "trace pre 10\ntrace start out.csv\ncontinue for 500ms\ntrace stop\n"
+                "record out.rec\nstep 20\nrecord stop\nrun until Cell.containers > 0\n",
+                "break before Cell if Cell.run\ncontinue\nprint Cell.run\nstep\ncontinue\n"
+                "delete 1\nbreak Cell.dose.BatchCount >= 1 hits 2\ncontinue\nhelp\nquit\n"]):
+            put("debugger", f"commands{i}.txt", script)
+
+        recordings(plcrun, CORPUS / "recording", tmp)
+
+        rows = trace_bytes(plcrun, tmp, 1500)
+        # drive: selector = part * 3 + telegram (2 = telegram 111)
+        t111 = rows[200]["e1_out"] + rows[200]["e1_in"]
+        put("drive_telegrams", "decoders.bin", b"\x02" + b"\x00" * 28 + b"\x00" * 30 + t111)
+        put("drive_telegrams", "e1_model_111.bin", b"\x05" + changes(rows[:600], "e1_out"))
+        sina = b"\x01\x01" + struct.pack("<hiihhh", 1, 100000, 3000, 100, 100, 100)
+        put("drive_telegrams", "sinapos_111.bin",
+            b"\x08" + sina + b"".join(b"\x00" + f for f in
+                                      [device_frames([r], "e1_in") for r in rows[:300]]))
+        read317 = bytes([1, 1, 0, 1, 0x10, 0, 0x23, 0x17, 0, 0])
+        write317 = bytes([2, 2, 0, 1, 0x10, 0, 0x23, 0x17, 0, 0, 0x06, 1, 0x0B, 0xB8])
+        resp_read = bytes([1, 1, 0, 1, 0x06, 1, 0x0B, 0xB8])
+        resp_err = bytes([2, 0x82, 0, 1, 0x44, 1, 0, 0x14])
+        for name, b in [("req_read", read317), ("req_write", write317), ("resp_read", resp_read),
+                        ("resp_error", resp_err), ("resp_write", bytes([2, 2, 0, 1]))]:
+            put("drive_params", f"decode_{name}.bin", b"\x00" + b)
+        put("drive_params", "server.bin",
+            b"\x01" + b"\x00" + bytes([len(read317)]) + read317 + b"\x01\xf0" + b"\x02" +
+            b"\x00" + bytes([len(write317)]) + write317 + b"\x01\xf0")
+        para = b"\x03" + struct.pack("<HHBBB", 0x2317, 0, 0, 0x06, 200) + b"\x00" * 32
+        put("drive_params", "sina_para_read.bin",
+            b"\x02" + para + b"\x00" + device_frames(rows[:1], "e1_in") + b"\x01" +
+            b"\x00" + bytes([0, len(resp_read)]) + resp_read + b"\x02" + b"\x00\x02" * 5)
+
+        put("safety_pdu", "crc2.bin", b"\x00\x03" + bytes([1, 2, 3, 4, 0x22]) +
+            struct.pack("<IHH", 7, 0x1234, 9) + b"\x08" + rows[300]["fs_in"] + b"\x04")
+        put("safety_pdu", "f_host.bin",
+            b"\x01\x64" + b"".join(b"\x02" + (b"\x00" if i == 1 else b"") +
+                                   device_frames([r], "fs_in") for i, r in enumerate(rows[:400])))
+        put("safety_pdu", "f_device.bin",
+            b"\x02\x64\x00" + b"".join(b"\x01" + r["fs_out"] for r in rows[:200:4]) +
+            b"".join(bytes([2 | (k % 3) << 2, 1, 0, 0, 0, 0x02]) for k in range(60)))
+
+        fpar = bytes([0x08, 0x40, 0, 10, 0, 1, 0, 100, 0x12, 0x34, 0xAB, 0xCD, 0, 0])
+        put("safety_fparams", "device.bin",
+            b"\x01\x00\x00\x03" + b"\x01" + fpar + b"\x00" + fpar + b"\x03\x10" +
+            b"\x02" + bytes([len(fpar)]) + fpar + b"\x05\x0d" + rows[300]["fs_out"] + b"\x04\x03\x10")
+
+        put("weighing_windows", "codec.bin",
+            b"\x00" + b"".join(r["w_in"] + b"\x00\x00" for r in rows[:1500:60]))
+        put("weighing_windows", "pr5510_model.bin",
+            b"\x01\x00" + b"".join(b"\xfd" + r["w_out"] for r in rows[:1500:16]) + b"\x00\x01\x03")
+        put("weighing_windows", "blocks.bin",
+            b"\x02\x04" + b"".join(b"\x08" + device_frames([r], "w_in") for r in rows[:1500:3]))
+    finally:
+        shutil.rmtree(tmp)
+    total = sum(f.stat().st_size for f in CORPUS.rglob("*") if f.is_file())
+    print(f"seeds written to {CORPUS} ({total} bytes)")
+
+
+if __name__ == "__main__":
+    main()
