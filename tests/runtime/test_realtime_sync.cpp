@@ -161,8 +161,7 @@ programs:
 // that read while the tasks run or right after they stop (in a TSan build
 // the child exits non-zero on any race, and the test fails).
 TEST(RealTimeSync, PlcrunCommandsSessionInRealTime) {
-  const char* src = std::getenv("PLC_SOURCE_DIR");
-  const std::string demo = std::string(src ? src : ".") + "/programs/demo/cell.yaml";
+  const std::string demo = plctest::source_path("programs/demo/cell.yaml");
   const std::string cmds = plctest::write_temp("rt_session.txt", R"(stats
 step 5
 print Tank.level Tank.valve %QW0 %IW0 Tank.enable Supervisor.enable
