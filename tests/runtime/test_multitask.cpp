@@ -104,7 +104,7 @@ programs:
   EXPECT_NE(rt->virtual_clock_error()->message.find("3600000000 steps"), std::string::npos)
       << rt->virtual_clock_error()->message;
   EXPECT_THROW(rt->start(plc::io::ClockMode::Virtual), plc::ConfigError);
-  EXPECT_EQ(rt->task("a")->stats.scans, 0u);
+  EXPECT_EQ(rt->task("a")->stats.scans(), 0u);
 }
 
 TEST(MultiTask, VirtualClockTakesAtMostAThousandTicksPerRelease) {
