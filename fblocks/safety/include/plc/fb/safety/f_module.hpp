@@ -84,6 +84,7 @@ class F_MODULE {
               IN_DATA, VS_IN, VS_OUT, STATE,
               // internal state: shown by the debugger, kept in recording snapshots
               proto_, block_, phase_, retry_at_, diag_read_pending_, restart_after_fault_)
+  PLC_INTERNAL(proto_, block_, phase_, retry_at_, diag_read_pending_, restart_after_fault_)
 
   void operator()(const ScanContext& ctx) {
     if (!port.bound() || port.in().size() < kInPdu || port.out().size() < kOutPdu) {
