@@ -33,6 +33,18 @@ bool has(const std::string& out, const std::string& what) {
   return out.find(what) != std::string::npos;
 }
 
+// Freeze points read their commands from `script` and print into `printed`.
+void scripted_io(Debugger& d, std::deque<std::string>& script, std::string& printed) {
+  d.set_io(
+      [&script](const std::string&) -> std::optional<std::string> {
+        if (script.empty()) return std::nullopt;
+        auto l = script.front();
+        script.pop_front();
+        return l;
+      },
+      [&printed](const std::string& s) { printed += s; });
+}
+
 // Every variable's value in IEC notation: the whole visible state.
 std::string snapshot(Runtime& rt) {
   std::string s;
@@ -200,14 +212,7 @@ TEST(Debugger, FreezePointStopsBetweenProgramCallsAndTakesCommands) {
   auto d = demo_debugger();
   std::deque<std::string> script = {"print Tank.step", "write Tank.high_level 5", "continue"};
   std::string printed;
-  d->set_io(
-      [&](const std::string&) -> std::optional<std::string> {
-        if (script.empty()) return std::nullopt;
-        auto l = script.front();
-        script.pop_front();
-        return l;
-      },
-      [&](const std::string& s) { printed += s; });
+  scripted_io(*d, script, printed);
   EXPECT_TRUE(has(d->execute("break before Tank if Supervisor.enable"),
                   "before Tank if Supervisor.enable"));
   EXPECT_TRUE(has(d->execute("break before Nope"), "no task runs a program named 'Nope'"));
@@ -379,14 +384,7 @@ TEST(Debugger, FreezePointHonoursItsHitCount) {
   auto d = demo_debugger();
   std::deque<std::string> script = {"continue", "continue", "quit"};
   std::string printed;
-  d->set_io(
-      [&](const std::string&) -> std::optional<std::string> {
-        if (script.empty()) return std::nullopt;
-        auto l = script.front();
-        script.pop_front();
-        return l;
-      },
-      [&](const std::string& s) { printed += s; });
+  scripted_io(*d, script, printed);
   EXPECT_TRUE(has(d->execute("break before Tank hits 3"), "before Tank (every 3 hits)"));
   d->execute("continue");
   std::size_t freezes = 0;

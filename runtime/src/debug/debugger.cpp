@@ -910,6 +910,7 @@ std::string Debugger::help() const {
                             values printed at every stop
   write NAME VALUE          set once, at the start of the next scan
   force NAME VALUE          set every scan (inputs after latch, outputs before publish)
+                            (a block's internal state is read-only: --list-vars marks it)
   unforce NAME|all [restore]  release (keep the value, or restore the one before the force)
   forces                    list forced variables
   trace add NAME... | trace trigger CONDITION|off | trace pre ROWS
