@@ -295,11 +295,12 @@ int plcrun_main(int argc, char** argv) {
       g_debugger = nullptr;
       return 0;
     }
-    // Ended by a signal: like a run, the summary, then every output safe.
+    // Ended by a signal: like a run, every output safe, then the summary.
+    dbg->stop_cell();
     std::fflush(stdout);
     print_summary(dbg->runtime());
     g_debugger = nullptr;
-    dbg.reset();  // finishes the runtime: outputs to their safe values
+    dbg.reset();
     std::printf("stopped by %s; outputs at their safe values\n",
                 sig == SIGTERM ? "SIGTERM" : "SIGINT");
     // 128 + signal, the shell's convention for "ended by this signal": a

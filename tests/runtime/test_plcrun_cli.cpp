@@ -242,3 +242,17 @@ TEST(PlcrunCli, SigintAtTheConsoleOnlyInterruptsSigtermEndsTheSession) {
   EXPECT_NE(c.output.find("stopped by SIGTERM; outputs at their safe values"), std::string::npos)
       << c.output;
 }
+
+// The same in real time: the tasks are stopped (outputs safe) before the
+// summary reads their statistics.
+TEST(PlcrunCli, SigtermEndsARealTimeDebugSession) {
+  const std::string cmds = plctest::write_temp("rt_term_cmds.txt", "continue\n");
+  Child c({demo(), "--realtime", "--commands", cmds, "--debug"}, true);
+  ASSERT_GT(c.pid, 0);
+  ASSERT_TRUE(c.read_until("running (pause, or a breakpoint, stops it)")) << c.output;
+  kill(c.pid, SIGTERM);
+  EXPECT_EQ(c.finish(), 143) << c.output;
+  EXPECT_NE(c.output.find("== summary: cell 'demo', real time"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("stopped by SIGTERM; outputs at their safe values"), std::string::npos)
+      << c.output;
+}

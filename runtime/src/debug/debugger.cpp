@@ -67,13 +67,20 @@ Debugger::Debugger(Factory factory, Options options)
 
 Debugger::~Debugger() { detach(); }
 
-void Debugger::detach() {
+void Debugger::stop_cell() {
   if (!rt_) return;
   if (rt_thread_.joinable()) {
     rt_->request_stop();
     rt_->set_paused(false);
-    rt_thread_.join();
+    rt_thread_.join();  // run() ends with finish()
+  } else if (opt_.mode == io::ClockMode::Virtual) {
+    rt_->finish();
   }
+}
+
+void Debugger::detach() {
+  if (!rt_) return;
+  if (rt_thread_.joinable()) stop_cell();
   if (trace_) trace_->stop();
   recorder_.reset();
   replayer_.reset();

@@ -71,6 +71,10 @@ class Debugger final : public ScanHooks {
   [[nodiscard]] bool end_requested() const {
     return end_requested_.load(std::memory_order_relaxed);
   }
+  // Stops the cell for good: joins the real-time tasks or finishes the
+  // virtual run; every output goes to its safe value. runtime() stays
+  // readable (statistics for a summary).
+  void stop_cell();
   // Where nested command loops (freeze points) read and print.
   void set_io(Reader r, Writer w) {
     reader_ = std::move(r);
