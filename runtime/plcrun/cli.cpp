@@ -1,5 +1,6 @@
 #include "cli.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -26,17 +27,37 @@ namespace po = boost::program_options;
 
 Runtime* g_runtime = nullptr;
 debug::Debugger* g_debugger = nullptr;
+bool g_console = false;            // a debugger session with a console (--debug)
+std::atomic<int> g_end_signal{0};  // the signal that ends a debugger session
+static_assert(std::atomic<int>::is_always_lock_free);  // so async-signal-safe
 
-// First Ctrl-C: stop at the next scan boundary with outputs safe. Second:
-// leave at once (a program stuck in an endless loop never reaches a
+// First Ctrl-C or SIGTERM: stop at the next scan boundary with outputs safe.
+// Second: leave at once (a program stuck in an endless loop never reaches a
 // boundary in virtual time).
-extern "C" void on_signal(int) {
-  static std::atomic<int> count{0};  // lock-free, so async-signal-safe
-  if (g_debugger) {                  // in the debugger Ctrl-C interrupts a run, never quits
+// In a debugger session with a console, Ctrl-C only interrupts the running
+// command (the console goes on); SIGTERM, and Ctrl-C without a console
+// (--commands alone), end the session the same way as a run ends.
+extern "C" void on_signal(int sig) {
+  static std::atomic<int> count{0};
+  if (g_debugger && g_console && sig == SIGINT) {
     g_debugger->interrupt();
     return;
   }
-  if (count.fetch_add(1) > 0) _exit(130);
+  if (count.fetch_add(1) > 0) _exit(128 + sig);
+  if (g_debugger) {
+    g_end_signal.store(sig);
+    g_debugger->request_end();
+    if (g_console) {
+      // A console waiting for a line (libedit retries a read after EINTR)
+      // reads end of input instead, so the session ends now too.
+      const int fd = open("/dev/null", O_RDONLY);
+      if (fd >= 0) {
+        dup2(fd, STDIN_FILENO);
+        close(fd);
+      }
+    }
+    return;
+  }
   if (g_runtime) g_runtime->request_stop();
 }
 
@@ -160,7 +181,7 @@ int plcrun_main(int argc, char** argv) {
     ("trace-trigger", po::value<std::string>()->value_name("CONDITION"), "start tracing when this condition holds, e.g. 'Tank.step = 3'")
     ("trace-pre", po::value<std::size_t>()->value_name("ROWS"), "rows kept from before the trigger (default 0)")
     ("stats-json", po::value<std::string>()->value_name("FILE"), "write per-task statistics as JSON at the end")
-    ("list-vars", "print every variable path with its type (and address), then exit")
+    ("list-vars", "print every variable path with its type (and address; 'read-only' for a block's internal state), then exit")
     ("print-vars", po::value<std::string>()->value_name("PATH,..."), "print these variables' final values after the summary: PATH,PATH,...")
     ("debug", "open the debugger console (pause, step, break, watch, force, trace, goto ...)")
     ("commands", po::value<std::string>()->value_name("FILE"), "run debugger commands from FILE (then the console if --debug)")
@@ -218,6 +239,9 @@ int plcrun_main(int argc, char** argv) {
     for (const VarInfo& v : rt->vars().all()) {
       std::cout << v.path << " " << to_string(v.type);
       if (v.address) std::cout << " " << v.address->to_string();
+      // Internal state of a block: print, watch, trace, break; not write,
+      // force or init: (reflect.hpp).
+      if (v.read_only) std::cout << " read-only";
       std::cout << "\n";
     }
     return 0;
@@ -284,19 +308,35 @@ int plcrun_main(int argc, char** argv) {
       return 2;
     }
     g_debugger = dbg.get();
+    g_console = vm.count("debug") != 0;
     struct sigaction sa {};
     sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
     const std::string file = vm.count("commands") ? vm["commands"].as<std::string>() : "";
-    if (!run_debug_session(*dbg, file, vm.count("debug") != 0)) {
+    if (!run_debug_session(*dbg, file, g_console)) {
       std::cerr << "plcrun: cannot read command file '" << file << "'\n";
       g_debugger = nullptr;
       return 2;
     }
+    const int sig = g_end_signal.load();
+    if (sig == 0) {
+      g_debugger = nullptr;
+      return 0;
+    }
+    // Ended by a signal: like a run, every output safe, then the summary.
+    dbg->stop_cell();
+    std::fflush(stdout);
+    print_summary(dbg->runtime());
     g_debugger = nullptr;
-    return 0;
+    dbg.reset();
+    std::printf("stopped by %s; outputs at their safe values\n",
+                sig == SIGTERM ? "SIGTERM" : "SIGINT");
+    // 128 + signal, the shell's convention for "ended by this signal": a
+    // script or service manager sees that the session was cut short (not 0),
+    // and neither a failure of the cell (1) nor bad input (2).
+    return 128 + sig;
   }
 
   std::unique_ptr<debug::Replayer> replayer;

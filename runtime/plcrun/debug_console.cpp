@@ -40,6 +40,7 @@ bool run_debug_session(debug::Debugger& dbg, const std::string& commands_file, b
   // One reader for the top level and for freeze points: script lines first,
   // then the console (or plain stdin when it is not a terminal).
   auto reader = [&](const std::string& prompt) -> std::optional<std::string> {
+    if (dbg.end_requested()) return std::nullopt;  // SIGTERM: no more commands
     if (!scripted.empty()) {
       std::string line = scripted.front();
       scripted.pop_front();
@@ -63,7 +64,7 @@ bool run_debug_session(debug::Debugger& dbg, const std::string& commands_file, b
   dbg.set_io(reader, print);
   if (interactive)
     print("plcrun debugger: 'help' lists the commands, Ctrl-C interrupts a run, 'quit' leaves\n");
-  while (!dbg.quit_requested()) {
+  while (!dbg.quit_requested() && !dbg.end_requested()) {
     auto line = reader(dbg.prompt());
     if (!line) break;
     print(dbg.execute(*line));

@@ -1,6 +1,7 @@
 #include "plc/iec_literal.hpp"
 
 #include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -28,7 +29,11 @@ std::string_view strip_type_prefix(std::string_view s) {
 
 }  // namespace
 
-std::optional<TIME> parse_iec_time(std::string_view s) {
+namespace {
+
+// The value of a TIME literal in ns, which may lie beyond the int64 range;
+// nullopt when `s` is not a TIME literal.
+std::optional<long double> time_literal_ns(std::string_view s) {
   std::string u = upper(s);
   std::string_view v = u;
   if (v.rfind("TIME#", 0) == 0)
@@ -89,10 +94,27 @@ std::optional<TIME> parse_iec_time(std::string_view s) {
     any = true;
     if (!v.empty() && v[0] == '_') v.remove_prefix(1);
   }
-  if (!any || total_ns > static_cast<long double>(std::numeric_limits<std::int64_t>::max()))
+  if (!any) return std::nullopt;
+  return neg ? -total_ns : total_ns;
+}
+
+}  // namespace
+
+std::optional<TIME> parse_iec_time(std::string_view s) {
+  const auto total_ns = time_literal_ns(s);
+  if (!total_ns ||
+      std::fabs(*total_ns) > static_cast<long double>(std::numeric_limits<std::int64_t>::max()))
     return std::nullopt;
-  const auto ns = static_cast<std::int64_t>(std::llround(total_ns));
-  return TIME(neg ? -ns : ns);
+  return TIME(static_cast<std::int64_t>(std::llround(*total_ns)));
+}
+
+std::string iec_time_error(std::string_view s) {
+  const auto total_ns = time_literal_ns(s);
+  if (!total_ns) return "not a TIME (e.g. T#1s500ms): '" + std::string(s) + "'";
+  if (!parse_iec_time(s))
+    return "out of range for TIME (" + format_iec_time(TIME::min() + TIME(1)) + " .. " +
+           format_iec_time(TIME::max()) + "): " + std::string(s);
+  return {};
 }
 
 std::optional<std::uint64_t> parse_iec_unsigned(std::string_view s0) {
@@ -185,19 +207,92 @@ std::string format_iec_time(TIME t) {
 
 namespace {
 
+// "out of range for USINT (0 .. 255): 300"
+std::string out_of_range(VarType type, const std::string& lo, const std::string& hi,
+                         std::string_view text) {
+  return "out of range for " + std::string(to_string(type)) + " (" + lo + " .. " + hi +
+         "): " + std::string(text);
+}
+
+// A well-formed integer literal (sign, base, digits): when it does not
+// parse as the type's integer it is out of range (too big for 64 bits, or
+// negative for an unsigned type), not a syntax error.
+bool integer_syntax(std::string_view text) {
+  std::string_view t = strip_type_prefix(text);
+  if (!t.empty() && (t[0] == '-' || t[0] == '+')) t.remove_prefix(1);
+  int base = 10;
+  for (auto [prefix, b] : {std::pair{"16#", 16}, {"8#", 8}, {"2#", 2}}) {
+    if (t.starts_with(prefix)) {
+      base = b;
+      t.remove_prefix(std::string_view(prefix).size());
+    }
+  }
+  bool any = false;
+  for (char c : t) {
+    if (c == '_') continue;
+    const int d = std::isdigit(static_cast<unsigned char>(c)) ? c - '0'
+                  : std::isxdigit(static_cast<unsigned char>(c))
+                      ? std::toupper(static_cast<unsigned char>(c)) - 'A' + 10
+                      : 99;
+    if (d >= base) return false;
+    any = true;
+  }
+  return any;
+}
+
 template <class T>
-std::string store_int(std::string_view text, void* dst) {
+std::string store_int(VarType type, std::string_view text, void* dst) {
+  using L = std::numeric_limits<T>;
+  const auto range = [&] {
+    return out_of_range(type, std::to_string(L::min()), std::to_string(L::max()), text);
+  };
   if constexpr (std::is_signed_v<T>) {
     auto v = parse_iec_integer(text);
-    if (!v) return "not an integer: '" + std::string(text) + "'";
-    if (*v < std::numeric_limits<T>::min() || *v > std::numeric_limits<T>::max())
-      return "out of range: " + std::string(text);
+    if (!v) return integer_syntax(text) ? range() : "not an integer: '" + std::string(text) + "'";
+    if (*v < L::min() || *v > L::max()) return range();
     *static_cast<T*>(dst) = static_cast<T>(*v);
   } else {
     auto v = parse_iec_unsigned(text);
-    if (!v) return "not an unsigned integer: '" + std::string(text) + "'";
-    if (*v > std::numeric_limits<T>::max()) return "out of range: " + std::string(text);
+    if (!v)
+      return integer_syntax(text) ? range()
+                                  : "not an unsigned integer: '" + std::string(text) + "'";
+    if (*v > L::max()) return range();
     *static_cast<T*>(dst) = static_cast<T>(*v);
+  }
+  return {};
+}
+
+// REAL and LREAL: finite values within the type's range. A double that
+// rounds to infinity as a REAL is out of range; 3.40282347e+38 (FLT_MAX as
+// printed) still rounds to FLT_MAX and is accepted.
+std::string store_real(VarType type, std::string_view text, void* dst) {
+  const bool single = type == VarType::REAL;
+  const std::string max_text = single ? "3.40282347e+38" : "1.7976931348623157e+308";
+  auto d = parse_iec_real(text);
+  if (!d) {
+    std::string digits;
+    for (char c : strip_type_prefix(text))
+      if (c != '_') digits.push_back(c);
+    char* end = nullptr;
+    errno = 0;
+    const double x = digits.empty() ? 0.0 : std::strtod(digits.c_str(), &end);
+    const bool number = !digits.empty() && end == digits.c_str() + digits.size();
+    if (number && std::isnan(x))
+      return std::string("not a number: '") + std::string(text) + "' (" + to_string(type) +
+             " values are finite)";
+    const std::string a_type = single ? "a REAL" : "an LREAL";
+    if (number && std::isinf(x) && errno != ERANGE)
+      return "infinity is not " + a_type + " value: '" + std::string(text) + "'";
+    if (number) return out_of_range(type, "-" + max_text, max_text, text);
+    return "not " + a_type + ": '" + std::string(text) + "'";
+  }
+  if (single) {
+    // 2^128 - 2^103: from here on the nearest float is infinity.
+    constexpr double kRealOverflow = 0x1.ffffffp127;
+    if (std::fabs(*d) >= kRealOverflow) return out_of_range(type, "-" + max_text, max_text, text);
+    *static_cast<float*>(dst) = static_cast<float>(*d);
+  } else {
+    *static_cast<double*>(dst) = *d;
   }
   return {};
 }
@@ -231,46 +326,42 @@ std::string parse_value(VarType type, std::string_view text, void* dst) {
       return {};
     }
     case VarType::SINT:
-      return store_int<std::int8_t>(text, dst);
+      return store_int<std::int8_t>(type, text, dst);
     case VarType::INT:
-      return store_int<std::int16_t>(text, dst);
+      return store_int<std::int16_t>(type, text, dst);
     case VarType::DINT:
-      return store_int<std::int32_t>(text, dst);
+      return store_int<std::int32_t>(type, text, dst);
     case VarType::LINT:
-      return store_int<std::int64_t>(text, dst);
+      return store_int<std::int64_t>(type, text, dst);
     case VarType::USINT:
     case VarType::BYTE:
-      return store_int<std::uint8_t>(text, dst);
+      return store_int<std::uint8_t>(type, text, dst);
     case VarType::UINT:
     case VarType::WORD:
-      return store_int<std::uint16_t>(text, dst);
+      return store_int<std::uint16_t>(type, text, dst);
     case VarType::UDINT:
     case VarType::DWORD:
-      return store_int<std::uint32_t>(text, dst);
+      return store_int<std::uint32_t>(type, text, dst);
     case VarType::ULINT:
     case VarType::LWORD:
-      return store_int<std::uint64_t>(text, dst);
-    case VarType::REAL: {
-      auto d = parse_iec_real(text);
-      if (!d) return "not a REAL: '" + std::string(text) + "'";
-      *static_cast<float*>(dst) = static_cast<float>(*d);
-      return {};
-    }
-    case VarType::LREAL: {
-      auto d = parse_iec_real(text);
-      if (!d) return "not an LREAL: '" + std::string(text) + "'";
-      *static_cast<double*>(dst) = *d;
-      return {};
-    }
+      return store_int<std::uint64_t>(type, text, dst);
+    case VarType::REAL:
+    case VarType::LREAL:
+      return store_real(type, text, dst);
     case VarType::TIME: {
       auto t = parse_iec_time(text);
-      if (!t) return "not a TIME (e.g. T#1s500ms): '" + std::string(text) + "'";
+      if (!t) return iec_time_error(text);
       *static_cast<TIME*>(dst) = *t;
       return {};
     }
     case VarType::STRING: {
       std::string_view v = text;
       if (v.size() >= 2 && v.front() == '\'' && v.back() == '\'') v = v.substr(1, v.size() - 2);
+      // An external write is refused rather than cut (FixedString cuts only
+      // inside a scan, where nothing may fail).
+      if (v.size() > STRING::capacity)
+        return "too long for STRING (" + std::to_string(STRING::capacity) +
+               " characters at most): " + std::to_string(v.size()) + " characters";
       static_cast<STRING*>(dst)->assign(v);
       return {};
     }

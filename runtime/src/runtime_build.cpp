@@ -231,6 +231,8 @@ void Runtime::build(const CellConfig& cfg) {
       v.type = fld.type;
       v.ptr = fld.ptr;
       v.task = static_cast<int>(task.order);
+      v.read_only = fld.access.read_only;
+      v.check = fld.access.check;
       program_vars.emplace_back(fld.seq, std::move(v));
     }
     for (const auto& l : fv.located) {
@@ -270,6 +272,8 @@ void Runtime::build(const CellConfig& cfg) {
       v.image_ptr = p;
       v.order = order_;
       v.task = static_cast<int>(task.order);
+      v.read_only = l.access.read_only;
+      v.check = l.access.check;
       program_vars.emplace_back(l.seq, std::move(v));
     }
     std::sort(program_vars.begin(), program_vars.end(),
@@ -302,6 +306,11 @@ void Runtime::build(const CellConfig& cfg) {
       if (!v)
         fail(path.mark, "key '" + path.value + "': program '" + pc.name.value +
                             "' has no variable of that name");
+      // A read-only variable is the key's fault, whatever the value.
+      if (v->read_only)
+        fail(path.mark, "key '" + path.value + "': init refused, " +
+                            VarRegistry::check_write(*v, nullptr) +
+                            " (plcrun CONFIG --list-vars marks such variables read-only)");
       const std::string err = VarRegistry::write_text(*v, value.value);
       if (!err.empty()) fail(value.mark, "init of '" + path.value + "': " + err);
     }

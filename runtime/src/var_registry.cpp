@@ -109,11 +109,24 @@ std::string VarRegistry::format(const VarInfo& v) {
   return format_value(v.type, buf);
 }
 
+std::string VarRegistry::check_write(const VarInfo& v, const void* value) {
+  if (v.read_only)
+    return "read-only: internal state of its function block (print, watch, trace and break on "
+           "it; only the block itself changes it)";
+  if (v.check) {
+    const std::string why = v.check(value);
+    if (!why.empty()) return "refused by its function block: " + why;
+  }
+  return {};
+}
+
 std::string VarRegistry::write_text(const VarInfo& v, std::string_view text) {
+  if (v.read_only) return check_write(v, nullptr);  // whatever the value
   alignas(8) unsigned char buf[sizeof(STRING)];
   void* tmp = buf;
   if (v.type == VarType::STRING) tmp = new (buf) STRING();
   std::string err = parse_value(v.type, text, tmp);
+  if (err.empty()) err = check_write(v, tmp);
   if (err.empty()) write(v, tmp);
   return err;
 }

@@ -136,3 +136,46 @@ TEST(FillingCell, RecordingsStartedMidSessionReplayExactly) {
         << "from " << start << ": " << out;
   }
 }
+
+// Issue 10 point 5: the writes and forces of the issue reached FB-internal
+// state and corrupted memory (a PDU length of 2^64-1 overflowed the stack
+// buffer in safety_pdu.hpp; a slot of -2^31 read outside the PR5510 arrays).
+// They are refused with the reason, the values stay readable, and the cell
+// runs on untouched. Run under ASan this also shows nothing reaches memory.
+TEST(FillingCell, WritesAndForcesOfBlockInternalsAreRefusedAndTheCellRunsOn) {
+  auto d = cell_debugger();
+  d->execute("continue for 3s");
+  const std::string before = d->execute(
+      "print Cell.guard.FMOD.proto_.out_len_ Cell.guard.FMOD.proto_.in_len_ Cell.dose.slot_ "
+      "Cell.scale.holder_ Cell.scale.cmd_slot_ Cell.dose.State");
+  EXPECT_TRUE(has(before, "Cell.guard.FMOD.proto_.out_len_ = 4  (ULINT)")) << before;
+  for (const char* cmd : {
+           "force Cell.guard.FMOD.proto_.out_len_ 18446744073709551615",
+           "write Cell.guard.FMOD.proto_.in_len_ 4096",
+           "write Cell.dose.slot_ -2147483648",
+           "force Cell.scale.holder_ 7",
+           "write Cell.scale.cmd_slot_ 100",
+           "force Cell.scale.rd_code_[3] 9",
+           "write Cell.dose.State 3",
+           "force Cell.guard.FMOD.phase_ 3",
+           "write Cell.conveyor.cmd_id_ 0",
+       }) {
+    const std::string out = d->execute(cmd);
+    EXPECT_TRUE(has(out, ": refused, read-only: internal state of its function block"))
+        << cmd << " -> " << out;
+  }
+  EXPECT_TRUE(has(d->execute("forces"), "no forces"));
+  d->execute("continue for 30s");
+  const std::string out = d->execute(
+      "print Cell.guard.FMOD.proto_.out_len_ Cell.guard.QBAD Cell.last_error "
+      "Cell.dose.OutTolCount");
+  EXPECT_TRUE(has(out, "Cell.guard.FMOD.proto_.out_len_ = 4  (ULINT)")) << out;
+  EXPECT_TRUE(has(out, "Cell.guard.QBAD = FALSE")) << out;
+  EXPECT_TRUE(has(out, "Cell.last_error = 16#0000")) << out;
+  EXPECT_TRUE(has(out, "Cell.dose.OutTolCount = 0")) << out;
+  // The blocks' interfaces stay writable, with values in range.
+  EXPECT_TRUE(has(d->execute("write Cell.target_kg 1e39"),
+                  "out of range for REAL (-3.40282347e+38 .. 3.40282347e+38): 1e39"));
+  EXPECT_TRUE(has(d->execute("force Cell.dose.TolPlus inf"), "infinity is not a REAL value"));
+  EXPECT_TRUE(has(d->execute("write Cell.target_kg 19.5"), "will write Cell.target_kg := 19.5"));
+}

@@ -52,6 +52,32 @@ TEST(Reflection, AllBlocksListTheirFields) {
   EXPECT_TRUE(has("Cell.abs.Status"));
 }
 
+// Issue 10 point 5: every block's internal state (members ending in '_',
+// and everything below them) is read-only for the debugger, the HMI and
+// init:, and so is the state a block runs on (the axis' PLCopen State,
+// AbsEncoderInit's Step) and the axis' RestartInhibit interlock (issue 9
+// point 6: no restart without MC_Reset and a new Enable); the rest of the interface stays writable,
+// and SinaPara's Count (a length) behind its range check.
+TEST(Reflection, InternalStateIsReadOnlyTheInterfaceWritable) {
+  Cell c;
+  const auto v = collect_fields("Cell", c);
+  const FieldVisitor::Field* count = nullptr;
+  for (const auto& f : v.fields) {
+    const std::string& p = f.path;
+    const bool internal = p.ends_with('_') || p.find("_.") != std::string::npos ||
+                          p.find("_[") != std::string::npos || p == "Cell.axis1.State" ||
+                          p == "Cell.axis1.RestartInhibit" || p == "Cell.abs.Step";
+    EXPECT_EQ(f.access.read_only, internal) << p;
+    if (p == "Cell.para.Count") count = &f;
+  }
+  ASSERT_NE(count, nullptr);
+  ASSERT_TRUE(static_cast<bool>(count->access.check));
+  UINT n = 65;
+  EXPECT_EQ(count->access.check(&n), "Count must be 0 .. 64");
+  n = 64;
+  EXPECT_EQ(count->access.check(&n), "");
+}
+
 TEST(Reflection, UnboundAxisIsOffline) {
   DriveAxis a;
   a.begin(ScanContext{});

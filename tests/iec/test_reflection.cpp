@@ -46,6 +46,38 @@ TEST(IecReflection, FieldsInIecOrderWithInternalState) {
   EXPECT_EQ(names_of<plc::iec::RS>(), (Names{"S", "R1", "Q1"}));
 }
 
+// Issue 10 point 5: internal state (the edge memories, the timers' start)
+// is read-only for the debugger, the HMI and init:; the IEC inputs and
+// outputs stay writable.
+struct InternalCollector {
+  std::vector<std::string> names;
+  template <class T>
+  void operator()(const char* name, T&, const plc::FieldMeta& meta) {
+    if (meta.internal && !meta.check) names.push_back(std::string("x.") + name);
+  }
+};
+
+template <class Fb>
+std::vector<std::string> read_only_of() {
+  Fb fb;
+  InternalCollector c;
+  fb.reflect(c);
+  return c.names;
+}
+
+TEST(IecReflection, InternalStateIsReadOnly) {
+  EXPECT_EQ(read_only_of<plc::iec::TON>(), (Names{"x.start_", "x.running_"}));
+  EXPECT_EQ(read_only_of<plc::iec::TOF>(), (Names{"x.start_", "x.prev_in_"}));
+  EXPECT_EQ(read_only_of<plc::iec::TP>(), (Names{"x.start_", "x.prev_in_"}));
+  EXPECT_EQ(read_only_of<plc::iec::R_TRIG>(), (Names{"x.M"}));
+  EXPECT_EQ(read_only_of<plc::iec::F_TRIG>(), (Names{"x.M"}));
+  EXPECT_EQ(read_only_of<plc::iec::CTU>(), (Names{"x.cu_prev_"}));
+  EXPECT_EQ(read_only_of<plc::iec::CTD>(), (Names{"x.cd_prev_"}));
+  EXPECT_EQ(read_only_of<plc::iec::CTUD>(), (Names{"x.cu_prev_", "x.cd_prev_"}));
+  EXPECT_EQ(read_only_of<plc::iec::SR>(), Names{});
+  EXPECT_EQ(read_only_of<plc::iec::RS>(), Names{});
+}
+
 // The reflected references are the live members: a debugger sees the state.
 TEST(IecReflection, ReflectsLiveInternalState) {
   plc::iec::TON t;

@@ -118,6 +118,14 @@ const Case kCases[] = {
      "no located variable or device port"},
     {"bad_init", replaced(kGood, "type: TankCycle", "type: TankCycle\n    init: {high_level: abc}"),
      9, "high_level", "not an integer"},
+    // Issue 10 point 5: internal state of a block is not settable.
+    {"init_of_internal_state",
+     replaced(kGood, "type: TankCycle", "type: TankCycle\n    init: {hold.running_: TRUE}"), 9,
+     "hold.running_", "read-only: internal state of its function block"},
+    // Issue 10 point 7: a value beyond its type's range names the range.
+    {"init_out_of_range",
+     replaced(kGood, "type: TankCycle", "type: TankCycle\n    init: {high_level: 40000}"), 9,
+     "high_level", "out of range for INT (-32768 .. 32767)"},
     {"bad_safe_value", std::string(kGood) + "safe_values:\n  \"%IW0\": 1\n", 20, "safe_values",
      "not an output"},
     {"bad_clock", replaced(kGood, "cell: t\n", "cell: t\nclock: sometimes\n"), 2, "clock",

@@ -30,6 +30,18 @@ bool has(const std::string& out, const std::string& what) {
   return out.find(what) != std::string::npos;
 }
 
+// Freeze points read their commands from `script` and print into `printed`.
+void scripted_io(Debugger& d, std::deque<std::string>& script, std::string& printed) {
+  d.set_io(
+      [&script](const std::string&) -> std::optional<std::string> {
+        if (script.empty()) return std::nullopt;
+        auto l = script.front();
+        script.pop_front();
+        return l;
+      },
+      [&printed](const std::string& s) { printed += s; });
+}
+
 // Every variable's value in IEC notation: the whole visible state.
 std::string snapshot(Runtime& rt) {
   std::string s;
@@ -197,14 +209,7 @@ TEST(Debugger, FreezePointStopsBetweenProgramCallsAndTakesCommands) {
   auto d = demo_debugger();
   std::deque<std::string> script = {"print Tank.step", "write Tank.high_level 5", "continue"};
   std::string printed;
-  d->set_io(
-      [&](const std::string&) -> std::optional<std::string> {
-        if (script.empty()) return std::nullopt;
-        auto l = script.front();
-        script.pop_front();
-        return l;
-      },
-      [&](const std::string& s) { printed += s; });
+  scripted_io(*d, script, printed);
   EXPECT_TRUE(has(d->execute("break before Tank if Supervisor.enable"),
                   "before Tank if Supervisor.enable"));
   EXPECT_TRUE(has(d->execute("break before Nope"), "no task runs a program named 'Nope'"));
@@ -328,4 +333,65 @@ TEST(Debugger, StatsStatusHelpQuitAndUnknownCommands) {
   EXPECT_FALSE(d->quit_requested());
   d->execute("quit");
   EXPECT_TRUE(d->quit_requested());
+}
+
+// Issue 10 point 5: internal state is readable (print, watch, trace,
+// breakpoints) but a write or force is refused, and says why.
+TEST(Debugger, InternalStateIsReadableButWritesAndForcesAreRefused) {
+  auto d = demo_debugger();
+  d->execute("step 5");
+  EXPECT_TRUE(has(d->execute("print Tank.hold.running_ Tank.drained.M"), "Tank.hold.running_ = "));
+  for (const char* cmd : {"write Tank.hold.start_ T#1s", "force Tank.hold.running_ TRUE",
+                          "force Tank.drained.M FALSE", "write Tank.batches.cu_prev_ TRUE"}) {
+    const std::string out = d->execute(cmd);
+    EXPECT_TRUE(has(out, ": refused, read-only: internal state of its function block")) << out;
+  }
+  EXPECT_TRUE(has(d->execute("forces"), "no forces"));
+  EXPECT_TRUE(has(d->execute("watch Tank.hold.start_"), "Tank.hold.start_ = "));
+  EXPECT_TRUE(has(d->execute("break Tank.hold.running_"), "breakpoint 1"));
+  EXPECT_TRUE(has(d->execute("trace add Tank.hold.start_"), "Tank.hold.start_"));
+  // The interface of the same block stays writable.
+  EXPECT_TRUE(has(d->execute("write Tank.hold.PT T#1s"), "will write Tank.hold.PT := T#1s"));
+}
+
+// Issue 10 point 7: a duration must be positive and must not run the clock
+// past the end of TIME; nothing runs when it is refused.
+TEST(Debugger, ContinueForRefusesNonPositiveAndOverflowingDurations) {
+  auto d = demo_debugger();
+  d->execute("step 3");
+  for (const char* cmd :
+       {"continue for -5s", "continue for 0s", "continue for T#0ms", "continue for T#-1ns"}) {
+    const std::string out = d->execute(cmd);
+    EXPECT_TRUE(has(out, "continue for: the duration must be positive")) << cmd << ": " << out;
+  }
+  std::string out = d->execute("continue for T#200000d");
+  EXPECT_TRUE(has(out, "continue for: out of range for TIME")) << out;
+  out = d->execute("continue for T#106751d23h47m16s854ms775us807ns");
+  EXPECT_TRUE(has(out, "lies beyond the end of TIME")) << out;
+  EXPECT_TRUE(has(d->execute("continue for soon"), "not a TIME")) << out;
+  EXPECT_TRUE(has(d->execute("continue for"), "usage: continue for DURATION"));
+  EXPECT_TRUE(has(d->execute("continue 5s"), "usage: continue [for DURATION]"));
+  EXPECT_EQ(d->scan_count(), 3u) << "no refused command ran a scan";
+  EXPECT_TRUE(has(d->execute("continue for 2ms"), "ran for T#2ms"));
+}
+
+// Issue 10 point 7: `break before PROG hits N` freezes on every N-th call
+// of PROG, as `break COND hits N` stops on every N-th hit.
+TEST(Debugger, FreezePointHonoursItsHitCount) {
+  auto d = demo_debugger();
+  std::deque<std::string> script = {"continue", "continue", "quit"};
+  std::string printed;
+  scripted_io(*d, script, printed);
+  EXPECT_TRUE(has(d->execute("break before Tank hits 3"), "before Tank (every 3 hits)"));
+  d->execute("continue");
+  std::size_t freezes = 0;
+  for (std::size_t p = 0;
+       (p = printed.find("frozen before program 'Tank'", p)) != std::string::npos; ++p)
+    ++freezes;
+  EXPECT_EQ(freezes, 3u) << printed;
+  EXPECT_TRUE(has(d->execute("breaks"), "before Tank  hits 9 (stops every 3)"))
+      << "three freezes, on calls 3, 6 and 9";
+  EXPECT_TRUE(has(d->execute("break before Tank hits 0"), "'hits' needs a positive count"));
+  EXPECT_TRUE(has(d->execute("break before Tank hits"), "usage: break before PROGRAM"));
+  EXPECT_TRUE(has(d->execute("break before Tank hits 2 x"), "usage: break before PROGRAM"));
 }

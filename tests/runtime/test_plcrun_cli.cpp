@@ -1,11 +1,15 @@
 // plcrun's command line: --list-vars, --stats-json, --trace errors, usage
 // errors, and a clean stop on SIGINT in real time.
 #include <gtest/gtest.h>
+#include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "test_helpers.hpp"
 
@@ -131,4 +135,164 @@ TEST(PlcrunCli, RunLengthAndPretriggerOutsideTheirRangesAreUsageErrors) {
     EXPECT_EQ(out.output.find("summary"), std::string::npos) << r.args << ": " << out.output;
   }
   std::remove(trace.c_str());
+}
+
+// Issue 10 point 5: --list-vars marks a block's internal state read-only.
+TEST(PlcrunCli, ListVarsMarksInternalStateReadOnly) {
+  const auto r = plctest::run_command(plctest::plcrun_path() + " " + demo() + " --list-vars");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.output.find("Tank.hold.start_ TIME read-only\n"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Tank.drained.M BOOL read-only\n"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Tank.hold.PT TIME\n"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Tank.step INT\n"), std::string::npos) << "program variables: writable";
+}
+
+namespace {
+
+// plcrun as a child with its stdout+stderr (and optionally its stdin) on
+// pipes; every wait is bounded by a deadline so a hang fails the test.
+struct Child {
+  pid_t pid = -1;
+  int out = -1;
+  int in = -1;
+  bool eof = false;
+  std::string output;
+
+  Child(const std::vector<std::string>& args, bool with_stdin) {
+    int o[2], i[2] = {-1, -1};
+    if (pipe(o) != 0 || (with_stdin && pipe(i) != 0)) return;
+    pid = fork();
+    if (pid == 0) {
+      dup2(o[1], STDOUT_FILENO);
+      dup2(o[1], STDERR_FILENO);
+      close(o[0]);
+      if (with_stdin) {
+        dup2(i[0], STDIN_FILENO);
+        close(i[1]);
+      }
+      std::vector<char*> argv;
+      const std::string bin = plctest::plcrun_path();
+      argv.push_back(const_cast<char*>(bin.c_str()));
+      for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      execv(bin.c_str(), argv.data());
+      _exit(127);
+    }
+    close(o[1]);
+    out = o[0];
+    if (with_stdin) {
+      close(i[0]);
+      in = i[1];
+    }
+  }
+  // Reads until `what` appears after `from` (or EOF, or `limit`).
+  bool read_until(const std::string& what, std::size_t from = 0,
+                  std::chrono::milliseconds limit = std::chrono::seconds(30)) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    while (output.find(what, from) == std::string::npos &&
+           std::chrono::steady_clock::now() < deadline) {
+      pollfd p{out, POLLIN, 0};
+      if (poll(&p, 1, 100) <= 0) continue;
+      char buf[4096];
+      const ssize_t n = read(out, buf, sizeof buf);
+      if (n <= 0) {
+        eof = true;
+        break;
+      }
+      output.append(buf, std::size_t(n));
+    }
+    return output.find(what, from) != std::string::npos;
+  }
+  void type(const std::string& text) const {
+    ASSERT_EQ(write(in, text.data(), text.size()), ssize_t(text.size()));
+  }
+  // Reads to EOF and reaps the child; its exit code (-1: no normal exit).
+  int finish() {
+    read_until(std::string(1, '\0'));  // to EOF (a NUL never comes)
+    if (in >= 0) close(in);
+    close(out);
+    if (!eof) kill(pid, SIGKILL);  // no EOF within the deadline: it hangs
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (!eof) return -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+};
+
+}  // namespace
+
+// Issue 10 point 7: SIGTERM ends a --commands session (before: it only
+// interrupted the running command and the script went on, exit 0). The
+// session stops at the next scan boundary, the outputs go to their safe
+// values, the summary is printed, and plcrun exits with 128 + 15.
+TEST(PlcrunCli, SigtermEndsACommandsSessionWithTheSummaryAndExit143) {
+  const std::string cmds = plctest::write_temp("term_cmds.txt",
+                                               "continue\n"
+                                               "print Tank.step\n"
+                                               "quit\n");
+  Child c({demo(), "--for", "3650d", "--commands", cmds}, false);
+  ASSERT_GT(c.pid, 0);
+  // A ten-year continue in virtual time: still running when the signal comes.
+  ASSERT_TRUE(c.read_until("] > continue\n")) << c.output;
+  kill(c.pid, SIGTERM);
+  EXPECT_EQ(c.finish(), 143) << c.output;
+  EXPECT_NE(c.output.find("stopped: the session is ending (signal)"), std::string::npos)
+      << c.output;
+  EXPECT_EQ(c.output.find("> print Tank.step"), std::string::npos)
+      << "no command runs after SIGTERM\n"
+      << c.output;
+  EXPECT_NE(c.output.find("== summary"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("stopped by SIGTERM; outputs at their safe values"), std::string::npos)
+      << c.output;
+}
+
+// Without a console, Ctrl-C ends the session the same way (128 + 2).
+TEST(PlcrunCli, SigintEndsACommandsSessionWithoutAConsole) {
+  const std::string cmds = plctest::write_temp("int_cmds.txt", "continue\nprint Tank.step\n");
+  Child c({demo(), "--for", "3650d", "--commands", cmds}, false);
+  ASSERT_GT(c.pid, 0);
+  ASSERT_TRUE(c.read_until("] > continue\n")) << c.output;
+  kill(c.pid, SIGINT);
+  EXPECT_EQ(c.finish(), 130) << c.output;
+  EXPECT_EQ(c.output.find("> print Tank.step"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("stopped by SIGINT; outputs at their safe values"), std::string::npos)
+      << c.output;
+}
+
+// At the console (--debug) Ctrl-C still only interrupts the running command;
+// SIGTERM ends the session there too.
+TEST(PlcrunCli, SigintAtTheConsoleOnlyInterruptsSigtermEndsTheSession) {
+  const std::string cmds = plctest::write_temp("con_cmds.txt", "continue\n");
+  Child c({demo(), "--for", "3650d", "--commands", cmds, "--debug"}, true);
+  ASSERT_GT(c.pid, 0);
+  ASSERT_TRUE(c.read_until("] > continue\n")) << c.output;
+  // The signal may come before the command has begun (then it is lost, as
+  // a Ctrl-C typed just before Enter): repeat it until the run stops.
+  for (int i = 0; i < 300 && c.output.find("stopped: interrupted") == std::string::npos; ++i) {
+    kill(c.pid, SIGINT);
+    c.read_until("stopped: interrupted", 0, std::chrono::milliseconds(100));
+  }
+  ASSERT_NE(c.output.find("stopped: interrupted"), std::string::npos) << c.output;
+  const std::size_t mark = c.output.size();
+  c.type("print Tank.hold_time\n");
+  ASSERT_TRUE(c.read_until("Tank.hold_time = T#2s", mark)) << "the console went on\n" << c.output;
+  ASSERT_TRUE(c.read_until("] > ", c.output.find("Tank.hold_time = T#2s", mark)));
+  kill(c.pid, SIGTERM);  // the console is waiting for a line: it ends too
+  EXPECT_EQ(c.finish(), 143) << c.output;
+  EXPECT_NE(c.output.find("stopped by SIGTERM; outputs at their safe values"), std::string::npos)
+      << c.output;
+}
+
+// The same in real time: the tasks are stopped (outputs safe) before the
+// summary reads their statistics.
+TEST(PlcrunCli, SigtermEndsARealTimeDebugSession) {
+  const std::string cmds = plctest::write_temp("rt_term_cmds.txt", "continue\n");
+  Child c({demo(), "--realtime", "--commands", cmds, "--debug"}, true);
+  ASSERT_GT(c.pid, 0);
+  ASSERT_TRUE(c.read_until("running (pause, or a breakpoint, stops it)")) << c.output;
+  kill(c.pid, SIGTERM);
+  EXPECT_EQ(c.finish(), 143) << c.output;
+  EXPECT_NE(c.output.find("== summary: cell 'demo', real time"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("stopped by SIGTERM; outputs at their safe values"), std::string::npos)
+      << c.output;
 }

@@ -1,6 +1,8 @@
 // Small programs used by the runtime tests (registered by name).
 #pragma once
 
+#include <algorithm>
+#include <string>
 #include <vector>
 
 #include "plc/fb/iec/iec.hpp"
@@ -138,6 +140,48 @@ class Shapes : public ProgramBase<Shapes> {
   std::array<INT, 3> arr{1, 2, 3};
   void cycle(const ScanContext&) override {}
   PLC_REFLECT(inner, mode, w, name, x, arr)
+};
+
+// The write policy (reflect.hpp): a block whose internal state indexes a
+// buffer, with one internal field made writable behind its check and an
+// interface field with a range check.
+struct RingLog {
+  BOOL In{};     // interface: writable
+  INT Depth{4};  // interface, checked: 1..8
+  std::array<DINT, 8> buf_{};
+  USINT head_ = 0;    // internal: indexes buf_
+  DINT scale_ = 1;    // internal, writable after the block's check (1..1000)
+  iec::R_TRIG edge_;  // internal FB: all of it, though R_TRIG.CLK is an input
+  void operator()() {
+    edge_(In);
+    if (edge_.Q) {
+      // The check keeps debugger writes in range; a program may still set
+      // any Depth, so the block clamps it too.
+      const int depth = std::clamp<int>(Depth, 1, 8);
+      buf_[head_ % depth] = scale_;
+      head_ = static_cast<USINT>((head_ + 1) % depth);
+    }
+  }
+  [[nodiscard]] std::string check_depth(INT v) const {
+    return v >= 1 && v <= 8 ? "" : "Depth must be 1 .. 8";
+  }
+  [[nodiscard]] std::string check_scale(DINT v) const {
+    return v >= 1 && v <= 1000 ? "" : "scale_ must be 1 .. 1000";
+  }
+  PLC_REFLECT(In, Depth, buf_, head_, scale_, edge_)
+  PLC_INTERNAL(buf_, head_, scale_, edge_)
+  PLC_WRITE_CHECK(Depth, check_depth, scale_, check_scale)
+};
+
+class Guarded : public ProgramBase<Guarded> {
+ public:
+  RingLog log;
+  DINT scans = 0;
+  void cycle(const ScanContext&) override {
+    log.In = scans++ % 2 == 0;
+    log();
+  }
+  PLC_REFLECT(log, scans)
 };
 
 }  // namespace plctest

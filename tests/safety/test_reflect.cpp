@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "plc/fb/safety/nord_safe_io.hpp"
+#include "plc/field_visitor.hpp"
 
 namespace {
 
@@ -38,6 +39,30 @@ TEST(SafetyReflect, NordSafeIoListsNestedModuleAndBits_Spec2_3_2_4) {
   for (const char* n :
        {"OSSD1", "SLS_LEVEL", "CH_PASS_ACK", "OSSD1_OFF", "CLOCK2_OFF", "SI2", "SSM", "SSR_OK"}) {
     EXPECT_NE(std::find(c.names.begin(), c.names.end(), n), c.names.end()) << n;
+  }
+}
+
+// Issue 10 point 5: the F-host's protocol state (PDU lengths, consecutive
+// numbers, the state machine) and the blocks' own state are read-only for
+// the debugger, the HMI and init: (a forced PDU length overflowed the stack
+// buffer of safety_pdu.hpp); the F-I/O DB signals stay writable.
+TEST(SafetyReflect, InternalStateIsReadOnlyTheFIoDbSignalsWritable) {
+  plc::safety::NORD_SAFE_IO io;
+  const plc::FieldVisitor v = plc::collect_fields("io", io);
+  int internal_fields = 0;
+  for (const auto& f : v.fields) {
+    const std::string& p = f.path;
+    const bool internal =
+        p.ends_with('_') || p.find("_.") != std::string::npos || p.find("_[") != std::string::npos;
+    EXPECT_EQ(f.access.read_only, internal) << p;
+    internal_fields += internal;
+  }
+  EXPECT_GT(internal_fields, 25);
+  for (const char* p :
+       {"io.FMOD.proto_.out_len_", "io.FMOD.proto_.in_len_", "io.FMOD.phase_", "io.ack_cn_"}) {
+    EXPECT_TRUE(std::any_of(v.fields.begin(), v.fields.end(), [&](const auto& f) {
+      return f.path == p && f.access.read_only;
+    })) << p;
   }
 }
 

@@ -47,3 +47,34 @@ TEST(WeighingReflection, AllBlocksReflectTheirFields) {
   EXPECT_EQ(7 + 4, fields<wg::PR5510_WriteString>());
   EXPECT_GT(fields<wg::PR5510_BatchWeigh>(), 40);
 }
+
+namespace {
+
+// Issue 10 point 5: the block's internal state (members ending in '_', and
+// everything below them) and the state it runs on (`extra`) are read-only
+// for the debugger, the HMI and init:; the rest of the interface writable.
+template <class FB>
+void expect_internal_read_only(std::set<std::string> extra = {}) {
+  FB fb;
+  const plc::FieldVisitor v = plc::collect_fields("fb", fb);
+  for (const auto& f : v.fields) {
+    const std::string& p = f.path;
+    const bool internal = p.ends_with('_') || p.find("_.") != std::string::npos ||
+                          p.find("_[") != std::string::npos || extra.count(p) != 0;
+    EXPECT_EQ(f.access.read_only, internal) << p;
+  }
+}
+
+}  // namespace
+
+TEST(WeighingReflection, InternalStateIsReadOnlyTheInterfaceWritable) {
+  expect_internal_read_only<wg::PR5510_Device>({"fb.ReadHolder"});
+  expect_internal_read_only<wg::PR5510_ReadValue>();
+  expect_internal_read_only<wg::PR5510_WriteValue>();
+  expect_internal_read_only<wg::PR5510_Command>();
+  expect_internal_read_only<wg::PR5510_DigitalOutputs>();
+  expect_internal_read_only<wg::PR5510_Status>();
+  expect_internal_read_only<wg::PR5510_ReadString>();
+  expect_internal_read_only<wg::PR5510_WriteString>();
+  expect_internal_read_only<wg::PR5510_BatchWeigh>({"fb.State"});
+}

@@ -4,6 +4,9 @@
 // of PR5510_Device, and timeouts / device errors as ErrorIDs.
 #include <gtest/gtest.h>
 
+#include <tuple>
+
+#include "plc/fb/weighing/batch_weigh.hpp"
 #include "plc/fb/weighing/command.hpp"
 #include "plc/fb/weighing/digital_outputs.hpp"
 #include "plc/fb/weighing/read_value.hpp"
@@ -537,3 +540,72 @@ TEST(Pr5510Blocks, Spec33_CommandHoldNeverBelow40ms) {
 
 INSTANTIATE_TEST_SUITE_P(Pr5510Blocks, BlocksBothBuses,
                          ::testing::Values(wg::Bus::Profibus, wg::Bus::DeviceNet));
+
+// Issue 10 point 5: Busy is an interface output that the debugger or the HMI
+// may still write. A block made Busy from outside has no job: no arbitration
+// slot (slot_ = kNoSlot), no device, or every string chunk done already. It
+// must end with an error instead of indexing the device's per-slot arrays
+// with the missing slot or writing past its string buffer.
+TEST(Pr5510Blocks, BusySetFromOutsideEndsWithAnErrorAndIndexesNothing) {
+  Cell c(quiet_config());
+  c.idle(100ms);
+  wg::PR5510_ReadString rs;
+  wg::PR5510_WriteString ws;
+  wg::PR5510_WriteValue wv;
+  wg::PR5510_Command cmd;
+  wg::PR5510_BatchWeigh bw;
+  rs.Device = ws.Device = wv.Device = cmd.Device = bw.Device = &c.dev;
+  rs.Busy = ws.Busy = wv.Busy = cmd.Busy = bw.Busy = true;
+  c.scan([&] {
+    rs(c.ctx);
+    ws(c.ctx);
+    wv(c.ctx);
+    cmd(c.ctx);
+    bw(c.ctx);
+  });
+  for (auto [name, busy, error, id] :
+       {std::tuple{"ReadString", rs.Busy, rs.Error, std::uint16_t(rs.ErrorID)},
+        std::tuple{"WriteString", ws.Busy, ws.Error, std::uint16_t(ws.ErrorID)},
+        std::tuple{"WriteValue", wv.Busy, wv.Error, std::uint16_t(wv.ErrorID)},
+        std::tuple{"Command", cmd.Busy, cmd.Error, std::uint16_t(cmd.ErrorID)},
+        std::tuple{"BatchWeigh", bw.Busy, bw.Error, std::uint16_t(bw.ErrorID)}}) {
+    EXPECT_FALSE(busy) << name;
+    EXPECT_TRUE(error) << name;
+    EXPECT_EQ(eid::kNoJob, id) << name;
+  }
+  EXPECT_EQ(c.dev.read_error(wg::PR5510_Device::kNoSlot), eid::kNoJob);
+  EXPECT_EQ(c.dev.write_status(-2147483647 - 1), wg::WriteStatus::Error);
+  EXPECT_EQ(c.dev.command_error(wg::PR5510_Device::kMaxClients), eid::kNoJob);
+
+  // No device at all.
+  wg::PR5510_ReadString rs0;
+  wg::PR5510_WriteValue wv0;
+  wg::PR5510_BatchWeigh bw0;
+  rs0.Busy = wv0.Busy = bw0.Busy = true;
+  rs0(c.ctx);
+  wv0(c.ctx);
+  bw0(c.ctx);
+  EXPECT_EQ(eid::kNoDevice, rs0.ErrorID);
+  EXPECT_EQ(eid::kNoDevice, wv0.ErrorID);
+  EXPECT_EQ(eid::kNoDevice, bw0.ErrorID);
+
+  // A string read that is done: Busy again must not read a sixth chunk
+  // into the 20-character buffer.
+  wg::PR5510_WriteString w;
+  w.Device = &c.dev;
+  w.BaseCode = 0x90;
+  w.Text = "ABCDEFGHIJKLMNOPQRST";
+  execute(c, w);
+  ASSERT_TRUE(w.Done);
+  wg::PR5510_ReadString r;
+  r.Device = &c.dev;
+  r.BaseCode = 0x90;
+  execute(c, r);
+  ASSERT_TRUE(r.Done);
+  r.Busy = true;
+  c.scan([&] { r(c.ctx); });
+  EXPECT_FALSE(r.Busy);
+  EXPECT_TRUE(r.Error);
+  EXPECT_EQ(eid::kNoJob, r.ErrorID);
+  EXPECT_EQ(std::string_view("ABCDEFGHIJKLMNOPQRST"), r.Text.view());
+}

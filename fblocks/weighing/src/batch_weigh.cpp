@@ -186,6 +186,7 @@ void PR5510_BatchWeigh::operator()(const ScanContext& ctx) {
     enter(BatchState::Aborted, now);
     return;
   }
+  if (Device == nullptr) return fail(error_id::kNoDevice, now);  // Busy set from outside
   if (!Device->Online) return fail(error_id::kDeviceOffline, now);
   if (const std::uint16_t e = Device->read_error(slot_); e != error_id::kNone) return fail(e, now);
 

@@ -44,7 +44,7 @@ int PR5510_Device::attach() {
 }
 
 void PR5510_Device::request_read(int slot, std::uint8_t code, bool urgent) {
-  if (slot < 0 || slot >= kMaxClients) return;
+  if (!valid(slot)) return;
   rd_req_ = static_cast<std::uint8_t>(rd_req_ | bit(slot));
   if (urgent) rd_urgent_ = static_cast<std::uint8_t>(rd_urgent_ | bit(slot));
   rd_code_[idx(slot)] = code;
@@ -58,7 +58,7 @@ bool PR5510_Device::read_valid(int slot, std::uint8_t code) const {
 }
 
 bool PR5510_Device::request_write(int slot, std::uint8_t code, std::uint32_t raw) {
-  if (slot < 0 || slot >= kMaxClients) return false;
+  if (!valid(slot)) return false;
   const std::size_t i = idx(slot);
   if (wr_status_[i] == WriteStatus::Pending || wr_status_[i] == WriteStatus::Active) return false;
   wr_status_[i] = WriteStatus::Pending;
@@ -70,14 +70,14 @@ bool PR5510_Device::request_write(int slot, std::uint8_t code, std::uint32_t raw
 }
 
 void PR5510_Device::ack_write(int slot) {
-  if (slot < 0 || slot >= kMaxClients) return;
+  if (!valid(slot)) return;
   // An Active handshake runs to its end even if its block lets go of it.
   if (wr_status_[idx(slot)] != WriteStatus::Active) wr_status_[idx(slot)] = WriteStatus::Idle;
   wr_pending_ = static_cast<std::uint8_t>(wr_pending_ & ~bit(slot));
 }
 
 bool PR5510_Device::request_command(int slot, CommandBit command) {
-  if (slot < 0 || slot >= kMaxClients) return false;
+  if (!valid(slot)) return false;
   const std::size_t i = idx(slot);
   if (cmd_status_[i] == CommandStatus::Pending || cmd_status_[i] == CommandStatus::Active)
     return false;
@@ -89,7 +89,7 @@ bool PR5510_Device::request_command(int slot, CommandBit command) {
 }
 
 void PR5510_Device::ack_command(int slot) {
-  if (slot < 0 || slot >= kMaxClients) return;
+  if (!valid(slot)) return;
   if (cmd_status_[idx(slot)] != CommandStatus::Active) cmd_status_[idx(slot)] = CommandStatus::Idle;
   cmd_pending_ = static_cast<std::uint8_t>(cmd_pending_ & ~bit(slot));
 }

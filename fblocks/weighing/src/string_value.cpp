@@ -33,7 +33,12 @@ void PR5510_ReadString::operator()(const ScanContext&) {
     chunk_ = 0;
   }
   if (!Busy) return;
-  std::uint16_t err = Device->Online ? Device->read_error(slot_) : error_id::kDeviceOffline;
+  // Busy may have been set from outside (debugger, HMI) with no job: no
+  // device, or every chunk read already; never index past the buffer.
+  std::uint16_t err = Device == nullptr         ? error_id::kNoDevice
+                      : chunk_ >= kStringChunks ? error_id::kNoJob
+                      : Device->Online          ? Device->read_error(slot_)
+                                                : error_id::kDeviceOffline;
   if (err == error_id::kNone) {
     const auto code = static_cast<std::uint8_t>(BaseCode + chunk_);
     if (Device->read_valid(slot_, code)) {
@@ -73,6 +78,12 @@ void PR5510_WriteString::operator()(const ScanContext&) {
     }
   }
   if (!Busy) return;
+  if (Device == nullptr || chunk_ >= kStringChunks) {  // Busy set from outside, no job
+    Busy = false;
+    Error = true;
+    ErrorID = Device == nullptr ? error_id::kNoDevice : error_id::kNoJob;
+    return;
+  }
   switch (Device->write_status(slot_)) {
     case WriteStatus::Done:
       Device->ack_write(slot_);

@@ -14,6 +14,9 @@ namespace plc {
 // "T#1s500ms", "TIME#-2m", "t#1.5s", "20ms", "1h2m3s4ms5us6ns". Units d h m s
 // ms us ns; a bare number is not a time (units are required).
 std::optional<TIME> parse_iec_time(std::string_view s);
+// Why parse_iec_time(s) fails: not a TIME literal, or beyond the TIME range
+// (about 292 years either way); "" when it is a TIME.
+std::string iec_time_error(std::string_view s);
 // "123", "-5", "16#FF", "2#1010_0101", "8#17", "1_000"; also "INT#-5" style
 // typed literals and TRUE/FALSE (1/0).
 std::optional<std::int64_t> parse_iec_integer(std::string_view s);

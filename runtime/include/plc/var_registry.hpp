@@ -13,6 +13,7 @@
 
 #include "plc/io/byte_order.hpp"
 #include "plc/io/iec_address.hpp"
+#include "plc/reflect.hpp"
 #include "plc/types.hpp"
 
 namespace plc {
@@ -27,6 +28,10 @@ struct VarInfo {
   std::uint8_t* image_ptr = nullptr;
   io::ByteOrder order = io::ByteOrder::Big;
   int task = -1;  // index of the task whose programs own it (-1: none)
+  // Write access from outside the programs (reflect.hpp): internal state of
+  // a block is read-only; a block's write check vets every value first.
+  bool read_only = false;
+  WriteCheck check;
 };
 
 class VarRegistry {
@@ -41,7 +46,14 @@ class VarRegistry {
   static void write(const VarInfo& v, const void* in);
   // IEC notation of the current value (TRUE, 16#047F, T#1s500ms, ...).
   static std::string format(const VarInfo& v);
-  // Parses `text` and writes it; returns an error message or "".
+  // The write policy for writes from outside the programs (debugger write
+  // and force, config init:, the HMI): whether `value` (native storage of
+  // v.type) may be written into v. "" if so, else why not. read() and
+  // write() do not ask: the runtime's own restores (recording snapshots,
+  // goto) put internal state back on purpose.
+  static std::string check_write(const VarInfo& v, const void* value);
+  // Parses `text`, applies check_write() and writes it (a write from
+  // outside); returns an error message or "".
   static std::string write_text(const VarInfo& v, std::string_view text);
 
  private:

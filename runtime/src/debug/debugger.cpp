@@ -68,13 +68,20 @@ Debugger::Debugger(Factory factory, Options options)
 
 Debugger::~Debugger() { detach(); }
 
-void Debugger::detach() {
+void Debugger::stop_cell() {
   if (!rt_) return;
   if (rt_thread_.joinable()) {
     rt_->request_stop();
     rt_->set_paused(false);
-    rt_thread_.join();
+    rt_thread_.join();  // run() ends with finish()
+  } else if (opt_.mode == io::ClockMode::Virtual) {
+    rt_->finish();
   }
+}
+
+void Debugger::detach() {
+  if (!rt_) return;
+  if (rt_thread_.joinable()) stop_cell();
   if (trace_) trace_->stop();
   recorder_.reset();
   replayer_.reset();
@@ -311,6 +318,7 @@ void Debugger::freeze_loop(TaskRuntime& t, std::size_t index) {
 // ---------------------------------------------------------------- run control
 
 bool Debugger::one_scan() {
+  if (end_requested()) return false;  // the session ends at this scan boundary
   if (replayer_) return replayer_->step();
   if (rt_->now() >= opt_.span) return false;
   return rt_->step_scan() != nullptr;
@@ -348,7 +356,7 @@ std::string Debugger::watch_lines() {
 }
 
 std::string Debugger::realtime_wait_until_paused() {
-  while (!stop_hit_.load() && !interrupted_.load())
+  while (!stop_hit_.load() && !interrupted_.load() && !end_requested())
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   const std::string note = pause_and_settle();
   // The scan thread that stopped us wrote the reason under mu_.
@@ -406,8 +414,8 @@ std::string Debugger::cmd_step(const std::vector<std::string>& a) {
     }
     interrupted_ = false;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-    for (bool done = false;
-         !done && !interrupted_ && std::chrono::steady_clock::now() < deadline;) {
+    for (bool done = false; !done && !interrupted_ && !end_requested() &&
+                            std::chrono::steady_clock::now() < deadline;) {
       done = true;
       for (const auto& [t, g] : goal) done &= t->stats.scans() >= g || t->stopped.load();
       if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -416,10 +424,16 @@ std::string Debugger::cmd_step(const std::vector<std::string>& a) {
     return stop_report("stepped " + std::to_string(n) + " scan(s) of " +
                        (target ? "task '" + task_name + "'" : "each task") + note);
   }
-  // Virtual time: stepping ignores breakpoints (as TwinCAT's single cycle).
+  // Virtual time: stepping ignores breakpoints (as TwinCAT's single cycle),
+  // not Ctrl-C.
   std::uint64_t done = 0;
   std::string why;
+  interrupted_ = false;
   while (done < n) {
+    if (interrupted_) {
+      why = "; interrupted";
+      break;
+    }
     const std::uint64_t before = target ? target->stats.scans() : 0;
     if (!one_scan()) {
       why = "; the session has ended (no more scans)";
@@ -450,9 +464,18 @@ std::string Debugger::cmd_continue(const std::vector<std::string>& a, bool until
     b.temporary = true;
     std::lock_guard<std::mutex> lock(mu_);
     breaks_.push_back(std::move(b));
-  } else if (a.size() >= 3 && a[1] == "for") {
+  } else if (a.size() >= 2 && a[1] == "for") {
+    if (a.size() != 3) return "usage: continue for DURATION (e.g. continue for 5s)\n";
     for_time = parse_iec_time(a[2]);
-    if (!for_time) return "continue for: '" + a[2] + "' is not a duration\n";
+    if (!for_time) return "continue for: " + iec_time_error(a[2]) + "\n";
+    if (for_time->count() <= 0)
+      return "continue for: the duration must be positive, got " + format_iec_time(*for_time) +
+             "\n";
+    if (*for_time > TIME::max() - rt_->now())
+      return "continue for: " + format_iec_time(*for_time) +
+             " from now lies beyond the end of TIME (" + format_iec_time(TIME::max()) + ")\n";
+  } else if (a.size() > 1) {
+    return "usage: continue [for DURATION]\n";
   }
   stop_hit_ = false;
   interrupted_ = false;
@@ -466,6 +489,10 @@ std::string Debugger::cmd_continue(const std::vector<std::string>& a, bool until
     while (true) {
       if (stop_hit_) {
         why = stop_reason_;
+        break;
+      }
+      if (end_requested()) {
+        why = "the session is ending (signal)";
         break;
       }
       if (interrupted_) {
@@ -503,10 +530,16 @@ std::string Debugger::cmd_break(const std::vector<std::string>& a) {
       for (const auto& p : t->program_names) found |= p == a[2];
     if (!found) return "break: no task runs a program named '" + a[2] + "'\n";
     b.before_program = a[2];
-    if (a.size() > 3 && a[3] == "if")
+    if (a.size() > 3 && a[3] == "if") {
       cond_text = rest_after(joined_line_, 4);
-    else if (a.size() > 3 && a[3] != "hits")
-      return "usage: break before PROGRAM [if CONDITION] [hits N]\n";
+    } else if (a.size() > 3) {
+      // No condition: only "hits N" may follow.
+      if (a[3] != "hits" || a.size() != 5)
+        return "usage: break before PROGRAM [if CONDITION] [hits N]\n";
+      auto c = count_arg(a[4]);
+      if (!c) return "break: 'hits' needs a positive count\n";
+      b.hit_target = *c;
+    }
   } else {
     cond_text = rest_after(joined_line_, 1);
   }
@@ -707,9 +740,15 @@ std::string Debugger::cmd_write(const std::vector<std::string>& a, bool force) {
   if (!v) return std::string(what) + ": " + err + "\n";
   if (v->type == VarType::STRING)
     return std::string(what) + ": STRING variables cannot be written from the debugger\n";
+  // The write policy (reflect.hpp): internal state is refused whatever the
+  // value; a block's write check sees the value.
+  if (v->read_only)
+    return std::string(what) + " " + a[1] + ": refused, " + VarRegistry::check_write(*v, nullptr) +
+           "\n";
   std::uint64_t value = 0;
   const std::string value_text = rest_after(joined_line_, 2);
   err = parse_value(v->type, value_text, &value);
+  if (err.empty()) err = VarRegistry::check_write(*v, &value);
   if (!err.empty()) return std::string(what) + " " + a[1] + ": " + err + "\n";
   std::uint64_t original = 0;  // the value before a force (read consistently)
   if (force) {
@@ -892,11 +931,17 @@ std::string Debugger::cmd_goto(const std::vector<std::string>& a) {
     build();
     note = "; re-ran from the start" + note;
   }
-  while (scan_count() < *n)
+  interrupted_ = false;
+  while (scan_count() < *n) {
+    if (interrupted_) {
+      note += "; interrupted";
+      break;
+    }
     if (!one_scan()) {
       note += "; the session ends at scan " + std::to_string(scan_count());
       break;
     }
+  }
   stop_hit_ = false;
   return stop_report("at scan " + std::to_string(scan_count()) + note);
 }
@@ -955,6 +1000,7 @@ std::string Debugger::help() const {
                             values printed at every stop
   write NAME VALUE          set once, at the start of the next scan
   force NAME VALUE          set every scan (inputs after latch, outputs before publish)
+                            (a block's internal state is read-only: --list-vars marks it)
   unforce NAME|all [restore]  release (keep the value, or restore the one before the force)
   forces                    list forced variables
   trace add NAME... | trace trigger CONDITION|off | trace pre ROWS

@@ -57,8 +57,24 @@ class Debugger final : public ScanHooks {
   std::string execute(std::string_view line);
   [[nodiscard]] bool quit_requested() const { return quit_; }
   [[nodiscard]] std::string prompt() const;
-  // Async-signal-safe: interrupts a running `continue`/`run until` (Ctrl-C).
+  // Async-signal-safe: interrupts a running `continue`, `run until`, `step`
+  // or `goto` (Ctrl-C at the console); the session goes on.
   void interrupt() { interrupted_.store(true, std::memory_order_relaxed); }
+  // Async-signal-safe: ends the session (SIGTERM; Ctrl-C without a
+  // console). A running command stops at the next scan boundary and no
+  // further scan runs; the front end then stops reading commands, and
+  // destroying the debugger puts the outputs to their safe values.
+  void request_end() {
+    end_requested_.store(true, std::memory_order_relaxed);
+    interrupted_.store(true, std::memory_order_relaxed);
+  }
+  [[nodiscard]] bool end_requested() const {
+    return end_requested_.load(std::memory_order_relaxed);
+  }
+  // Stops the cell for good: joins the real-time tasks or finishes the
+  // virtual run; every output goes to its safe value. runtime() stays
+  // readable (statistics for a summary).
+  void stop_cell();
   // Where nested command loops (freeze points) read and print.
   void set_io(Reader r, Writer w) {
     reader_ = std::move(r);
@@ -196,6 +212,7 @@ class Debugger final : public ScanHooks {
   std::atomic<bool> stop_hit_{false};
   std::string stop_reason_;
   std::atomic<bool> interrupted_{false};
+  std::atomic<bool> end_requested_{false};
   bool quit_ = false;
   bool in_freeze_ = false;
   int freeze_action_ = 0;  // 0 continue, 1 step (pause at scan end), 2 quit

@@ -45,6 +45,8 @@ struct AbsEncoderInit {
   void operator()(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Execute, AllowDisable, Timeout, RecordIndex, Done, Busy, Error, ErrorID, Status, Step,
               /* internal state */ client_, prev_execute_, seen_running_, seen_offline_, t0_)
+  // Step too: the procedure runs on it.
+  PLC_INTERNAL(Step, client_, prev_execute_, seen_running_, seen_offline_, t0_)
 
   ParamClient client_;
   bool prev_execute_ = false;

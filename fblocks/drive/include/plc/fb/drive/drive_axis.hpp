@@ -176,6 +176,13 @@ struct DriveAxis {
               error_, cmd_id_, next_id_, kind_, phase_, task_kind_, cmd_err_, phase_start_,
               homing_timeout_, stw6_, stw6_sent_, homing_bit_, homing_started_, seen_traversing_,
               halt_release_, prev_xist_, have_prev_xist_, task_velocity_)
+  // State too: the PLCopen state machine runs on it; and RestartInhibit, the
+  // interlock against a restart without MC_Reset and a new Enable.
+  PLC_INTERNAL(State, RestartInhibit, now_, last_scan_, last_cycle_, begun_, sol_out_, sol_in_last_,
+               sol_stall_, sol_seen_, error_, cmd_id_, next_id_, kind_, phase_, task_kind_,
+               cmd_err_, phase_start_, homing_timeout_, stw6_, stw6_sent_, homing_bit_,
+               homing_started_, seen_traversing_, halt_release_, prev_xist_, have_prev_xist_,
+               task_velocity_)
 
   // ---- internals (public for tests and the benchmark, not for programs) ----
   enum class Phase : std::uint8_t { Idle, PreLow, Request, Running, Done, Error, Aborted };

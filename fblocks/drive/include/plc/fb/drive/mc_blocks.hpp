@@ -87,6 +87,7 @@ struct MC_Power {
   void operator()(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Enable, StopMode, EnableTimeout, Status, Valid, Error, ErrorID, enable_since_,
               prev_enable_)
+  PLC_INTERNAL(enable_since_, prev_enable_)
 
   TIME enable_since_{};
   bool prev_enable_ = false;
@@ -101,6 +102,7 @@ struct MC_Reset : McExecute {
   TIME Timeout = std::chrono::seconds(1);
   void operator()(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Execute, Timeout, Done, Busy, Error, ErrorID, id_, prev_execute_, pulsing_, t0_)
+  PLC_INTERNAL(id_, prev_execute_, pulsing_, t0_)
 
   bool pulsing_ = false;
   TIME t0_{};
@@ -114,6 +116,7 @@ struct MC_MoveAbsolute : McExecute {
   void operator()(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Execute, Position, Velocity, Acceleration, Deceleration, Done, Busy, Active,
               CommandAborted, Error, ErrorID, id_, prev_execute_)
+  PLC_INTERNAL(id_, prev_execute_)
 };
 
 struct MC_MoveRelative : McExecute {
@@ -124,6 +127,7 @@ struct MC_MoveRelative : McExecute {
   void operator()(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Execute, Distance, Velocity, Acceleration, Deceleration, Done, Busy, Active,
               CommandAborted, Error, ErrorID, id_, prev_execute_)
+  PLC_INTERNAL(id_, prev_execute_)
 };
 
 // The E1 has no speed-controlled MDI submode (spec §7.6): MC_MoveVelocity
@@ -139,6 +143,7 @@ struct MC_MoveVelocity : McExecute {
   void operator()(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Execute, Velocity, Acceleration, Deceleration, Direction, InVelocity, Busy, Active,
               CommandAborted, Error, ErrorID, id_, prev_execute_)
+  PLC_INTERNAL(id_, prev_execute_)
 };
 
 // Drive-internal homing (STW1.11, spec §7.8): Done when ZSW1.11 (home set)
@@ -152,6 +157,7 @@ struct MC_Home : McExecute {
   void operator()(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Execute, Position, Timeout, Done, Busy, Active, CommandAborted, Error, ErrorID, id_,
               prev_execute_)
+  PLC_INTERNAL(id_, prev_execute_)
 };
 
 // MC_Stop: rejects the traversing task (STW1.4 = 0: the drive stops with
@@ -163,6 +169,7 @@ struct MC_Stop : McExecute {
   void operator()(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Execute, Deceleration, Done, Busy, Active, CommandAborted, Error, ErrorID, id_,
               prev_execute_, held_)
+  PLC_INTERNAL(id_, prev_execute_, held_)
   bool held_ = false;
 };
 
@@ -173,6 +180,7 @@ struct MC_Halt : McExecute {
   void operator()(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Execute, Deceleration, Done, Busy, Active, CommandAborted, Error, ErrorID, id_,
               prev_execute_)
+  PLC_INTERNAL(id_, prev_execute_)
 };
 
 struct MC_ReadStatus {

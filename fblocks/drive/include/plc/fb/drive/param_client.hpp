@@ -41,6 +41,7 @@ class ParamClient {
   // In-progress state (the request and response bodies of a request in
   // flight are not included: an acyclic request cannot be resumed anyway).
   PLC_REFLECT(state_, error_, index_, next_ref_, t0_, timeout_)
+  PLC_INTERNAL(state_, error_, index_, next_ref_, t0_, timeout_)
 
  private:
   void fail(std::uint16_t e) {

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <array>
+#include <string>
 
 #include "plc/fb/drive/drive_axis.hpp"
 #include "plc/fb/drive/param_client.hpp"
@@ -60,6 +61,14 @@ struct SinaPara {
               Timeout, Ready, Busy, Done, Error, ErrorID, ErrorText, RespFormat, RespCount,
               ValueRead, ValuesRead,
               /* internal state */ client_, prev_start_)
+  PLC_INTERNAL(client_, prev_start_)
+  // Count is a length (of Values, ValuesRead): a debugger write beyond
+  // kMaxValues is refused at once; a program's is refused at the Start edge
+  // (ErrorID kErrParamInput).
+  PLC_WRITE_CHECK(Count, check_count)
+  [[nodiscard]] std::string check_count(UINT n) const {
+    return n <= kMaxValues ? "" : "Count must be 0 .. " + std::to_string(kMaxValues);
+  }
 
   ParamClient client_;
   bool prev_start_ = false;

@@ -96,6 +96,8 @@ struct SinaPos {
               Error, Status, DiagID,
               /* internal state */ id_, cmd_status_, cmd_diag_, prev_exec_, prev_ack_, prev_jog_,
               setref_, halting_, sent_velocity_, sent_acc_, sent_dec_, sent_positive_)
+  PLC_INTERNAL(id_, cmd_status_, cmd_diag_, prev_exec_, prev_ack_, prev_jog_, setref_, halting_,
+               sent_velocity_, sent_acc_, sent_dec_, sent_positive_)
 
   std::uint32_t id_ = 0;
   std::uint16_t cmd_status_ = 0, cmd_diag_ = 0;  // latched command error

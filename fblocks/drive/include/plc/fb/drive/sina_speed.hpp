@@ -43,6 +43,7 @@ struct SinaSpeed {
   PLC_REFLECT(EnableAxis, AckError, SpeedSp, RefSpeed, ConfigAxis, AxisEnabled, Lockout,
               ActVelocity, SpeedReached, InTolerance, Error, Status, DiagID,
               /* internal state */ prev_ack_)
+  PLC_INTERNAL(prev_ack_)
   bool prev_ack_ = false;
 };
 

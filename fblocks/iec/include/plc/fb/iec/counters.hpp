@@ -59,6 +59,7 @@ struct CTU_T {
   }
 
   PLC_REFLECT(CU, R, PV, Q, CV, cu_prev_)
+  PLC_INTERNAL(cu_prev_)
 };
 
 template <class T>
@@ -87,6 +88,7 @@ struct CTD_T {
   }
 
   PLC_REFLECT(CD, LD, PV, Q, CV, cd_prev_)
+  PLC_INTERNAL(cd_prev_)
 };
 
 template <class T>
@@ -126,6 +128,7 @@ struct CTUD_T {
   }
 
   PLC_REFLECT(CU, CD, R, LD, PV, QU, QD, CV, cu_prev_, cd_prev_)
+  PLC_INTERNAL(cu_prev_, cd_prev_)
 };
 
 using CTU = CTU_T<INT>;

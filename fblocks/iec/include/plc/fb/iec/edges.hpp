@@ -39,6 +39,7 @@ struct R_TRIG {
   }
 
   PLC_REFLECT(CLK, Q, M)
+  PLC_INTERNAL(M)
 };
 
 struct F_TRIG {
@@ -59,6 +60,7 @@ struct F_TRIG {
   }
 
   PLC_REFLECT(CLK, Q, M)
+  PLC_INTERNAL(M)
 };
 
 }  // namespace plc::iec

@@ -68,6 +68,7 @@ struct TON {
   }
 
   PLC_REFLECT(IN, PT, Q, ET, start_, running_)
+  PLC_INTERNAL(start_, running_)
 };
 
 }  // namespace plc::iec

@@ -61,6 +61,7 @@ struct TP {
   }
 
   PLC_REFLECT(IN, PT, Q, ET, start_, prev_in_)
+  PLC_INTERNAL(start_, prev_in_)
 };
 
 }  // namespace plc::iec

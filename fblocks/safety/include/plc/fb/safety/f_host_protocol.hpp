@@ -135,11 +135,16 @@ class FHostProtocol {
   // Watchdog expiries since the last valid telegram (device lost for good).
   [[nodiscard]] std::uint32_t watchdog_expiries_in_row() const { return wd_in_row_; }
 
-  // The protocol state, for the debugger and recording snapshots.
+  // The protocol state, for the debugger and recording snapshots. All of it
+  // is internal: the lengths index the PDUs, the rest is the state machine.
   PLC_REFLECT(crc1_, out_len_, in_len_, wd_, state_, cn_, accepted_cn_, toggle_h_, sent_any_,
               wd_tripped_, resync_needed_, pending_rcons_, pending_fv_, comm_fault_seen_,
               device_fault_seen_, ipar_ok_, data_valid_, prev_ack_rei_, diag_, t_sent_,
               wd_period_from_, crc_errors_, wd_expiries_, late_answers_, deliveries_, wd_in_row_)
+  PLC_INTERNAL(crc1_, out_len_, in_len_, wd_, state_, cn_, accepted_cn_, toggle_h_, sent_any_,
+               wd_tripped_, resync_needed_, pending_rcons_, pending_fv_, comm_fault_seen_,
+               device_fault_seen_, ipar_ok_, data_valid_, prev_ack_rei_, diag_, t_sent_,
+               wd_period_from_, crc_errors_, wd_expiries_, late_answers_, deliveries_, wd_in_row_)
 
  private:
   void comm_fault(std::uint8_t diag_bit);

@@ -92,6 +92,8 @@ class F_MODULE {
               // internal state: shown by the debugger, kept in recording snapshots
               proto_, block_, phase_, retry_at_, dev_fault_prev_, diag_read_wanted_,
               next_diag_read_, dev_code_, dev_code_count_, restart_after_fault_)
+  PLC_INTERNAL(proto_, block_, phase_, retry_at_, dev_fault_prev_, diag_read_wanted_,
+               next_diag_read_, dev_code_, dev_code_count_, restart_after_fault_)
 
   void operator()(const ScanContext& ctx) {
     if (!port.bound() || port.in().size() < kInPdu || port.out().size() < kOutPdu) {

@@ -61,6 +61,7 @@ class NORD_SAFE_IO {
               OSSD1_OFF, OSSD2_OFF, OSSD3_OFF, CLOCK1_OFF, CLOCK2_OFF, OSSD1_ON, OSSD2_ON, OSSD3_ON,
               SI1, SI2, SOS_OK, SLS_OK, SLS_LEVEL_ACT, SDI_P_OK, SDI_N_OK, SSM, SSR_OK, PASS_OUT,
               QBAD, ACK_REQ, DIAG, DIAG_CODE, ack_prev_, ack_hold_, ack_cn_)
+  PLC_INTERNAL(ack_prev_, ack_hold_, ack_cn_)
 
   void operator()(const ScanContext& ctx) {
     // Channel-passivation acknowledge: hold a rising edge until a request

@@ -166,6 +166,10 @@ class PR5510_BatchWeigh {
               slot_, prev_execute_, prev_reset_, learned_, have_net_, closed_by_preact_, top_up_,
               adapted_, tare_step_, net_, start_net_, entered_, active_time_, last_now_,
               rate_started_, time_learned_, rate_t1_, rate_n1_, top_up_len_, below_zero_since_)
+  // State too: the state machine runs on it.
+  PLC_INTERNAL(State, slot_, prev_execute_, prev_reset_, learned_, have_net_, closed_by_preact_,
+               top_up_, adapted_, tare_step_, net_, start_net_, entered_, active_time_, last_now_,
+               rate_started_, time_learned_, rate_t1_, rate_n1_, top_up_len_, below_zero_since_)
 
   void operator()(const ScanContext& ctx);
 

@@ -25,6 +25,7 @@ class PR5510_Command {
 
   PLC_REFLECT(Execute, Command, Done, Busy, Error, ErrorID,
               /* internal state */ slot_, prev_execute_)
+  PLC_INTERNAL(slot_, prev_execute_)
 
   void operator()(const ScanContext& ctx);
 

@@ -9,10 +9,11 @@
 namespace plc::weighing::error_id {
 
 inline constexpr std::uint16_t kNone = 0x0000;
-inline constexpr std::uint16_t kNoDevice = 0x8001;             // Device input not set
-inline constexpr std::uint16_t kTooManyClients = 0x8002;       // all arbitration slots taken
-inline constexpr std::uint16_t kDeviceOffline = 0x8003;        // port not bound or not Online
-inline constexpr std::uint16_t kInvalidCode = 0x8004;          // code outside the manual's tables
+inline constexpr std::uint16_t kNoDevice = 0x8001;        // Device input not set
+inline constexpr std::uint16_t kTooManyClients = 0x8002;  // all arbitration slots taken
+inline constexpr std::uint16_t kDeviceOffline = 0x8003;   // port not bound or not Online
+inline constexpr std::uint16_t kInvalidCode = 0x8004;     // code outside the manual's tables
+inline constexpr std::uint16_t kNoJob = 0x8005;  // Busy set from outside: no slot or nothing to do
 inline constexpr std::uint16_t kReadEchoTimeout = 0x8010;      // R[4] never echoed the code
 inline constexpr std::uint16_t kWriteBusyTimeout = 0x8011;     // Write_Active stuck at 1
 inline constexpr std::uint16_t kWriteAckTimeout = 0x8012;      // Write_Active never rose

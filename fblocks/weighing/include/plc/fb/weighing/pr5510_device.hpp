@@ -103,6 +103,13 @@ class PR5510_Device {
               wr_error_, wr_code_, wr_raw_, wr_phase_, wr_slot_, wr_next_, wr_cmd_error_, wr_epoch_,
               wr_since_, cmd_status_, cmd_error_, cmd_bit_, cmd_phase_, cmd_slot_, cmd_next_,
               cmd_epoch_, cmd_since_, outputs_)
+  // ReadHolder too: the round-robin goes on from it.
+  PLC_INTERNAL(ReadHolder, prev_cal_changed_, prev_cmd_error_, was_online_, clients_, scale_,
+               rd_req_, rd_err_, rd_urgent_, wr_pending_, cmd_pending_, rd_code_, read_error_,
+               holder_, holder_code_, holder_served_, grant_time_, want_fsd_, want_format_,
+               want_model_, wr_status_, wr_error_, wr_code_, wr_raw_, wr_phase_, wr_slot_, wr_next_,
+               wr_cmd_error_, wr_epoch_, wr_since_, cmd_status_, cmd_error_, cmd_bit_, cmd_phase_,
+               cmd_slot_, cmd_next_, cmd_epoch_, cmd_since_, outputs_)
 
   void operator()(const ScanContext& ctx);
 
@@ -118,21 +125,33 @@ class PR5510_Device {
   [[nodiscard]] bool read_valid(int slot, std::uint8_t code) const;
   // Set when this slot's code was not echoed in time; cleared when the slot
   // stops requesting.
-  [[nodiscard]] std::uint16_t read_error(int slot) const { return read_error_[idx(slot)]; }
+  // A slot outside 0..kMaxClients-1 (a block that holds none: kNoSlot) has
+  // error kNoJob, and its writes and commands fail with it.
+  [[nodiscard]] std::uint16_t read_error(int slot) const {
+    return valid(slot) ? read_error_[idx(slot)] : error_id::kNoJob;
+  }
   [[nodiscard]] DINT read_dint() const { return decode_dint(port.in(), BusType); }
   [[nodiscard]] REAL read_real() const { return decode_real(port.in(), BusType); }
   [[nodiscard]] std::uint32_t read_raw() const { return decode_raw(port.in(), BusType); }
 
   // Write window: queue one write; false if this slot already has one.
   bool request_write(int slot, std::uint8_t code, std::uint32_t raw);
-  [[nodiscard]] WriteStatus write_status(int slot) const { return wr_status_[idx(slot)]; }
-  [[nodiscard]] std::uint16_t write_error(int slot) const { return wr_error_[idx(slot)]; }
+  [[nodiscard]] WriteStatus write_status(int slot) const {
+    return valid(slot) ? wr_status_[idx(slot)] : WriteStatus::Error;
+  }
+  [[nodiscard]] std::uint16_t write_error(int slot) const {
+    return valid(slot) ? wr_error_[idx(slot)] : error_id::kNoJob;
+  }
   void ack_write(int slot);  // collect Done/Error (or cancel a Pending one)
 
   // Commands: queue one W[7] pulse; false if this slot already has one.
   bool request_command(int slot, CommandBit command);
-  [[nodiscard]] CommandStatus command_status(int slot) const { return cmd_status_[idx(slot)]; }
-  [[nodiscard]] std::uint16_t command_error(int slot) const { return cmd_error_[idx(slot)]; }
+  [[nodiscard]] CommandStatus command_status(int slot) const {
+    return valid(slot) ? cmd_status_[idx(slot)] : CommandStatus::Error;
+  }
+  [[nodiscard]] std::uint16_t command_error(int slot) const {
+    return valid(slot) ? cmd_error_[idx(slot)] : error_id::kNoJob;
+  }
   void ack_command(int slot);
 
   // Digital outputs 1..3 (W[6], level).
@@ -151,6 +170,7 @@ class PR5510_Device {
   enum class WrPhase : std::uint8_t { Idle, WaitFree, PutCode, WaitAck, WaitRelease, WaitErrorNo };
   enum class CmdPhase : std::uint8_t { Idle, High, WaitDone, WaitErrorNo, Gap };
 
+  static bool valid(int slot) { return slot >= 0 && slot < kMaxClients; }
   static std::size_t idx(int slot) { return static_cast<std::size_t>(slot); }
   static std::uint8_t bit(int slot) { return static_cast<std::uint8_t>(1U << slot); }
   // First slot at or after `from` (round-robin) whose bit is set in mask.

@@ -28,6 +28,7 @@ class PR5510_ReadValue {
 
   PLC_REFLECT(Enable, Code, Valid, Busy, Error, ErrorID, Value, ValueReal, Raw, Updates,
               /* internal state */ slot_, last_code_)
+  PLC_INTERNAL(slot_, last_code_)
 
   void operator()(const ScanContext& ctx);
 

@@ -24,6 +24,7 @@ class PR5510_ReadString {
 
   PLC_REFLECT(Execute, BaseCode, Done, Busy, Error, ErrorID, Text,
               /* internal state */ slot_, prev_execute_, chunk_, buf_)
+  PLC_INTERNAL(slot_, prev_execute_, chunk_, buf_)
 
   void operator()(const ScanContext& ctx);
 
@@ -48,6 +49,7 @@ class PR5510_WriteString {
 
   PLC_REFLECT(Execute, BaseCode, Text, Done, Busy, Error, ErrorID,
               /* internal state */ slot_, prev_execute_, chunk_, latched_)
+  PLC_INTERNAL(slot_, prev_execute_, chunk_, latched_)
 
   void operator()(const ScanContext& ctx);
 

@@ -62,6 +62,12 @@ void run_window_job(ExecuteSignals s, PR5510_Device* device, int& slot, bool cod
     }
   }
   if (!s.Busy) return;
+  if (device == nullptr) {  // Busy set from outside (debugger, HMI) with no device
+    s.Busy = false;
+    s.Error = true;
+    s.ErrorID = error_id::kNoDevice;
+    return;
+  }
   const std::pair<JobResult, std::uint16_t> r = poll();
   if (r.first == JobResult::Done) {
     s.Busy = false;

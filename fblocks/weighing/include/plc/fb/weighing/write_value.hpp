@@ -26,6 +26,7 @@ class PR5510_WriteValue {
 
   PLC_REFLECT(Execute, Code, Value, ValueReal, UseReal, Done, Busy, Error, ErrorID,
               /* internal state */ slot_, prev_execute_)
+  PLC_INTERNAL(slot_, prev_execute_)
 
   void operator()(const ScanContext& ctx);
 
