@@ -68,12 +68,16 @@ class Debugger final : public ScanHooks {
   Runtime& runtime() { return *rt_; }
   [[nodiscard]] std::uint64_t scan_count() const { return scans_; }
 
-  // ScanHooks
+  // ScanHooks. A recording started with `record` gets them from here, after
+  // the debugger's own work (so it sees the writes and forces it records),
+  // under mu_: it can start and stop while real-time tasks run.
   void after_latch(TaskRuntime& t, io::ProcessImage& global) override;
+  void on_answer(TaskRuntime& t, std::size_t device, const io::RecordRequest& r) override;
   void before_programs(TaskRuntime& t, const ScanContext& ctx) override;
   void before_program(TaskRuntime& t, std::size_t index, const ScanContext& ctx) override;
   void after_programs(TaskRuntime& t, const ScanContext& ctx) override;
   void before_publish(TaskRuntime& t, io::ProcessImage& global) override;
+  void on_stop(TaskRuntime& t, io::ProcessImage& global) override;
 
  private:
   struct Breakpoint {
@@ -123,7 +127,10 @@ class Debugger final : public ScanHooks {
   std::optional<VarInfo> resolve(const std::string& name, bool& image, std::string& err);
   // Virtual time: run one scan (live or replayed); false when nothing can run.
   bool one_scan();
+  // A write into t's scan, noted by a running recording (mu_ held).
+  void apply_write(TaskRuntime& t, const VarInfo& v, const void* value);
   void on_scan_end(const TaskRuntime& t, const ScanContext& ctx);
+  void freeze_if_due(TaskRuntime& t, std::size_t index);  // a freeze point before program `index`
   void freeze_loop(TaskRuntime& t, std::size_t index);
   void realtime_wait_until_paused();
 
@@ -169,7 +176,8 @@ class Debugger final : public ScanHooks {
   std::atomic<bool> interrupted_{false};
   bool quit_ = false;
   bool in_freeze_ = false;
-  int freeze_action_ = 0;  // 0 continue, 1 step (pause at scan end), 2 quit
+  TaskRuntime* frozen_task_ = nullptr;  // the task whose scan a freeze point holds
+  int freeze_action_ = 0;               // 0 continue, 1 step (pause at scan end), 2 quit
   Reader reader_;
   Writer writer_;
   std::string joined_line_;  // the command line being executed (conditions keep their spacing)
