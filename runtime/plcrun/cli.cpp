@@ -249,9 +249,18 @@ int plcrun_main(int argc, char** argv) {
     std::unique_ptr<debug::Debugger> dbg;
     try {
       dbg = std::make_unique<debug::Debugger>([&cfg] { return std::make_unique<Runtime>(cfg); }, o);
+    } catch (const debug::RecordingError& e) {
+      std::cerr << "plcrun: " << e.what() << "\n";
+      return 1;
     } catch (const std::exception& e) {
       std::cerr << "plcrun: " << e.what() << "\n";
       return 2;
+    }
+    if (vm.count("record")) {
+      // As the console's `record FILE`, from the first scan on.
+      const std::string out = dbg->execute("record " + vm["record"].as<std::string>());
+      std::cout << out;
+      if (out.rfind("record: ", 0) == 0) return 2;
     }
     g_debugger = dbg.get();
     struct sigaction sa {};
@@ -266,6 +275,14 @@ int plcrun_main(int argc, char** argv) {
       return 2;
     }
     g_debugger = nullptr;
+    // A recording still running when the session ends is finished here, so
+    // that a failure (a full disk) shows and sets the exit code.
+    const std::string status = dbg->execute("record");
+    if (status.rfind("recording,", 0) == 0) {
+      const std::string out = dbg->execute("record stop");
+      std::cout << out;
+      if (out.find("FAILED") != std::string::npos) return 1;
+    }
     return 0;
   }
 
@@ -276,6 +293,9 @@ int plcrun_main(int argc, char** argv) {
       replayer = std::make_unique<debug::Replayer>(*rt, vm["replay"].as<std::string>());
     if (vm.count("record"))
       recorder = std::make_unique<debug::Recorder>(*rt, vm["record"].as<std::string>());
+  } catch (const debug::RecordingError& e) {
+    std::cerr << "plcrun: " << e.what() << "\n";  // damaged, incomplete, other version or cell
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "plcrun: " << e.what() << "\n";
     return 2;
@@ -346,9 +366,17 @@ int plcrun_main(int argc, char** argv) {
     rc = 1;
   }
   if (recorder) {
-    std::printf("recorded %llu scans into %s\n", static_cast<unsigned long long>(recorder->scans()),
-                vm["record"].as<std::string>().c_str());
-    recorder->close();
+    const std::string err = recorder->close();
+    if (err.empty()) {
+      std::printf("recorded %llu scans into %s\n",
+                  static_cast<unsigned long long>(recorder->scans()),
+                  vm["record"].as<std::string>().c_str());
+    } else {
+      std::fprintf(stderr, "plcrun: recording into %s FAILED after %llu scans: %s\n",
+                   vm["record"].as<std::string>().c_str(),
+                   static_cast<unsigned long long>(recorder->scans()), err.c_str());
+      rc = 1;
+    }
   }
   g_runtime = nullptr;
   if (status) status->done();
