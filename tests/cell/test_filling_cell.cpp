@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "../runtime/debugger_deadline.hpp"
 #include "plc/cell_config.hpp"
 #include "plc/debug/debugger.hpp"
 
@@ -156,6 +157,7 @@ TEST(FillingCell, ARealTimeRecordingWithPausesAndForcesReplaysBitExact) {
     o.mode = io::ClockMode::RealTime;
     o.span = std::chrono::minutes(1);
     debug::Debugger d([] { return std::make_unique<Runtime>(cfg); }, o);
+    plctest::Deadline deadline(d);
     EXPECT_TRUE(has(d.execute("record " + rec), "recording every scan's inputs"));
     for (const char* c :
          {"run until Cell.step = 2", "force Cell.guard.FMOD.PASS_ON TRUE",

@@ -10,11 +10,13 @@
 #include <fstream>
 #include <thread>
 
+#include "debugger_deadline.hpp"
 #include "plc/debug/debugger.hpp"
 #include "plc/debug/recording.hpp"
 #include "plc/io/located.hpp"
 #include "plc/program.hpp"
 #include "test_helpers.hpp"
+#include "test_programs.hpp"
 
 using namespace plc;
 
@@ -266,6 +268,7 @@ void record_real_time_and_replay(const CellConfig& cfg, const std::vector<std::s
     o.mode = io::ClockMode::RealTime;
     o.span = std::chrono::minutes(1);
     debug::Debugger d([cfg] { return std::make_unique<Runtime>(cfg); }, o);
+    plctest::Deadline deadline(d);
     EXPECT_TRUE(has(d.execute("record " + rec), "recording every scan's inputs"));
     for (const std::string& c : commands) {
       const std::string out = d.execute(c);
@@ -372,6 +375,73 @@ TEST(Recording, ForcesAndFreezePointWritesReplayAndTheFileIsDeterministic) {
   }
   EXPECT_GT(files[0].size(), 1000u);
   EXPECT_EQ(files[0], files[1]);
+}
+
+namespace {
+
+// Records `commands` in a debugger session on `yaml`, replays the recording,
+// and returns the replay's stop report.
+std::string record_and_replay(const std::string& yaml, io::ClockMode mode,
+                              const std::vector<std::string>& commands, const std::string& rec) {
+  const CellConfig cfg = parse_cell_config(yaml, "stop.yaml");
+  {
+    debug::Debugger::Options o;
+    o.mode = mode;
+    o.span = std::chrono::minutes(1);
+    debug::Debugger d([cfg] { return std::make_unique<Runtime>(cfg); }, o);
+    plctest::Deadline deadline(d);
+    d.execute("record " + rec);
+    for (const std::string& c : commands) d.execute(c);
+    EXPECT_TRUE(has(d.execute("record stop"), "recording stopped"));
+    d.execute("quit");
+  }
+  debug::Debugger::Options o;
+  o.replay_file = rec;
+  debug::Debugger r([cfg] { return std::make_unique<Runtime>(cfg); }, o);
+  std::string out = r.execute("continue");
+  out += r.execute("stats");
+  std::remove(rec.c_str());
+  return out;
+}
+
+}  // namespace
+
+// A task stopped by an exception (virtual time) or by its watchdog (real
+// time, from the watchdog thread) while recording: its safe outputs go
+// into the image at the recorded point of the replay too.
+TEST(Recording, ATaskStoppedByAFaultReplays) {
+  const std::string out =
+      record_and_replay(R"(
+tasks:
+  - {name: main, period: 1ms, programs: [T]}
+  - {name: other, period: 2ms, programs: [L]}
+programs:
+  - {name: T, type: Thrower}
+  - {name: L, type: LoopCounter}
+)",
+                        io::ClockMode::Virtual, {"step 50", "write T.fire TRUE", "step 100"},
+                        plctest::temp_path("fault.rec"));
+  EXPECT_TRUE(has(out, " 0 output mismatch(es)")) << out;
+  EXPECT_TRUE(has(out, "STOPPED")) << out;
+  EXPECT_FALSE(has(out, "diverged")) << out;
+}
+
+TEST(RealTimeRecording, ATaskStoppedByItsWatchdogReplays) {
+  const std::string out =
+      record_and_replay(R"(
+tasks:
+  - {name: main, period: 1ms, watchdog: 10, programs: [S]}
+  - {name: other, period: 2ms, programs: [L]}
+programs:
+  - {name: S, type: Spinner}
+  - {name: L, type: LoopCounter, bind: {to_dev: "%QD8", from_dev: "%ID8"}}
+)",
+                        io::ClockMode::RealTime,
+                        {"run until L.count > 100", "write S.spin TRUE", "run until L.count > 300"},
+                        plctest::temp_path("watchdog.rec"));
+  EXPECT_TRUE(has(out, " 0 output mismatch(es)")) << out;
+  EXPECT_TRUE(has(out, "STOPPED: stopped in the recording (watchdog")) << out;
+  EXPECT_FALSE(has(out, "diverged")) << out;
 }
 
 // ---------------------------------------------------------------- point 3

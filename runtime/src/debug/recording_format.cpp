@@ -88,14 +88,25 @@ bool skip_value(In& in, std::uint8_t type) {
 }
 
 std::uint64_t image_hash(std::span<const std::uint8_t> q, std::span<const std::uint8_t> m) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
+  constexpr std::uint64_t kPrime = 0x100000001b3ULL;
+  // Four independent lanes: the multiply chains overlap (about 4x faster on
+  // a large %M than one chain).
+  std::uint64_t lane[4];
+  for (std::uint64_t i = 0; i < 4; ++i) lane[i] = 0xcbf29ce484222325ULL + i;
+  std::size_t k = 0;
   for (auto area : {q, m}) {
-    for (std::size_t i = 0; i < area.size(); i += 8) {
+    for (std::size_t i = 0; i < area.size(); i += 8, ++k) {
       std::uint64_t w = 0;
       std::memcpy(&w, area.data() + i, std::min<std::size_t>(8, area.size() - i));
-      h = (h ^ boost::endian::little_to_native(w)) * 0x100000001b3ULL;
+      std::uint64_t& h = lane[k % 4];
+      h = (h ^ boost::endian::little_to_native(w)) * kPrime;
       h ^= h >> 32;
     }
+  }
+  std::uint64_t h = lane[0];
+  for (int i = 1; i < 4; ++i) {
+    h = (h ^ lane[i]) * kPrime;
+    h ^= h >> 32;
   }
   return h;
 }

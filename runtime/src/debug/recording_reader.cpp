@@ -37,7 +37,13 @@ RecordingReader::RecordingReader(const std::string& path) {
     throw std::runtime_error("cannot read recording '" + path + "'");
   }
   size_ = static_cast<std::uint64_t>(st.st_size);
-  open();
+  try {
+    open();
+  } catch (...) {
+    std::fclose(f_);  // the destructor does not run for a constructor that throws
+    f_ = nullptr;
+    throw;
+  }
 }
 
 RecordingReader::RecordingReader(std::span<const std::uint8_t> bytes)
@@ -67,7 +73,9 @@ void RecordingReader::damaged(const std::string& what) const {
 
 void RecordingReader::open() {
   char magic[8];
-  if (!read(magic, sizeof magic) || std::memcmp(magic, kMagic, 6) != 0)
+  auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  if (!read(magic, sizeof magic) || std::memcmp(magic, kMagic, 6) != 0 || !digit(magic[6]) ||
+      !digit(magic[7]))
     throw RecordingError("not a recording (no PLCREC header)");
   if (std::memcmp(magic, kMagic, 8) != 0)
     throw RecordingError("recording format " + std::string(magic, 8) +

@@ -139,8 +139,11 @@ bool skip_value(In& in, std::uint8_t type);
 using RunningCrc = boost::crc_32_type;
 
 // The scan's outputs as the replay compares them: the global %Q and %M
-// after the merge. 8-byte little-endian words (the tail zero-padded), each
-// h = (h ^ w) * 0x100000001b3, h ^= h >> 32, from h = 0xcbf29ce484222325.
+// after the merge. Each area as 8-byte little-endian words (its tail
+// zero-padded), numbered k = 0, 1, ... through %Q and on through %M; word k
+// goes into lane k mod 4: h = (h ^ w) * 0x100000001b3, h ^= h >> 32, lane i
+// starting at 0xcbf29ce484222325 + i. The result: lane 0 with lanes 1..3
+// folded in the same way.
 std::uint64_t image_hash(std::span<const std::uint8_t> q, std::span<const std::uint8_t> m);
 
 }  // namespace plc::debug::recfmt
