@@ -55,6 +55,15 @@ RecordRequest* DeviceLink::pop() {
   return r;
 }
 
+void DeviceLink::untrack(const RecordRequest* r) {
+  lock();
+  std::size_t keep = 0;
+  for (std::size_t i = 0; i < tracked_n_; ++i)
+    if (tracked_[i] != r) tracked_[keep++] = tracked_[i];
+  tracked_n_ = keep;
+  unlock();
+}
+
 void DeviceLink::set_deferred(bool on) {
   lock();
   deferred_ = on;
@@ -65,6 +74,26 @@ void DeviceLink::set_deferred(bool on) {
 std::size_t DeviceLink::pending() const {
   lock();
   const std::size_t n = count_;
+  unlock();
+  return n;
+}
+
+std::uint32_t DeviceLink::last_seq() const {
+  lock();
+  const std::uint32_t n = next_seq_;
+  unlock();
+  return n;
+}
+
+void DeviceLink::set_last_seq(std::uint32_t seq) {
+  lock();
+  next_seq_ = seq;
+  unlock();
+}
+
+std::size_t DeviceLink::in_flight() const {
+  lock();
+  const std::size_t n = deferred_ ? tracked_n_ : count_;
   unlock();
   return n;
 }

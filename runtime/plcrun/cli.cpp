@@ -300,13 +300,19 @@ int plcrun_main(int argc, char** argv) {
     o.mode = mode;
     o.span = span;
     if (vm.count("replay")) o.replay_file = vm["replay"].as<std::string>();
+    if (vm.count("record")) o.record_file = vm["record"].as<std::string>();
     std::unique_ptr<debug::Debugger> dbg;
     try {
       dbg = std::make_unique<debug::Debugger>([&cfg] { return std::make_unique<Runtime>(cfg); }, o);
+    } catch (const debug::RecordingError& e) {
+      std::cerr << "plcrun: " << e.what() << "\n";
+      return 1;
     } catch (const std::exception& e) {
       std::cerr << "plcrun: " << e.what() << "\n";
       return 2;
     }
+    if (vm.count("record"))
+      std::cout << "recording every scan's inputs into " << vm["record"].as<std::string>() << "\n";
     g_debugger = dbg.get();
     g_console = vm.count("debug") != 0;
     struct sigaction sa {};
@@ -320,10 +326,18 @@ int plcrun_main(int argc, char** argv) {
       g_debugger = nullptr;
       return 2;
     }
+    // A recording still running when the session ends is finished here, so
+    // that a failure (a full disk) shows and sets the exit code.
+    bool recording_failed = false;
+    if (dbg->execute("record").rfind("recording,", 0) == 0) {
+      const std::string out = dbg->execute("record stop");
+      std::cout << out;
+      recording_failed = out.find("FAILED") != std::string::npos;
+    }
     const int sig = g_end_signal.load();
     if (sig == 0) {
       g_debugger = nullptr;
-      return 0;
+      return recording_failed ? 1 : 0;
     }
     // Ended by a signal: like a run, every output safe, then the summary.
     dbg->stop_cell();
@@ -346,6 +360,9 @@ int plcrun_main(int argc, char** argv) {
       replayer = std::make_unique<debug::Replayer>(*rt, vm["replay"].as<std::string>());
     if (vm.count("record"))
       recorder = std::make_unique<debug::Recorder>(*rt, vm["record"].as<std::string>());
+  } catch (const debug::RecordingError& e) {
+    std::cerr << "plcrun: " << e.what() << "\n";  // damaged, incomplete, other version or cell
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "plcrun: " << e.what() << "\n";
     return 2;
@@ -416,9 +433,17 @@ int plcrun_main(int argc, char** argv) {
     rc = 1;
   }
   if (recorder) {
-    std::printf("recorded %llu scans into %s\n", static_cast<unsigned long long>(recorder->scans()),
-                vm["record"].as<std::string>().c_str());
-    recorder->close();
+    const std::string err = recorder->close();
+    if (err.empty()) {
+      std::printf("recorded %llu scans into %s\n",
+                  static_cast<unsigned long long>(recorder->scans()),
+                  vm["record"].as<std::string>().c_str());
+    } else {
+      std::fprintf(stderr, "plcrun: recording into %s FAILED after %llu scans: %s\n",
+                   vm["record"].as<std::string>().c_str(),
+                   static_cast<unsigned long long>(recorder->scans()), err.c_str());
+      rc = 1;
+    }
   }
   g_runtime = nullptr;
   if (status) status->done();

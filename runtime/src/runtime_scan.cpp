@@ -29,10 +29,16 @@ struct MaybeLock {
 
 }  // namespace
 
-void Runtime::scan(TaskRuntime& t, TIME now) {
+// A scan in two halves: both take the image lock once. scan() runs them
+// back to back; a replay runs them apart (Runtime::latch_scan/finish_scan) to
+// reproduce how the locked sections of several real-time tasks interleaved.
+void Runtime::scan(TaskRuntime& t, TIME now) { scan_finish(t, scan_latch(t, now)); }
+
+ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
   const std::int64_t start = steady_ns();
   t.scan_seq.fetch_add(1, std::memory_order_relaxed);
   t.scan_started_ns.store(start, std::memory_order_release);
+  t.scan_time = now;
   {
     // 1: latch this task's devices into the global %I, take a private copy.
     MaybeLock lock(image_mutex_, lock_image_);
@@ -58,9 +64,17 @@ void Runtime::scan(TaskRuntime& t, TIME now) {
   auto m = t.image.area(io::Area::Memory);
   std::copy(q.begin(), q.end(), t.before.area(io::Area::Output).begin());
   std::copy(m.begin(), m.end(), t.before.area(io::Area::Memory).begin());
+  return ScanContext{now, t.period, t.cycle};
+}
+
+void Runtime::scan_finish(TaskRuntime& t, const ScanContext& ctx) {
+  const std::int64_t start = t.scan_started_ns.load(std::memory_order_relaxed);
+  auto q = t.image.area(io::Area::Output);
+  auto m = t.image.area(io::Area::Memory);
+  // A replay may have latched another task in between (same thread).
+  io::DeviceLink::set_current_owner(static_cast<int>(t.order));
 
   // 3: the programs.
-  const ScanContext ctx{now, t.period, t.cycle};
   for (ScanHooks* h : hooks_) h->before_programs(t, ctx);
   try {
     for (std::size_t i = 0; i < t.programs.size(); ++i) {
@@ -104,6 +118,7 @@ void Runtime::trip(TaskRuntime& t, const std::string& reason, bool watchdog) {
     MaybeLock lock(image_mutex_, lock_image_);
     apply_safe_outputs(&t.owned_q);
     publish_all();
+    for (ScanHooks* h : hooks_) h->on_stop(t, global_);
   }
   std::fprintf(stderr,
                "plcrun: task '%s' stopped at %.6f s: %s; its outputs are at their safe values\n",
@@ -151,9 +166,15 @@ void Runtime::start(io::ClockMode mode) {
 
 void Runtime::remove_hooks(ScanHooks* h) { std::erase(hooks_, h); }
 
-void Runtime::run_scan(TaskRuntime& t, TIME now) {
+ScanContext Runtime::latch_scan(TaskRuntime& t, TIME now) {
   now_ = now;
-  if (!t.stopped.load(std::memory_order_relaxed)) scan(t, now);
+  if (t.stopped.load(std::memory_order_relaxed)) return ScanContext{now, t.period, t.cycle};
+  return scan_latch(t, now);
+}
+
+void Runtime::finish_scan(TaskRuntime& t, const ScanContext& ctx) {
+  now_ = ctx.now;
+  if (!t.stopped.load(std::memory_order_relaxed)) scan_finish(t, ctx);
 }
 
 std::uint64_t Runtime::layout_hash() const {

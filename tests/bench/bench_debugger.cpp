@@ -91,6 +91,19 @@ void BM_Trace100Vcd(benchmark::State& state) { trace_bench(state, "/tmp/plc_benc
 BENCHMARK(BM_Trace100Csv)->MinTime(1.0);
 BENCHMARK(BM_Trace100Vcd)->MinTime(1.0);
 
+// Recording every scan (issue 10): the scan thread's share (the file is
+// written by the writer thread). The cell's image is the default size
+// (1 KB %Q, 4 KB %M), which the per-scan output hash covers.
+void BM_Record(benchmark::State& state) {
+  auto d = make_debugger();
+  const char* file = "/tmp/plc_bench_record.rec";
+  d->execute(std::string("record ") + file);
+  for (auto _ : state) d->runtime().step_scan();
+  d->execute("record stop");
+  std::remove(file);
+}
+BENCHMARK(BM_Record)->MinTime(1.0);
+
 // Collects ns per iteration (CPU time) by benchmark name.
 class Collector : public benchmark::ConsoleReporter {
  public:
@@ -129,6 +142,7 @@ int main(int argc, char** argv) {
   std::printf("breakpoint_cost_each: %.1f ns/scan\n", (bp - idle) / 10);
   std::printf("trace_100_vars_csv_cost: %.0f ns/scan\n", csv - idle);
   std::printf("trace_100_vars_vcd_cost: %.0f ns/scan\n", vcd - idle);
+  std::printf("record_cost: %.0f ns/scan\n", get("BM_Record") - idle);
   // Wall time per scan with the trace: in virtual time the scan waits for
   // the writer thread when it falls behind (backpressure), so this is the
   // formatting throughput, paid on the other core.

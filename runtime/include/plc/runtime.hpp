@@ -87,6 +87,7 @@ struct TaskRuntime {
   std::string trip_reason;
   std::atomic<std::int64_t> step_budget{0};  // real time: scans allowed while paused
   std::uint64_t cycle = 0;
+  TIME scan_time{};  // ScanContext::now of the scan under way (set before its latch)
 };
 
 // Called after every scan of every task, in the scan's thread (trace,
@@ -113,6 +114,9 @@ class ScanHooks {
   virtual void after_programs(TaskRuntime&, const ScanContext&) {}
   // 5b: merged into the global image, not yet published (forced outputs).
   virtual void before_publish(TaskRuntime&, io::ProcessImage& /*global*/) {}
+  // The task was stopped (watchdog, fault) and its outputs were just put to
+  // their safe values; under the image lock, in the thread that stopped it.
+  virtual void on_stop(TaskRuntime&, io::ProcessImage& /*global*/) {}
 };
 
 // The longest run plcrun accepts (--for, --cycles): 100 years. With periods
@@ -178,9 +182,17 @@ class Runtime {
   // in the order they were added.
   void add_hooks(ScanHooks* h) { hooks_.push_back(h); }
   void remove_hooks(ScanHooks* h);
-  // Runs one scan of `t` at time `now` outside the virtual schedule (replay
-  // of a recording, which fixes the order and times of the scans itself).
-  void run_scan(TaskRuntime& t, TIME now);
+  // Replay of a recording, which fixes the order and times of the scans
+  // itself: one scan of `t` at time `now` outside the virtual schedule, in
+  // its two image-locked halves, so that the scans of several tasks
+  // interleave as they did in real time. latch_scan() is step 1 (latch, the
+  // private copy); finish_scan() steps 2-5 (programs, merge, publish) with
+  // the context latch_scan() returned. Nothing happens for a stopped task.
+  ScanContext latch_scan(TaskRuntime& t, TIME now);
+  void finish_scan(TaskRuntime& t, const ScanContext& ctx);
+  // Replay: stops a task as its watchdog or a fault did in the recording
+  // (outputs to their safe values).
+  void stop_task(TaskRuntime& t, const std::string& reason) { trip(t, reason, false); }
   // A hash of the cell's layout (tasks, devices and their addresses) that a
   // recording must match to be replayed on it.
   [[nodiscard]] std::uint64_t layout_hash() const;
@@ -229,6 +241,8 @@ class Runtime {
  private:
   void build(const CellConfig& cfg);
   void scan(TaskRuntime& t, TIME now);
+  ScanContext scan_latch(TaskRuntime& t, TIME now);          // step 1
+  void scan_finish(TaskRuntime& t, const ScanContext& ctx);  // steps 2-5
   void trip(TaskRuntime& t, const std::string& reason, bool watchdog);
   void apply_safe_outputs(const std::vector<std::uint8_t>* mask);
   void publish_all();

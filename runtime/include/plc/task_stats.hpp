@@ -11,6 +11,7 @@
 #include <atomic>
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "plc/histogram.hpp"
 #include "plc/seqlock.hpp"
@@ -47,6 +48,12 @@ class LiveTaskStats {
   [[nodiscard]] std::uint64_t scans() const { return scans_; }
   [[nodiscard]] bool watchdog_tripped() const {
     return stop_published_.load(std::memory_order_acquire) && watchdog_tripped_;
+  }
+  // "" until the stop is published, then why the task stopped (it never
+  // changes again).
+  [[nodiscard]] std::string_view stop_reason() const {
+    return stop_published_.load(std::memory_order_acquire) ? std::string_view(stop_reason_)
+                                                           : std::string_view();
   }
   [[nodiscard]] TaskStats snapshot() const;
 

@@ -125,6 +125,11 @@ void Debugger::build() {
     else if (w[0] == "pre")
       trace_->set_pretrigger(std::stoul(w[1]));
   }
+  if (!opt_.record_file.empty()) {
+    recorder_ = std::make_unique<Recorder>(*rt_, opt_.record_file, Recorder::Attach::ByCaller);
+    recorder_->arm();
+    opt_.record_file.clear();  // once: a later goto back stops it like any recording
+  }
   if (opt_.mode == io::ClockMode::Virtual) {
     rt_->start(io::ClockMode::Virtual);
   } else {
@@ -174,23 +179,34 @@ std::optional<VarInfo> Debugger::resolve(const std::string& name, bool& image, s
 
 // ---------------------------------------------------------------- hooks
 
-void Debugger::after_latch(TaskRuntime&, io::ProcessImage&) {
-  std::lock_guard<std::mutex> lock(mu_);
-  for (const Force& f : forces_)
-    if (f.image && f.var.address->area == io::Area::Input) VarRegistry::write(f.var, &f.value);
+void Debugger::apply_write(TaskRuntime& t, const VarInfo& v, const void* value) {
+  VarRegistry::write(v, value);
+  if (recorder_) recorder_->note_write(t, v, value);
 }
 
-void Debugger::before_programs(TaskRuntime& t, const ScanContext&) {
+void Debugger::after_latch(TaskRuntime& t, io::ProcessImage& global) {
+  std::lock_guard<std::mutex> lock(mu_);
+  for (const Force& f : forces_)
+    if (f.image && f.var.address->area == io::Area::Input) apply_write(t, f.var, &f.value);
+  if (recorder_) recorder_->after_latch(t, global);
+}
+
+void Debugger::on_answer(TaskRuntime& t, std::size_t device, const io::RecordRequest& r) {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (recorder_) recorder_->on_answer(t, device, r);
+}
+
+void Debugger::before_programs(TaskRuntime& t, const ScanContext& ctx) {
   // A write into the global image needs the image lock, and that lock comes
   // before mu_; only a scan with such writes waiting takes it.
   if (image_writes_pending_.load(std::memory_order_acquire)) {
-    rt_->with_image_locked([&] { apply_writes(t, true); });
+    rt_->with_image_locked([&] { apply_writes(t, ctx, true); });
   } else {
-    apply_writes(t, false);
+    apply_writes(t, ctx, false);
   }
 }
 
-void Debugger::apply_writes(TaskRuntime& t, bool image_locked) {
+void Debugger::apply_writes(TaskRuntime& t, const ScanContext& ctx, bool image_locked) {
   std::lock_guard<std::mutex> lock(mu_);
   auto in_task_image = [&t](VarInfo v) {
     v.image_ptr = t.image.at(*v.address);
@@ -200,10 +216,10 @@ void Debugger::apply_writes(TaskRuntime& t, bool image_locked) {
     if (it->image ? image_locked : it->task == static_cast<int>(t.order)) {
       if (it->image) {
         const VarInfo v = in_task_image(it->var);
-        VarRegistry::write(v, &it->value);
-        if (v.address->area != io::Area::Input) VarRegistry::write(it->var, &it->value);
+        apply_write(t, v, &it->value);
+        if (v.address->area != io::Area::Input) apply_write(t, it->var, &it->value);
       } else {
-        VarRegistry::write(it->var, &it->value);
+        apply_write(t, it->var, &it->value);
       }
       it = writes_.erase(it);
     } else {
@@ -213,15 +229,21 @@ void Debugger::apply_writes(TaskRuntime& t, bool image_locked) {
   if (image_locked) image_writes_pending_.store(false, std::memory_order_relaxed);
   for (const Force& f : forces_) {
     if (f.image) {
-      if (f.var.address->area != io::Area::Input)
-        VarRegistry::write(in_task_image(f.var), &f.value);
+      if (f.var.address->area != io::Area::Input) apply_write(t, in_task_image(f.var), &f.value);
     } else if (f.var.task == static_cast<int>(t.order)) {
-      VarRegistry::write(f.var, &f.value);
+      apply_write(t, f.var, &f.value);
     }
   }
+  if (recorder_) recorder_->before_programs(t, ctx);
 }
 
-void Debugger::before_program(TaskRuntime& t, std::size_t index, const ScanContext&) {
+void Debugger::before_program(TaskRuntime& t, std::size_t index, const ScanContext& ctx) {
+  freeze_if_due(t, index);
+  std::lock_guard<std::mutex> lock(mu_);
+  if (recorder_) recorder_->before_program(t, index, ctx);
+}
+
+void Debugger::freeze_if_due(TaskRuntime& t, std::size_t index) {
   if (opt_.mode != io::ClockMode::Virtual || in_freeze_ || !reader_) return;
   const std::string& prog = t.program_names[index];
   bool freeze = false;
@@ -235,16 +257,23 @@ void Debugger::before_program(TaskRuntime& t, std::size_t index, const ScanConte
   if (freeze) freeze_loop(t, index);
 }
 
-void Debugger::after_programs(TaskRuntime& t, const ScanContext&) {
+void Debugger::after_programs(TaskRuntime& t, const ScanContext& ctx) {
   std::lock_guard<std::mutex> lock(mu_);
   for (const Force& f : forces_)
-    if (!f.image && f.var.task == static_cast<int>(t.order)) VarRegistry::write(f.var, &f.value);
+    if (!f.image && f.var.task == static_cast<int>(t.order)) apply_write(t, f.var, &f.value);
+  if (recorder_) recorder_->after_programs(t, ctx);
 }
 
-void Debugger::before_publish(TaskRuntime&, io::ProcessImage&) {
+void Debugger::before_publish(TaskRuntime& t, io::ProcessImage& global) {
   std::lock_guard<std::mutex> lock(mu_);
   for (const Force& f : forces_)
-    if (f.image && f.var.address->area != io::Area::Input) VarRegistry::write(f.var, &f.value);
+    if (f.image && f.var.address->area != io::Area::Input) apply_write(t, f.var, &f.value);
+  if (recorder_) recorder_->before_publish(t, global);
+}
+
+void Debugger::on_stop(TaskRuntime& t, io::ProcessImage& global) {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (recorder_) recorder_->on_stop(t, global);
 }
 
 void Debugger::on_scan_end(const TaskRuntime& t, const ScanContext& ctx) {
@@ -282,6 +311,7 @@ void Debugger::on_scan_end(const TaskRuntime& t, const ScanContext& ctx) {
 
 void Debugger::freeze_loop(TaskRuntime& t, std::size_t index) {
   in_freeze_ = true;
+  frozen_task_ = &t;
   freeze_action_ = 0;
   if (writer_)
     writer_("frozen before program '" + t.program_names[index] + "' of task '" + t.name +
@@ -309,6 +339,7 @@ void Debugger::freeze_loop(TaskRuntime& t, std::size_t index) {
     if (writer_ && !out.empty()) writer_(out);
   }
   in_freeze_ = false;
+  frozen_task_ = nullptr;
   if (freeze_action_ == 1 || quit_) {
     stop_reason_ = quit_ ? "quit" : "stepped from the freeze point to the end of the scan";
     stop_hit_ = true;
@@ -762,8 +793,8 @@ std::string Debugger::cmd_write(const std::vector<std::string>& a, bool force) {
       // Inside a freeze point the scan is under way: write straight into the
       // task's view (program variable, or located variable's task image).
       const VarInfo* reg = rt_->vars().find(a[1]);
-      VarRegistry::write(reg ? *reg : *v, &value);
-      if (image) VarRegistry::write(*v, &value);
+      apply_write(*frozen_task_, reg ? *reg : *v, &value);
+      if (image) apply_write(*frozen_task_, *v, &value);
       return "wrote " + a[1] + " := " + format_value(v->type, &value) + " (now, inside the scan)\n";
     }
     writes_.push_back({a[1], *v, image, value, image ? -1 : v->task});
@@ -896,22 +927,35 @@ std::string Debugger::cmd_record(const std::vector<std::string>& a) {
     return recorder_ ? "recording, " + std::to_string(recorder_->scans()) + " scans so far\n"
                      : "not recording\n";
   if (a[1] == "stop") {
-    if (!recorder_) return "not recording\n";
-    const std::uint64_t n = recorder_->scans();
-    recorder_.reset();
-    return "recording stopped, " + std::to_string(n) + " scans\n";
+    std::unique_ptr<Recorder> r;
+    {
+      std::lock_guard<std::mutex> lock(mu_);  // no scan thread is inside it after this
+      r = std::move(recorder_);
+    }
+    if (!r) return "not recording\n";
+    const std::string err = r->close();
+    const std::string n = std::to_string(r->scans());
+    return err.empty() ? "recording stopped, " + n + " scans\n"
+                       : "record: the recording FAILED after " + n + " scans: " + err + "\n";
   }
   if (replayer_) return "record: this session replays a recording already\n";
   if (recorder_) return "record: already recording (record stop first)\n";
+  std::unique_ptr<Recorder> r;
   try {
-    recorder_ = std::make_unique<Recorder>(*rt_, a[1]);
+    // Opened here, without mu_: the scans never wait on the file system.
+    r = std::make_unique<Recorder>(*rt_, a[1], Recorder::Attach::ByCaller);
   } catch (const std::exception& e) {
     return std::string("record: ") + e.what() + "\n";
+  }
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    r->arm();
+    recorder_ = std::move(r);
   }
   std::string note;
   if (const std::uint64_t at = scan_count(); at > 0)
     note = "note: the recording starts at scan " + std::to_string(at) +
-           " with a snapshot of the state the programs declare in PLC_REFLECT (all library blocks "
+           " (or the first scan after it with no acyclic request in flight) with a snapshot of the state the programs declare in PLC_REFLECT (all library blocks "
            "declare theirs); state a program keeps undeclared is not in it and would show as "
            "differences in the replay. A recording from scan 0 (goto 0 first) needs no snapshot.\n";
   return "recording every scan's inputs into " + a[1] + "\n" + note;

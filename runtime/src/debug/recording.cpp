@@ -1,335 +1,332 @@
+// The recorder: scan hooks that copy each scan's inputs, the debugger's
+// writes and the order of the image-locked halves into records, and hand
+// them to the writer thread (format and guarantees: recording.hpp).
 #include "plc/debug/recording.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
 #include <cstring>
-#include <span>
 #include <stdexcept>
 
+#include "plc/io/device_link.hpp"
+#include "recording_writer.hpp"
+
 namespace plc::debug {
+
+using namespace recfmt;
+
 namespace {
 
-constexpr char kMagic[8] = {'P', 'L', 'C', 'R', 'E', 'C', '0', '3'};
+// Room for the debugger's writes in one scan (per task): a few hundred
+// forced variables. More fail the recording with a clear error.
+constexpr std::size_t kEventBytes = 64 << 10;
+// The writer's blocks: at least this big, and this many. In real time the
+// disk may fall behind by all of them before records are lost.
+constexpr std::size_t kMinBlockBytes = 256 << 10;
+constexpr std::size_t kBlocks = 32;
+// Answers one latch can deliver: every request a device tracks.
+constexpr std::size_t kAnswerBytes = 4 * io::DeviceLink::kQueueDepth * (11 + io::kRecordMaxBytes);
 
-template <class T>
-void put(std::vector<std::uint8_t>& b, T v) {
-  const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
-  b.insert(b.end(), p, p + sizeof v);
-}
-
-template <class T>
-bool get(std::FILE* f, T& v) {
-  return std::fread(&v, sizeof v, 1, f) == 1;
-}
-
-void put_bytes(std::vector<std::uint8_t>& b, std::span<const std::uint8_t> s) {
-  put(b, static_cast<std::uint32_t>(s.size()));
-  b.insert(b.end(), s.begin(), s.end());
-}
-
-// The areas a snapshot holds, in order: the scanning task's private image
-// (I, Q, M), its scan-start copy (Q, M), and the global image (I, Q, M).
-std::vector<std::span<std::uint8_t>> snapshot_areas(TaskRuntime& t, io::ProcessImage& global) {
-  using io::Area;
-  return {t.image.area(Area::Input),   t.image.area(Area::Output),  t.image.area(Area::Memory),
-          t.before.area(Area::Output), t.before.area(Area::Memory), global.area(Area::Input),
-          global.area(Area::Output),   global.area(Area::Memory)};
-}
-
-std::size_t stored_size(const VarInfo& v) {
-  return v.type == VarType::STRING ? sizeof(STRING) : size_of(v.type);
-}
-
-std::uint64_t output_hash(const TaskRuntime& t, io::ProcessImage& global) {
-  std::uint64_t h = 1469598103934665603ULL;
-  auto q = global.area(io::Area::Output);
-  for (const DeviceRuntime* d : t.devices)
-    h = fnv1a(q.data() + d->out.byte, d->sizes.output_bytes, h);
-  return h;
-}
+constexpr std::size_t kMaxValueBytes = 1 + STRING::capacity;
 
 }  // namespace
 
-std::uint64_t fnv1a(const std::uint8_t* p, std::size_t n, std::uint64_t h) {
-  for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ULL;
-  return h;
+Recorder::Recorder(Runtime& rt, const std::string& file, Attach attach)
+    : rt_(rt), file_(file), attached_(attach == Attach::Self), tasks_(rt.tasks().size()) {
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0)
+    throw std::runtime_error("cannot write recording '" + file + "': " + std::strerror(errno));
+  for (TaskRec& ts : tasks_) {
+    ts.merge.reserve_fixed(kEventBytes + 64);
+    ts.pending.reserve_fixed(kEventBytes);
+  }
+  std::size_t inputs = 0;
+  for (const auto& t : rt.tasks()) {
+    std::size_t n = 0;
+    for (const DeviceRuntime* d : t->devices) n += d->sizes.input_bytes;
+    inputs = std::max(inputs, n);
+  }
+  const std::size_t ndev = rt.devices().size();
+  answers_.reserve_fixed(ndev * kAnswerBytes);
+  const std::size_t shared = 64 + 14 * rt.tasks().size() + inputs + ndev + ndev * kAnswerBytes +
+                             kEventBytes + snapshot_bytes() + kMaxPathBytes;
+  shared_.reserve_fixed(shared);
+  writer_ = std::make_unique<RecordingWriter>(fd, file, std::string(kMagic, sizeof kMagic),
+                                              std::max(kMinBlockBytes, shared + kEventBytes + 64),
+                                              kBlocks);
+
+  const RecordingLayout l = RecordingLayout::of(rt);
+  shared_.begin(kHeader);
+  shared_.le(l.layout_hash);
+  for (std::uint32_t s : l.image_bytes) shared_.le(s);
+  shared_.le(l.devices);
+  shared_.le(static_cast<std::uint16_t>(l.tasks.size()));
+  for (const RecordingLayout::Task& t : l.tasks) {
+    shared_.le(t.period_ns);
+    shared_.le(t.input_bytes);
+    shared_.le(t.programs);
+  }
+  shared_.end();
+  commit(shared_, true);
+  if (attached_) {
+    arm();
+    rt_.add_hooks(this);
+  }
 }
 
-Recorder::Recorder(Runtime& rt, const std::string& file) : rt_(rt) {
-  f_ = std::fopen(file.c_str(), "wb");
-  if (!f_) throw std::runtime_error("cannot write recording '" + file + "'");
-  buf_.reserve(1 << 17);
-  buf_.insert(buf_.end(), kMagic, kMagic + 8);
-  put(buf_, rt.layout_hash());
-  rt_.add_hooks(this);
+Recorder::~Recorder() {
+  if (closed_) return;
+  const std::string err = close();
+  if (!err.empty())
+    std::fprintf(stderr, "plcrun: recording '%s' failed: %s\n", file_.c_str(), err.c_str());
 }
 
-Recorder::~Recorder() { close(); }
-
-void Recorder::close() {
-  if (!f_) return;
-  rt_.remove_hooks(this);
-  flush();
-  std::fclose(f_);
-  f_ = nullptr;
+std::size_t Recorder::snapshot_bytes() const {
+  std::size_t n = 4 + 3 * 4;
+  for (const VarInfo& v : rt_.vars().all())
+    if (!v.address) n += 2 + v.path.size() + 1 + kMaxValueBytes;
+  const io::ImageSizes s = rt_.image().sizes();
+  return n + s.inputs + s.outputs + s.memory;
 }
 
-void Recorder::flush() {
-  if (f_ && !buf_.empty()) std::fwrite(buf_.data(), 1, buf_.size(), f_);
-  buf_.clear();
+void Recorder::arm() {
+  for (const auto& t : rt_.tasks()) {
+    TaskRec& ts = tasks_[t->order];
+    const bool in_scan = t->scan_started_ns.load(std::memory_order_acquire) >= 0;
+    ts.state = in_scan && !t->stopped.load() ? TaskRec::Busy : TaskRec::Idle;
+    ts.pending.clear();
+    ts.pending_count = 0;
+  }
+}
+
+void Recorder::fail(const std::string& why) {
+  std::lock_guard<std::mutex> lock(error_mu_);
+  if (error_.empty()) error_ = why;
+  dead_.store(true, std::memory_order_release);
+}
+
+void Recorder::commit(const Buf& b, bool wait) {
+  if (dead_.load(std::memory_order_acquire)) return;
+  if (b.overflow()) {
+    fail("a scan's record did not fit the recording's buffer (more than " +
+         std::to_string(kEventBytes) + " bytes of debugger writes in one scan?)");
+    return;
+  }
+  if (!writer_->append(b.view(), wait)) {
+    fail(writer_->error());
+    return;
+  }
+  ++records_;
+}
+
+// The recording starts at a latch at which no other task is inside a scan:
+// then every other task's next locked section is recorded, and the
+// snapshot (taken now, under the image lock) reads no variable a running
+// program is changing.
+bool Recorder::try_start(const TaskRuntime& t) {
+  for (const auto& u : rt_.tasks()) {
+    if (u.get() == &t || u->stopped.load(std::memory_order_acquire)) continue;
+    if (tasks_[u->order].state != TaskRec::Idle) return false;
+  }
+  // Started mid-session, the replay begins from a snapshot of the programs'
+  // declared state, which cannot hold an acyclic request on its way (the
+  // request objects, the device's queue): start at a latch with none in
+  // flight and none answered. From scan 0 that is the first latch.
+  if (answer_count_ != 0) return false;
+  for (const DeviceRuntime& d : rt_.devices())
+    if (d.plugin->link(d.index).in_flight() != 0) return false;
+  active_ = true;
+  return true;
 }
 
 void Recorder::after_latch(TaskRuntime& t, io::ProcessImage& global) {
-  buf_.push_back('S');
-  put(buf_, static_cast<std::uint16_t>(t.order));
-  put(buf_, rt_.now().count());
+  TaskRec& ts = tasks_[t.order];
+  auto drop = [&] {
+    ts.pending.clear();
+    ts.pending_count = 0;
+    answers_.clear();
+    answer_count_ = 0;
+  };
+  const bool first = !active_;
+  if (dead_.load(std::memory_order_acquire) || (first && !try_start(t))) {
+    ts.state = TaskRec::Busy;
+    drop();
+    return;
+  }
+  if (ts.pending.overflow() || answers_.overflow())
+    fail("a latch's answers or debugger writes did not fit the recording's buffer");
+  Buf& b = shared_;
+  b.begin(kLatch);
+  b.le(static_cast<std::uint16_t>(t.order));
+  b.le(t.cycle);
+  b.le(static_cast<std::int64_t>(t.scan_time.count()));
   auto in = global.area(io::Area::Input);
-  for (const DeviceRuntime* d : t.devices)
-    buf_.insert(buf_.end(), in.begin() + d->in.byte,
-                in.begin() + d->in.byte + d->sizes.input_bytes);
-  // Device states (as the programs see them) and the acyclic answers this
-  // scan is the first to see (collected by on_answer during the latch).
+  for (const DeviceRuntime* d : t.devices) b.bytes(in.data() + d->in.byte, d->sizes.input_bytes);
+  // Device states as the programs see them (a device's state changes only
+  // at its own task's latch).
   const auto& devs = rt_.devices();
-  buf_.push_back(static_cast<std::uint8_t>(devs.size()));
+  b.le(static_cast<std::uint16_t>(devs.size()));
   for (const DeviceRuntime& d : devs)
-    buf_.push_back(static_cast<std::uint8_t>(d.plugin->link(d.index).state()));
-  put(buf_, answer_count_);
-  buf_.insert(buf_.end(), answers_.begin(), answers_.end());
-  answers_.clear();
-  answer_count_ = 0;
+    b.u8(static_cast<std::uint8_t>(d.plugin->link(d.index).state()));
+  b.le(answer_count_);
+  b.bytes(answers_.view().data(), answers_.size());
+  if (ts.pending_count) {
+    b.le(std::uint16_t{1});
+    b.u8(kAfterLatch);
+    b.le(std::uint16_t{0});
+    b.le(ts.pending_count);
+    b.bytes(ts.pending.view().data(), ts.pending.size());
+  } else {
+    b.le(std::uint16_t{0});
+  }
+  b.u8(first ? 1 : 0);
+  if (first) put_snapshot(b);
+  b.end();
+  commit(b, rt_.mode() == io::ClockMode::Virtual);
+  drop();
+  ts.state = TaskRec::Open;
+  ts.merge.begin(kMerge);
+  ts.merge.le(static_cast<std::uint16_t>(t.order));
+  ts.merge.le(std::uint16_t{0});  // event groups, filled in at the merge
+  ts.merge_groups = 0;
 }
 
 void Recorder::on_answer(TaskRuntime&, std::size_t device, const io::RecordRequest& r) {
   ++answer_count_;
-  put(answers_, static_cast<std::uint16_t>(device));
-  put(answers_, r.seq());
-  answers_.push_back(static_cast<std::uint8_t>(r.status()));
-  put(answers_, r.error_code());
+  answers_.le(static_cast<std::uint16_t>(device));
+  answers_.le(r.seq());
+  answers_.u8(static_cast<std::uint8_t>(r.status()));
+  answers_.le(r.error_code());
   const auto data = r.data();
-  put(answers_, static_cast<std::uint16_t>(data.size()));
-  answers_.insert(answers_.end(), data.begin(), data.end());
+  answers_.le(static_cast<std::uint16_t>(data.size()));
+  answers_.bytes(data.data(), data.size());
+}
+
+// The snapshot: every reflected program variable (located ones live in the
+// images), the global %I, %Q, %M, then each device's last request number.
+void Recorder::put_snapshot(Buf& b) {
+  std::uint32_t n = 0;
+  for (const VarInfo& v : rt_.vars().all()) n += v.address ? 0 : 1;
+  b.le(n);
+  for (const VarInfo& v : rt_.vars().all()) {
+    if (v.address) continue;
+    b.le(static_cast<std::uint16_t>(v.path.size()));
+    b.bytes(v.path.data(), v.path.size());
+    b.u8(static_cast<std::uint8_t>(v.type));
+    put_value(b, v.type, v.ptr);
+  }
+  for (io::Area a : {io::Area::Input, io::Area::Output, io::Area::Memory}) {
+    auto s = rt_.image().area(a);
+    b.le(static_cast<std::uint32_t>(s.size()));
+    b.bytes(s.data(), s.size());
+  }
+  for (const DeviceRuntime& d : rt_.devices()) {
+    b.le(d.plugin->link(d.index).last_seq());
+  }
+}
+
+void Recorder::note_write(TaskRuntime& t, const VarInfo& v, const void* value) {
+  TaskRec& ts = tasks_[t.order];
+  Buf& p = ts.pending;
+  if (v.address) {
+    std::uint8_t target = kGlobalImage;
+    if (v.image_ptr == t.image.at(*v.address))
+      target = kTaskImage;
+    else if (v.image_ptr != rt_.image().at(*v.address))
+      return;  // another task's private copy: overwritten at its next latch
+    p.u8(target);
+    p.u8(static_cast<std::uint8_t>(v.address->area));
+    p.le(v.address->byte);
+    p.u8(v.address->bit);
+    p.u8(static_cast<std::uint8_t>(v.type));
+    p.u8(static_cast<std::uint8_t>(v.order));
+  } else {
+    if (v.path.size() > kMaxPathBytes) {
+      fail("variable path longer than " + std::to_string(kMaxPathBytes) + " bytes: " + v.path);
+      return;
+    }
+    p.u8(kVariable);
+    p.le(static_cast<std::uint16_t>(v.path.size()));
+    p.bytes(v.path.data(), v.path.size());
+    p.u8(static_cast<std::uint8_t>(v.type));
+  }
+  put_value(p, v.type, value);
+  ++ts.pending_count;
+}
+
+// Gives the debugger writes noted since the last hook of t's scan the hook
+// point that has just come.
+void Recorder::seal(TaskRec& ts, Point point, std::size_t index) {
+  if (ts.pending_count && ts.state == TaskRec::Open) {
+    if (ts.pending.overflow()) fail("a scan's debugger writes did not fit the recording's buffer");
+    ts.merge.u8(point);
+    ts.merge.le(static_cast<std::uint16_t>(index));
+    ts.merge.le(ts.pending_count);
+    ts.merge.bytes(ts.pending.view().data(), ts.pending.size());
+    ++ts.merge_groups;
+  }
+  ts.pending.clear();
+  ts.pending_count = 0;
 }
 
 void Recorder::before_programs(TaskRuntime& t, const ScanContext&) {
-  if (scans_ > 0) {
-    buf_.push_back(0);
-    return;
-  }
-  buf_.push_back(1);
-  std::uint32_t n = 0;
-  for (const VarInfo& v : rt_.vars().all()) n += v.address ? 0 : 1;
-  put(buf_, n);
-  for (const VarInfo& v : rt_.vars().all()) {
-    if (v.address) continue;  // located variables live in the images below
-    put(buf_, static_cast<std::uint16_t>(v.path.size()));
-    buf_.insert(buf_.end(), v.path.begin(), v.path.end());
-    const auto* p = static_cast<const std::uint8_t*>(v.ptr);
-    put_bytes(buf_, {p, stored_size(v)});
-  }
-  for (auto area : snapshot_areas(t, rt_.image())) put_bytes(buf_, area);
-  put(buf_, static_cast<std::uint32_t>(rt_.tasks().size()));
-  for (const auto& task : rt_.tasks()) put(buf_, task->cycle);
+  seal(tasks_[t.order], kBeforePrograms, 0);
+}
+
+void Recorder::before_program(TaskRuntime& t, std::size_t index, const ScanContext&) {
+  seal(tasks_[t.order], kBeforeProgram, index);
+}
+
+void Recorder::after_programs(TaskRuntime& t, const ScanContext&) {
+  seal(tasks_[t.order], kAfterPrograms, 0);
 }
 
 void Recorder::before_publish(TaskRuntime& t, io::ProcessImage& global) {
-  put(buf_, output_hash(t, global));
-  ++scans_;
-  if (buf_.size() > (1 << 16)) flush();
+  TaskRec& ts = tasks_[t.order];
+  if (ts.state != TaskRec::Open) {
+    ts.state = TaskRec::Idle;
+    seal(ts, kBeforePublish, 0);  // drops them
+    return;
+  }
+  seal(ts, kBeforePublish, 0);
+  ts.merge.patch(kHead + 2, ts.merge_groups);
+  ts.merge.le(image_hash(global.area(io::Area::Output), global.area(io::Area::Memory)));
+  ts.merge.end();
+  commit(ts.merge, rt_.mode() == io::ClockMode::Virtual);
+  ts.state = TaskRec::Idle;
+  scans_.fetch_add(1, std::memory_order_relaxed);
 }
 
-Replayer::Replayer(Runtime& rt, const std::string& file) : rt_(rt) {
-  f_ = std::fopen(file.c_str(), "rb");
-  if (!f_) throw std::runtime_error("cannot read recording '" + file + "'");
-  char magic[8];
-  std::uint64_t layout = 0;
-  if (std::fread(magic, 1, 8, f_) != 8 || std::memcmp(magic, kMagic, 8) != 0 || !get(f_, layout)) {
-    std::fclose(f_);
-    throw std::runtime_error("'" + file + "' is not a recording (bad header)");
-  }
-  if (layout != rt.layout_hash()) {
-    std::fclose(f_);
-    throw std::runtime_error("'" + file +
-                             "' was recorded on a different cell layout (tasks or devices differ)");
-  }
-  std::size_t most = 0;
-  for (const auto& t : rt.tasks()) {
-    std::size_t n = 0;
-    for (const DeviceRuntime* d : t->devices) n += d->sizes.input_bytes;
-    most = std::max(most, n);
-  }
-  inputs_.resize(most);
-  rt.set_plugins_enabled(false);
-  rt.add_hooks(this);
+void Recorder::on_stop(TaskRuntime& t, io::ProcessImage&) {
+  if (!active_) return;
+  const std::string_view why = t.stats.stop_reason();
+  const std::size_t n = std::min<std::size_t>(why.size(), kMaxPathBytes);
+  shared_.begin(kStop);
+  shared_.le(static_cast<std::uint16_t>(t.order));
+  shared_.le(static_cast<std::uint16_t>(n));
+  shared_.bytes(why.data(), n);
+  shared_.end();
+  commit(shared_, rt_.mode() == io::ClockMode::Virtual);
 }
 
-Replayer::~Replayer() {
-  rt_.remove_hooks(this);
-  if (f_) std::fclose(f_);
-}
-
-bool Replayer::step() {
-  if (end_) return false;
-  std::uint8_t tag = 0;
-  std::uint16_t task = 0;
-  std::int64_t now = 0;
-  if (!get(f_, tag)) {
-    end_ = true;
-    return false;
+std::string Recorder::close() {
+  if (!closed_) {
+    closed_ = true;
+    if (attached_) rt_.remove_hooks(this);
+    shared_.begin(kEnd);
+    shared_.le(scans_.load());
+    shared_.le(records_);
+    shared_.end();
+    commit(shared_, true);
+    const std::string err = writer_->finish();
+    if (!err.empty()) fail(err);
   }
-  if (tag != 'S' || !get(f_, task) || !get(f_, now) || task >= rt_.tasks().size()) {
-    error_ = "corrupt recording at scan " + std::to_string(scans_);
-    end_ = true;
-    return false;
-  }
-  TaskRuntime& t = *rt_.tasks()[task];
-  std::size_t n = 0;
-  for (const DeviceRuntime* d : t.devices) n += d->sizes.input_bytes;
-  std::uint8_t has_snapshot = 0;
-  if (std::fread(inputs_.data(), 1, n, f_) != n || !read_states_and_answers() ||
-      !get(f_, has_snapshot) || (has_snapshot && !read_snapshot()) || !get(f_, expected_hash_)) {
-    if (error_.empty()) error_ = "recording ends inside scan " + std::to_string(scans_);
-    end_ = true;
-    return false;
-  }
-  if (!snapshot_.empty()) {
-    // Task cycle counters go back before the scan starts: its ScanContext
-    // is made before the hooks run.
-    const std::size_t nt = rt_.tasks().size();
-    const std::uint8_t* p = snapshot_.data() + snapshot_.size() - nt * sizeof(std::uint64_t);
-    for (std::size_t i = 0; i < nt; ++i)
-      std::memcpy(&rt_.tasks()[i]->cycle, p + i * sizeof(std::uint64_t), sizeof(std::uint64_t));
-  }
-  rt_.run_scan(t, TIME(now));
-  return true;
-}
-
-// Reads this scan's device states and acyclic answers (applied in
-// after_latch).
-bool Replayer::read_states_and_answers() {
-  std::uint8_t ndev = 0;
-  std::uint16_t nans = 0;
-  if (!get(f_, ndev) || ndev != rt_.devices().size()) return false;
-  states_.resize(ndev);
-  if (std::fread(states_.data(), 1, ndev, f_) != ndev || !get(f_, nans)) return false;
-  answers_.clear();
-  for (std::uint16_t k = 0; k < nans; ++k) {
-    std::uint8_t head[2 + 4 + 1 + 2 + 2];
-    if (std::fread(head, 1, sizeof head, f_) != sizeof head) return false;
-    std::uint16_t len;
-    std::memcpy(&len, head + 9, sizeof len);
-    answers_.insert(answers_.end(), head, head + sizeof head);
-    const std::size_t at = answers_.size();
-    answers_.resize(at + len);
-    if (std::fread(answers_.data() + at, 1, len, f_) != len) return false;
-  }
-  return true;
-}
-
-// Reads the snapshot block into snapshot_ (restored in before_programs).
-bool Replayer::read_snapshot() {
-  snapshot_.clear();
-  auto take = [this](std::size_t n) {
-    const std::size_t at = snapshot_.size();
-    snapshot_.resize(at + n);
-    return std::fread(snapshot_.data() + at, 1, n, f_) == n;
-  };
-  auto take_u32 = [&](std::uint32_t& v) {
-    if (!take(sizeof v)) return false;
-    std::memcpy(&v, snapshot_.data() + snapshot_.size() - sizeof v, sizeof v);
-    return true;
-  };
-  std::uint32_t nvars = 0;
-  if (!take_u32(nvars)) return false;
-  for (std::uint32_t i = 0; i < nvars; ++i) {
-    std::uint16_t len = 0;
-    std::uint32_t size = 0;
-    if (!take(sizeof len)) return false;
-    std::memcpy(&len, snapshot_.data() + snapshot_.size() - sizeof len, sizeof len);
-    if (!take(len) || !take_u32(size) || !take(size)) return false;
-  }
-  for (int a = 0; a < 8; ++a) {
-    std::uint32_t size = 0;
-    if (!take_u32(size) || !take(size)) return false;
-  }
-  std::uint32_t ntasks = 0;
-  if (!take_u32(ntasks) || !take(std::size_t(ntasks) * sizeof(std::uint64_t))) return false;
-  return true;
-}
-
-void Replayer::before_programs(TaskRuntime& t, const ScanContext&) {
-  if (snapshot_.empty()) return;
-  const std::uint8_t* p = snapshot_.data();
-  auto u32 = [&p] {
-    std::uint32_t v;
-    std::memcpy(&v, p, sizeof v);
-    p += sizeof v;
-    return v;
-  };
-  const std::uint32_t nvars = u32();
-  for (std::uint32_t i = 0; i < nvars; ++i) {
-    std::uint16_t len;
-    std::memcpy(&len, p, sizeof len);
-    p += sizeof len;
-    const std::string path(reinterpret_cast<const char*>(p), len);
-    p += len;
-    const std::uint32_t size = u32();
-    const VarInfo* v = rt_.vars().find(path);
-    if (v && !v->address && stored_size(*v) == size)
-      std::memcpy(v->ptr, p, size);
-    else if (error_.empty())
-      error_ = "the recording's state has a variable this cell lacks: " + path;
-    p += size;
-  }
-  for (auto area : snapshot_areas(t, rt_.image())) {
-    const std::uint32_t size = u32();
-    std::memcpy(area.data(), p, std::min<std::size_t>(size, area.size()));
-    p += size;
-  }
-  snapshot_.clear();  // the task cycle counters were restored in step()
-}
-
-void Replayer::after_latch(TaskRuntime& t, io::ProcessImage& global) {
-  const auto& devs = rt_.devices();
-  for (std::size_t i = 0; i < devs.size() && i < states_.size(); ++i)
-    devs[i].plugin->link(devs[i].index).force_state(static_cast<io::DeviceState>(states_[i]));
-  // Answer the replayed program's requests as the devices answered the
-  // recorded one: same device, same submission number, same data.
-  for (std::size_t p = 0; p < answers_.size();) {
-    std::uint16_t dev, err, len;
-    std::uint32_t seq;
-    std::memcpy(&dev, &answers_[p], 2);
-    std::memcpy(&seq, &answers_[p + 2], 4);
-    const auto st = static_cast<io::RecordStatus>(answers_[p + 6]);
-    std::memcpy(&err, &answers_[p + 7], 2);
-    std::memcpy(&len, &answers_[p + 9], 2);
-    const std::span<const std::uint8_t> data(answers_.data() + p + 11, len);
-    p += 11 + len;
-    io::RecordRequest* r =
-        dev < devs.size() ? devs[dev].plugin->link(devs[dev].index).pop() : nullptr;
-    if (!r || r->seq() != seq) {
-      if (error_.empty())
-        error_ = "replay diverged at scan " + std::to_string(scans_) + ": device '" +
-                 (dev < devs.size() ? devs[dev].name : "?") + "' has no request " +
-                 std::to_string(seq) + " waiting";
-      if (r) r->finish_as(st, err, data);
-      continue;
-    }
-    r->finish_as(st, err, data);
-  }
-  answers_.clear();
-  auto in = global.area(io::Area::Input);
-  std::size_t off = 0;
-  for (const DeviceRuntime* d : t.devices) {
-    std::memcpy(in.data() + d->in.byte, inputs_.data() + off, d->sizes.input_bytes);
-    off += d->sizes.input_bytes;
-  }
-}
-
-void Replayer::before_publish(TaskRuntime& t, io::ProcessImage& global) {
-  if (output_hash(t, global) != expected_hash_) {
-    ++mismatches_;
-    if (first_mismatch_ < 0) first_mismatch_ = static_cast<std::int64_t>(scans_);
-  }
-  ++scans_;
+  std::lock_guard<std::mutex> lock(error_mu_);
+  return error_;
 }
 
 }  // namespace plc::debug

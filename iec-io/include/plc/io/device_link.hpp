@@ -76,7 +76,19 @@ class DeviceLink {
 
   // Plugin side: take the oldest queued request, or nullptr.
   RecordRequest* pop();
+  // Replay: `r` was answered directly (not parked); stop tracking it. An
+  // answer the program saw and reset before the next latch would otherwise
+  // stay tracked, and resubmitting the same request fills the table.
+  void untrack(const RecordRequest* r);
   [[nodiscard]] std::size_t pending() const;
+  // Submitted requests whose answer no program has seen yet (queued, in
+  // the plugin's hands, or parked until their task's next latch).
+  [[nodiscard]] std::size_t in_flight() const;
+  // The number the last submitted request got. A recording started
+  // mid-session keeps it in its snapshot and the replay sets it back, so
+  // the replayed requests are numbered as the recorded ones.
+  [[nodiscard]] std::uint32_t last_seq() const;
+  void set_last_seq(std::uint32_t seq);
 
  private:
   void lock() const {

@@ -46,6 +46,10 @@ class Debugger final : public ScanHooks {
     io::ClockMode mode = io::ClockMode::Virtual;
     std::string replay_file;                  // replay this recording instead of the plugins
     TIME span{std::chrono::hours(24 * 365)};  // end of the session (virtual time)
+    // Record into this file from the first scan (plcrun --record): armed
+    // before the cell starts, which a `record` command cannot be in real
+    // time. Throws std::runtime_error if the file cannot be written.
+    std::string record_file;
   };
 
   // `factory` builds a fresh runtime of the cell (goto rebuilds with it).
@@ -84,12 +88,16 @@ class Debugger final : public ScanHooks {
   Runtime& runtime() { return *rt_; }
   [[nodiscard]] std::uint64_t scan_count() const { return last_scan().scans; }
 
-  // ScanHooks
+  // ScanHooks. A recording started with `record` gets them from here, after
+  // the debugger's own work (so it sees the writes and forces it records),
+  // under mu_: it can start and stop while real-time tasks run.
   void after_latch(TaskRuntime& t, io::ProcessImage& global) override;
+  void on_answer(TaskRuntime& t, std::size_t device, const io::RecordRequest& r) override;
   void before_programs(TaskRuntime& t, const ScanContext& ctx) override;
   void before_program(TaskRuntime& t, std::size_t index, const ScanContext& ctx) override;
   void after_programs(TaskRuntime& t, const ScanContext& ctx) override;
   void before_publish(TaskRuntime& t, io::ProcessImage& global) override;
+  void on_stop(TaskRuntime& t, io::ProcessImage& global) override;
 
  private:
   struct Breakpoint {
@@ -139,7 +147,10 @@ class Debugger final : public ScanHooks {
   std::optional<VarInfo> resolve(const std::string& name, bool& image, std::string& err);
   // Virtual time: run one scan (live or replayed); false when nothing can run.
   bool one_scan();
+  // A write into t's scan, noted by a running recording (mu_ held).
+  void apply_write(TaskRuntime& t, const VarInfo& v, const void* value);
   void on_scan_end(const TaskRuntime& t, const ScanContext& ctx);
+  void freeze_if_due(TaskRuntime& t, std::size_t index);  // a freeze point before program `index`
   void freeze_loop(TaskRuntime& t, std::size_t index);
   // Real time: waits for a breakpoint or Ctrl-C, pauses; the stop reason.
   std::string realtime_wait_until_paused();
@@ -197,7 +208,7 @@ class Debugger final : public ScanHooks {
   // Writes for the global image are waiting in writes_: the next scan takes
   // the image lock (before mu_) to apply them.
   std::atomic<bool> image_writes_pending_{false};
-  void apply_writes(TaskRuntime& t, bool image_locked);
+  void apply_writes(TaskRuntime& t, const ScanContext& ctx, bool image_locked);
 
   // Real time: reads waiting for the end of a task's scan (mu_).
   static constexpr std::size_t kMaxScanReads = 32;
@@ -215,7 +226,8 @@ class Debugger final : public ScanHooks {
   std::atomic<bool> end_requested_{false};
   bool quit_ = false;
   bool in_freeze_ = false;
-  int freeze_action_ = 0;  // 0 continue, 1 step (pause at scan end), 2 quit
+  TaskRuntime* frozen_task_ = nullptr;  // the task whose scan a freeze point holds
+  int freeze_action_ = 0;               // 0 continue, 1 step (pause at scan end), 2 quit
   Reader reader_;
   Writer writer_;
   std::string joined_line_;  // the command line being executed (conditions keep their spacing)

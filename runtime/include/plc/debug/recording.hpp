@@ -2,79 +2,159 @@
 // with bit-identical outputs: a bug met on a test bench can be stepped
 // through at a desk.
 //
-// A recording may start in the middle of a session: its first scan carries
-// a snapshot of the state the programs had then (every reflected program
-// variable, the images, the task cycle counters), taken after the inputs
-// were latched and the debugger's writes applied, and restored at the same
-// point of the replay's first scan. State that a program does not reflect is
-// not in the snapshot (reflect all of it: the debugger needs it too), and
-// forces on outputs or program variables made while recording are not
-// recorded (forced inputs are: they are what the programs saw).
+// What a recording holds, so that the replay is exact:
+// * per scan, its time and cycle count (the scan's ScanContext), the inputs
+//   of the task's devices as the programs saw them (forced inputs
+//   included), every device's communication state, and the answers to
+//   acyclic requests that this scan is the first to see (the Runtime makes
+//   both change only at a task's latch, in real time as in virtual time);
+// * the ORDER of the image-locked halves of the scans: in real time the
+//   tasks run concurrently, and what task B's latch copies of %Q/%M depends
+//   on whether task A merged before it. Each scan is two records, a latch
+//   (written under the image lock at step 1) and a merge (written under the
+//   image lock at step 5), so the file order is the order in which the
+//   tasks' locked sections really ran, and the replayer runs the two halves
+//   apart in that order (Runtime::latch_scan / finish_scan);
+// * every write the debugger made during the scan (write, force, unforce
+//   restore, writes at freeze points), with the point of the scan where it
+//   was made, and tasks stopped by their watchdog or a fault (the safe
+//   outputs that go into the image then);
+// * at its first scan, a snapshot of the state the programs had then: every
+//   reflected program variable and the global image. A recording can start
+//   in the middle of a session; in real time it starts at the first latch
+//   at which no other task is inside a scan, so that the snapshot is
+//   consistent. State a program does not reflect is not in the snapshot
+//   (reflect all of it: the debugger needs it too).
 //
-// Besides the cyclic inputs, a scan's inputs include what the plugins
-// answered to acyclic requests (record read/write) and each device's
-// communication state: both are recorded in the scan that first sees them
-// and given back at the same point of the replay. The Runtime makes both
-// change only at a task's latch (DeviceLink deferred delivery), so this
-// holds in real time as in virtual time: no answer appears mid-scan.
+// The replayer runs the records in file order against the same cell
+// without its devices and compares, at every merge, a hash of the global
+// %Q and %M with the recorded one; the first difference is reported with
+// its scan number.
 //
-// File format (host byte order; written and read on the same architecture):
-//   header  "PLCREC03", u64 layout hash (Runtime::layout_hash)
-//   per scan: u8 tag 'S', u16 task index, i64 time ns,
-//             the task's devices' input bytes (in config order, sizes from
-//             the layout),
-//             u8 device count, u8 state of every device (config order),
-//             u16 answer count, per answer: u16 device, u32 request seq,
-//               u8 status, u16 error, u16 length, data,
-//             u8 1 + snapshot (first scan) or u8 0,
-//             u64 FNV-1a hash of those devices' published output bytes.
-// The replayer runs the scans in the recorded order at the recorded times,
-// feeds the recorded inputs instead of the plugins', and compares each
-// scan's output hash: the first divergence is reported with its scan number.
+// File format PLCREC04, all integers little-endian:
+//   "PLCREC04", then records: u8 type, u32 payload length, payload, u32 CRC.
+//   CRC: CRC-32 (IEEE 802.3, zlib's crc32) over the type, length and payload
+//   of every record from the first up to this one (a running CRC, so a lost,
+//   repeated or reordered record is caught as well as a flipped bit).
+//   H header  u64 layout hash, u32 image sizes %I %Q %M, u16 devices,
+//             u16 tasks, per task i64 period ns, u32 input bytes, u16 programs
+//   L latch   u16 task, u64 cycle, i64 time ns, the task's input bytes,
+//             u16 devices + u8 state each, u16 answers + per answer u16
+//             device, u32 request seq, u8 status, u16 error, u16 length,
+//             data, debugger writes (recording_reader.cpp), u8 1 + snapshot
+//             in the first latch, else u8 0
+//   M merge   u16 task, debugger writes, u64 hash of global %Q and %M
+//   T stop    u16 task, u16 length + reason
+//   E end     u64 scans (merge records), u64 records before it; the last
+//             bytes of the file
+// A file without its end record is incomplete (cut off, or the recorder
+// could not finish it); RecordingReader checks all of it.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
-#include <cstdio>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
+#include "plc/debug/recording_format.hpp"
+#include "plc/debug/recording_reader.hpp"
 #include "plc/runtime.hpp"
 
 namespace plc::debug {
 
-std::uint64_t fnv1a(const std::uint8_t* p, std::size_t n, std::uint64_t h = 1469598103934665603ULL);
+class RecordingWriter;
 
+// Scan threads only copy bytes into preallocated buffers (no allocation,
+// no I/O); a writer thread writes the file. Real time: several task
+// threads record at once; the latch and merge records are written under
+// the image lock the scan holds anyway, the rest of a scan's record goes
+// into the task's own buffer.
 class Recorder final : public ScanHooks {
  public:
+  // Self: the recorder adds itself to the runtime's hooks (before the
+  // runtime starts). ByCaller: the caller forwards the hooks after its own
+  // (the debugger, which may start and stop a recording while real-time
+  // tasks run) and calls arm() when it starts forwarding.
+  enum class Attach { Self, ByCaller };
   // Throws std::runtime_error if the file cannot be written.
-  Recorder(Runtime& rt, const std::string& file);
+  Recorder(Runtime& rt, const std::string& file, Attach attach = Attach::Self);
   ~Recorder() override;
+  Recorder(const Recorder&) = delete;
+  Recorder& operator=(const Recorder&) = delete;
+
+  // Notes which tasks are inside a scan now: the recording starts at a
+  // latch when no other task is.
+  void arm();
+
   void after_latch(TaskRuntime& t, io::ProcessImage& global) override;
   void on_answer(TaskRuntime& t, std::size_t device, const io::RecordRequest& r) override;
   void before_programs(TaskRuntime& t, const ScanContext& ctx) override;
+  void before_program(TaskRuntime& t, std::size_t index, const ScanContext& ctx) override;
+  void after_programs(TaskRuntime& t, const ScanContext& ctx) override;
   void before_publish(TaskRuntime& t, io::ProcessImage& global) override;
-  void close();
-  [[nodiscard]] std::uint64_t scans() const { return scans_; }
+  void on_stop(TaskRuntime& t, io::ProcessImage& global) override;
+
+  // The debugger wrote `value` (native) to `v` in t's scan, at the hook
+  // point whose recorder hook comes next for t.
+  void note_write(TaskRuntime& t, const VarInfo& v, const void* value);
+
+  // Ends the recording (end record, file closed); "" or what went wrong
+  // (a write error, a full disk, lost records): then the file is not a
+  // complete recording.
+  std::string close();
+  [[nodiscard]] std::uint64_t scans() const { return scans_.load(std::memory_order_relaxed); }
+  [[nodiscard]] bool failed() const { return dead_.load(std::memory_order_acquire); }
 
  private:
-  void flush();
+  struct TaskRec {
+    enum State : std::uint8_t { Idle, Open, Busy };  // Busy: in a scan not recorded
+    State state = Idle;
+    recfmt::Buf merge;  // the merge record being built
+    std::uint16_t merge_groups = 0;
+    recfmt::Buf pending;  // debugger writes not yet given their hook point
+    std::uint16_t pending_count = 0;
+  };
+  void commit(const recfmt::Buf& b, bool wait);
+  void fail(const std::string& why);
+  bool try_start(const TaskRuntime& t);
+  void put_snapshot(recfmt::Buf& b);
+  void seal(TaskRec& ts, recfmt::Point point, std::size_t index);
+  std::size_t snapshot_bytes() const;
+
   Runtime& rt_;
-  std::FILE* f_ = nullptr;
-  std::vector<std::uint8_t> buf_, answers_;
+  std::string file_;
+  bool attached_;
+  std::unique_ptr<RecordingWriter> writer_;
+  std::vector<TaskRec> tasks_;
+  // Used under the image lock only (one task at a time): the latch, stop
+  // and end records, and the answers collected during a latch.
+  recfmt::Buf shared_, answers_;
   std::uint16_t answer_count_ = 0;
-  std::uint64_t scans_ = 0;
+  bool active_ = false;  // the first latch (with the snapshot) is written
+  std::uint64_t records_ = 0;
+  std::atomic<std::uint64_t> scans_{0};
+  std::atomic<bool> dead_{false};  // failed: nothing more is recorded
+  std::mutex error_mu_;
+  std::string error_;
+  bool closed_ = false;
 };
 
 class Replayer final : public ScanHooks {
  public:
-  // Throws std::runtime_error for a missing file, a bad header, or a
-  // recording made on a different cell layout.
+  // Reads the whole recording first and checks it (RecordingReader), so a
+  // damaged file is refused before the first scan. Throws
+  // std::runtime_error if the file cannot be opened, RecordingError if it
+  // is damaged, incomplete, of another version, or of another cell layout.
   Replayer(Runtime& rt, const std::string& file);
   ~Replayer() override;
 
-  // Runs the next recorded scan; false at the end of the recording.
+  // Runs the next recorded scan (its latch, what the other tasks did in
+  // between, its merge); false at the end of the recording or on an error.
   bool step();
   [[nodiscard]] std::uint64_t scans() const { return scans_; }
+  [[nodiscard]] std::uint64_t total_scans() const { return total_scans_; }
   [[nodiscard]] std::uint64_t mismatches() const { return mismatches_; }
   [[nodiscard]] std::int64_t first_mismatch() const { return first_mismatch_; }  // -1 = none
   [[nodiscard]] bool at_end() const { return end_; }
@@ -82,19 +162,20 @@ class Replayer final : public ScanHooks {
 
   void after_latch(TaskRuntime& t, io::ProcessImage& global) override;
   void before_programs(TaskRuntime& t, const ScanContext& ctx) override;
+  void before_program(TaskRuntime& t, std::size_t index, const ScanContext& ctx) override;
+  void after_programs(TaskRuntime& t, const ScanContext& ctx) override;
   void before_publish(TaskRuntime& t, io::ProcessImage& global) override;
 
  private:
-  bool read_snapshot();
-  bool read_states_and_answers();
+  void restore_snapshot(std::span<const std::uint8_t> s);
+  void apply_events(TaskRuntime& t, recfmt::Point point, std::size_t index);
+  void diverged(const std::string& what);
+
   Runtime& rt_;
-  std::FILE* f_ = nullptr;
-  std::vector<std::uint8_t> inputs_;
-  std::vector<std::uint8_t> states_;
-  std::vector<std::uint8_t> answers_;   // this scan's answers, as recorded
-  std::vector<std::uint8_t> snapshot_;  // pending restore (first scan)
-  std::uint64_t expected_hash_ = 0;
-  std::uint64_t scans_ = 0, mismatches_ = 0;
+  std::unique_ptr<RecordingReader> reader_;
+  Record rec_;                        // the record being replayed
+  std::vector<ScanContext> pending_;  // per task: its latched scan
+  std::uint64_t scans_ = 0, total_scans_ = 0, mismatches_ = 0;
   std::int64_t first_mismatch_ = -1;
   bool end_ = false;
   std::string error_;

@@ -1,0 +1,133 @@
+#include "recording_writer.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+namespace plc::debug {
+
+RecordingWriter::RecordingWriter(int fd, std::string file, std::string prefix,
+                                 std::size_t block_bytes, std::size_t blocks)
+    : fd_(fd),
+      file_(std::move(file)),
+      prefix_(std::move(prefix)),
+      block_bytes_(block_bytes),
+      blocks_(blocks) {
+  free_.resize(blocks);
+  full_.resize(blocks);
+  for (std::size_t i = 0; i < blocks; ++i) {
+    blocks_[i].data.resize(block_bytes);
+    free_[i] = i;
+  }
+  free_n_ = blocks;
+  thread_ = std::thread([this] { run(); });
+}
+
+RecordingWriter::~RecordingWriter() { finish(); }
+
+std::string RecordingWriter::error() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return error_;
+}
+
+void RecordingWriter::fail(const std::string& why) {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (error_.empty()) error_ = why;
+  failed_.store(true, std::memory_order_release);
+}
+
+bool RecordingWriter::append(std::span<const std::uint8_t> record, bool wait) {
+  if (failed()) return false;
+  if (record.size() > block_bytes_) {
+    fail("a record of " + std::to_string(record.size()) + " bytes exceeds the recording's blocks");
+    return false;
+  }
+  if (!cur_ || cur_->n + record.size() > cur_->data.size()) {
+    std::unique_lock<std::mutex> lock(mu_);
+    if (cur_) {
+      full_[(full_head_ + full_n_++) % full_.size()] = std::size_t(cur_ - blocks_.data());
+      cur_ = nullptr;
+      work_cv_.notify_one();
+    }
+    if (wait) free_cv_.wait(lock, [this] { return free_n_ > 0; });
+    if (free_n_ == 0) {
+      lock.unlock();
+      fail(
+          "the disk fell behind the scans: every recording buffer was full, so records were "
+          "lost and the recording stops here");
+      return false;
+    }
+    cur_ = &blocks_[free_[free_head_]];
+    free_head_ = (free_head_ + 1) % free_.size();
+    --free_n_;
+    cur_->n = 0;
+  }
+  std::memcpy(cur_->data.data() + cur_->n, record.data(), record.size());
+  cur_->n += record.size();
+  return true;
+}
+
+void RecordingWriter::run() {
+  write_all(reinterpret_cast<const std::uint8_t*>(prefix_.data()), prefix_.size());
+  std::unique_lock<std::mutex> lock(mu_);
+  for (;;) {
+    work_cv_.wait(lock, [this] { return full_n_ > 0 || closing_; });
+    if (full_n_ == 0) return;  // closing, all written
+    Block& b = blocks_[full_[full_head_]];
+    full_head_ = (full_head_ + 1) % full_.size();
+    --full_n_;
+    lock.unlock();
+    write_out(b);
+    lock.lock();
+    free_[(free_head_ + free_n_++) % free_.size()] = std::size_t(&b - blocks_.data());
+    free_cv_.notify_one();
+  }
+}
+
+// Fills in the CRC of every record in the block, then writes the block.
+void RecordingWriter::write_out(Block& b) {
+  if (failed()) return;  // the file is broken already; drop the rest
+  for (std::size_t p = 0; p + recfmt::kHead <= b.n;) {
+    std::uint32_t len = 0;
+    std::memcpy(&len, b.data.data() + p + 1, 4);
+    len = boost::endian::little_to_native(len);
+    const std::size_t body = recfmt::kHead + len;
+    if (p + body + recfmt::kTail > b.n) break;  // cannot happen: append() copies whole records
+    crc_.process_bytes(b.data.data() + p, body);
+    const std::uint32_t crc = boost::endian::native_to_little(crc_.checksum());
+    std::memcpy(b.data.data() + p + body, &crc, 4);
+    p += body + recfmt::kTail;
+  }
+  write_all(b.data.data(), b.n);
+}
+
+void RecordingWriter::write_all(const std::uint8_t* p, std::size_t n) {
+  for (std::size_t done = 0; done < n && !failed();) {
+    const ssize_t w = ::write(fd_, p + done, n - done);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) {
+      fail("cannot write '" + file_ + "': " + std::strerror(w < 0 ? errno : EIO));
+      return;
+    }
+    done += std::size_t(w);
+  }
+}
+
+std::string RecordingWriter::finish() {
+  if (finished_) return error();
+  finished_ = true;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (cur_ && cur_->n)
+      full_[(full_head_ + full_n_++) % full_.size()] = std::size_t(cur_ - blocks_.data());
+    cur_ = nullptr;
+    closing_ = true;
+  }
+  work_cv_.notify_one();
+  thread_.join();
+  if (::close(fd_) != 0) fail("cannot write '" + file_ + "': " + std::strerror(errno));
+  return error();
+}
+
+}  // namespace plc::debug
