@@ -20,9 +20,11 @@
 //   was made, and tasks stopped by their watchdog or a fault (the safe
 //   outputs that go into the image then);
 // * at its first scan, a snapshot of the state the programs had then: every
-//   reflected program variable and the global image. A recording can start
-//   in the middle of a session; in real time it starts at the first latch
-//   at which no other task is inside a scan, so that the snapshot is
+//   reflected program variable, the global image, and each device's
+//   acyclic request numbering. A recording can start in the middle of a
+//   session; it starts at the first latch at which no other task is inside
+//   a scan (real time) and no acyclic request is on its way or answered
+//   (a request object is not reflected state), so that the snapshot is
 //   consistent. State a program does not reflect is not in the snapshot
 //   (reflect all of it: the debugger needs it too).
 //
@@ -42,7 +44,9 @@
 //             u16 devices + u8 state each, u16 answers + per answer u16
 //             device, u32 request seq, u8 status, u16 error, u16 length,
 //             data, debugger writes (recording_reader.cpp), u8 1 + snapshot
-//             in the first latch, else u8 0
+//             in the first latch, else u8 0; snapshot: u32 variables + per
+//             variable u16 path length, path, u8 type, value; %I %Q %M each
+//             u32 size + bytes; per device u32 last request number
 //   M merge   u16 task, debugger writes, u64 hash of global %Q and %M
 //   T stop    u16 task, u16 length + reason
 //   E end     u64 scans (merge records), u64 records before it; the last
