@@ -10,6 +10,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <mutex>
 #include <string>
 #include <string_view>
 
@@ -58,12 +59,27 @@ class LiveTaskStats {
   [[nodiscard]] TaskStats snapshot() const;
 
  private:
+  // The fallback of snapshot() when the writer records so often that a
+  // copy keeps overlapping its writes (a tight virtual-time loop, a slow
+  // sanitizer build): the reader asks (help_ 0 -> 1), the writer claims the
+  // request (1 -> 2) at the end of its next update, copies its figures into
+  // helped_ and hands them over (2 -> 3); the reader takes them (3 -> 0).
+  // The writer never waits: it pays one copy per request.
+  void help_reader_if_asked() {
+    if (help_.load(std::memory_order_relaxed) == kAsked) help_reader();
+  }
+  void help_reader();
+  static constexpr int kIdle = 0, kAsked = 1, kCopying = 2, kCopied = 3;
+
   SeqLock seq_;
   BasicHistogram<SeqLockCell> scan_ns_, latency_ns_;
   SeqLockCell<std::uint64_t> scans_, overruns_, skipped_, paused_releases_;
   std::atomic<bool> stop_published_{false};
   bool watchdog_tripped_ = false, faulted_ = false;
   std::string stop_reason_;
+  mutable std::mutex readers_;  // one reader at a time asks the writer
+  mutable std::atomic<int> help_{kIdle};
+  mutable TaskStats helped_;  // written by the writer between kCopying and kCopied
 };
 
 }  // namespace plc
