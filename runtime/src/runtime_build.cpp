@@ -43,6 +43,7 @@ Runtime::Runtime(const CellConfig& cfg) { build(cfg); }
 
 Runtime::~Runtime() {
   if (started_) finish();
+  hand_over_left_behind();
 }
 
 void Runtime::build(const CellConfig& cfg) {

@@ -15,6 +15,7 @@
 
 #include "plc/release_schedule.hpp"
 #include "plc/runtime.hpp"
+#include "task_thread.hpp"
 
 namespace plc {
 namespace {
@@ -61,7 +62,16 @@ void Runtime::run_realtime(TIME span) {
   const std::int64_t t0 = mono_ns() + 5'000'000;  // common phase for all tasks
   const std::int64_t end = t0 + span.count();
   std::vector<std::thread> threads;
-  for (auto& t : tasks_) threads.emplace_back([this, &t, t0] { realtime_task_loop(*t, t0); });
+  std::vector<std::shared_ptr<TaskThread>> records;
+  for (auto& t : tasks_) {
+    // The thread holds its record for its whole life (TaskThread).
+    auto rec = records.emplace_back(std::make_shared<TaskThread>());
+    rec->owner = t.get();
+    threads.emplace_back([this, task = t.get(), t0, rec] {
+      TaskThread::current() = rec.get();
+      realtime_task_loop(*task, t0);
+    });
+  }
   start_watchdog();
 
   while (!stop_requested() && mono_ns() < end) {
@@ -73,11 +83,15 @@ void Runtime::run_realtime(TIME span) {
   }
   rt_running_.store(false);
   for (std::size_t i = 0; i < threads.size(); ++i) {
-    TaskRuntime& t = *tasks_[i];
-    // A task the watchdog stopped may be stuck in its scan forever; it no
-    // longer touches the image, so leave it behind rather than hang.
-    if (t.stats.watchdog_tripped() && t.scan_started_ns.load() >= 0) {
+    // A task the watchdog stopped may stay in its program forever: leave
+    // its thread there rather than hang. From then on the thread touches
+    // nothing of ours when the program returns (TaskThread). A thread in
+    // runtime code always comes back: it is joined.
+    int in_program = TaskThread::InProgram;
+    if (tasks_[i]->stats.watchdog_tripped() &&
+        records[i]->state.compare_exchange_strong(in_program, TaskThread::LeftBehind)) {
       threads[i].detach();
+      left_behind_.push_back(records[i]);
     } else {
       threads[i].join();
     }
@@ -125,12 +139,32 @@ void Runtime::realtime_task_loop(TaskRuntime& t, std::int64_t t0) {
     }
     if (paused()) t.step_budget.fetch_sub(1, std::memory_order_acq_rel);
     t.stats.record_latency(wake - release);
-    scan(t, TIME(k * period));
+    if (!scan(t, TIME(k * period))) return;  // left behind: touch nothing
     const NextRelease n = next_release(k, t0, period, mono_ns());
     if (n.overrun) t.stats.record_overrun(n.skipped);
     t.busy.store(false, std::memory_order_release);
     k = n.index;
   }
+}
+
+void Runtime::hand_over_left_behind() {
+  for (const std::shared_ptr<TaskThread>& rec : left_behind_) {
+    int left = TaskThread::LeftBehind;
+    // Exited: the program came back and the thread has ended; nothing to do.
+    if (!rec->state.compare_exchange_strong(left, TaskThread::Abandoned)) continue;
+    // Still inside the program: the record keeps the task (its private
+    // image, where the program's located variables live) and the task's
+    // programs; they go when the thread ends (never, if the program never
+    // returns: a deliberate leak, the price of not killing a thread).
+    for (auto& t : tasks_)
+      if (t.get() == rec->owner) rec->task = std::move(t);
+    if (!rec->task) continue;
+    const std::vector<Program*>& mine = rec->task->programs;
+    for (auto& [name, p] : programs_)
+      if (std::find(mine.begin(), mine.end(), p.get()) != mine.end())
+        rec->programs.push_back(std::move(p));
+  }
+  left_behind_.clear();
 }
 
 bool Runtime::wait_until_idle(std::chrono::nanoseconds timeout) const {

@@ -5,6 +5,7 @@
 #include <mutex>
 
 #include "plc/runtime.hpp"
+#include "task_thread.hpp"
 
 namespace plc {
 namespace {
@@ -32,7 +33,7 @@ struct MaybeLock {
 // A scan in two halves: both take the image lock once. scan() runs them
 // back to back; a replay runs them apart (Runtime::latch_scan/finish_scan) to
 // reproduce how the locked sections of several real-time tasks interleaved.
-void Runtime::scan(TaskRuntime& t, TIME now) { scan_finish(t, scan_latch(t, now)); }
+bool Runtime::scan(TaskRuntime& t, TIME now) { return scan_finish(t, scan_latch(t, now)); }
 
 ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
   const std::int64_t start = steady_ns();
@@ -67,23 +68,29 @@ ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
   return ScanContext{now, t.period, t.cycle};
 }
 
-void Runtime::scan_finish(TaskRuntime& t, const ScanContext& ctx) {
+bool Runtime::scan_finish(TaskRuntime& t, const ScanContext& ctx) {
   const std::int64_t start = t.scan_started_ns.load(std::memory_order_relaxed);
   auto q = t.image.area(io::Area::Output);
   auto m = t.image.area(io::Area::Memory);
   // A replay may have latched another task in between (same thread).
   io::DeviceLink::set_current_owner(static_cast<int>(t.order));
 
-  // 3: the programs.
+  // 3: the programs. A program that the watchdog stopped may come back
+  // after the run left its thread behind (or the runtime is gone): then
+  // nothing here may be touched any more (TaskThread).
   for (ScanHooks* h : hooks_) h->before_programs(t, ctx);
   try {
     for (std::size_t i = 0; i < t.programs.size(); ++i) {
       for (ScanHooks* h : hooks_) h->before_program(t, i, ctx);
+      TaskThread::enter_program();
       t.programs[i]->cycle(ctx);
+      if (!TaskThread::leave_program()) return false;
     }
   } catch (const std::exception& e) {
+    if (!TaskThread::leave_program()) return false;
     trip(t, std::string("program threw: ") + e.what(), false);
   } catch (...) {
+    if (!TaskThread::leave_program()) return false;
     trip(t, "program threw a non-standard exception", false);
   }
   if (t.trip_requested.load(std::memory_order_acquire)) trip(t, t.trip_reason, true);
@@ -109,6 +116,7 @@ void Runtime::scan_finish(TaskRuntime& t, const ScanContext& ctx) {
   t.stats.record_scan(end - start);
   for (const auto& o : observers_) o(t, ctx);
   ++t.cycle;
+  return true;
 }
 
 void Runtime::trip(TaskRuntime& t, const std::string& reason, bool watchdog) {

@@ -17,6 +17,16 @@ void Spinner::cycle(const ScanContext&) {
   }
 }
 
+void Runaway::cycle(const ScanContext&) {
+  ++scans;
+  out = INT(1);
+  const auto bound = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!release.load() && std::chrono::steady_clock::now() < bound) {
+  }
+  live_at_return.store(live.load());
+  out = INT(2);
+}
+
 void Thrower::cycle(const ScanContext&) {
   out = true;
   if (fire) throw std::runtime_error("boom");
@@ -53,6 +63,7 @@ PLC_REGISTER_PROGRAM(ReleaseLog)
 PLC_REGISTER_PROGRAM(PairWriter)
 PLC_REGISTER_PROGRAM(RecordPoller)
 PLC_REGISTER_PROGRAM(Spinner)
+PLC_REGISTER_PROGRAM(Runaway)
 PLC_REGISTER_PROGRAM(BitWriter)
 PLC_REGISTER_PROGRAM(LoopCounter)
 PLC_REGISTER_PROGRAM(Thrower)

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,27 @@ class Spinner : public ProgramBase<Spinner> {
   DINT scans = 0;
   void cycle(const ScanContext& ctx) override;
   PLC_REFLECT(out, lamp, spin, spin_us, scans)
+};
+
+// A scan that does not return until the test lets it (a runaway program,
+// as far as the runtime can tell: bounded at 60 s so a failing test ends).
+// It counts its live instances, notes how many were alive when its scan
+// came back, and then writes a located output, as programs do: after its
+// runtime is gone, that is only safe if the runtime kept the program and
+// its task's image alive for it.
+class Runaway : public ProgramBase<Runaway> {
+ public:
+  Runaway() { live.fetch_add(1); }
+  ~Runaway() override { live.fetch_sub(1); }
+  Runaway(const Runaway&) = delete;
+  Runaway& operator=(const Runaway&) = delete;
+  io::Located<INT> out{"%QW0"};
+  DINT scans = 0;
+  void cycle(const ScanContext& ctx) override;
+  PLC_REFLECT(out, scans)
+  static inline std::atomic<bool> release{false};     // the test lets the scan return
+  static inline std::atomic<int> live{0};             // Runaway objects alive
+  static inline std::atomic<int> live_at_return{-1};  // `live` when a spin ended
 };
 
 // Sets one bit of %QB8 (which bit: `bit`) and counts into %MW10+2*bit: two

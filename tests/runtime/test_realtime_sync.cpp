@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <sstream>
 #include <thread>
 
+#include "debugger_deadline.hpp"
 #include "plc/debug/debugger.hpp"
 #include "test_helpers.hpp"
 #include "test_programs.hpp"
@@ -48,7 +50,120 @@ programs:
   - {name: W, type: BitWriter}
 )";
 
+// Task a (1 ms) and task b (2 ms): b counts into the located %QD0 (its
+// L.to_dev), so the global image changes at every merge of b.
+const char* kCounterTasks = R"(
+tasks:
+  - {name: a, period: 1ms, programs: [A]}
+  - {name: b, period: 2ms, programs: [L]}
+programs:
+  - {name: A, type: PairWriter, init: {work_us: 50}}
+  - {name: L, type: LoopCounter}
+)";
+
 }  // namespace
+
+// In real time a condition or a trace row is evaluated on one task's scan
+// thread right after its scan (one_task.hpp): a variable of another task is
+// being written by that task's thread meanwhile, so mixing two tasks'
+// variables is refused when the command is given, with the reason.
+// Addresses (the global image) go with either task.
+TEST(RealTimeSync, ConditionsAndTracesMixingTwoTasksAreRefusedWithTheReason) {
+  auto dbg = realtime_debugger(kCounterTasks);
+  debug::Debugger& d = *dbg;
+  const char* why =
+      "in real time the variables must belong to one task: A.first belongs to "
+      "task 'a', L.count to task 'b'";
+  std::string out = d.execute("break A.first > 5 AND L.count > 5");
+  EXPECT_TRUE(has(out, std::string("break: ") + why)) << out;
+  out = d.execute("run until A.first > 3 OR L.count > 3");
+  EXPECT_TRUE(has(out, std::string("run until: ") + why)) << out;
+  out = d.execute("break L.to_dev > 5 AND A.first > 5");
+  EXPECT_TRUE(has(out, "L.to_dev belongs to task 'b', A.first to task 'a'")) << out;
+  EXPECT_TRUE(has(d.execute("breaks"), "no breakpoints"));
+  // One task plus addresses is fine.
+  EXPECT_TRUE(has(d.execute("break A.first > 1000000 AND %QD0 > 0"), "breakpoint 1:"));
+  EXPECT_TRUE(has(d.execute("trace add A.first %QD0"), "2 variable(s)"));
+  out = d.execute("trace add L.count");
+  EXPECT_TRUE(has(out, "trace add: in real time the variables must belong to one task")) << out;
+  out = d.execute("trace trigger L.count > 3");
+  EXPECT_TRUE(has(out, "trace trigger: in real time the variables must belong to one task")) << out;
+  out = d.execute("trace status");
+  EXPECT_TRUE(has(out, "2 variable(s) A.first %QD0; no trigger")) << out;
+  d.execute("quit");
+}
+
+// A condition and a trace on the global image (%QD0, which task b's merges
+// write under the image lock) are evaluated and sampled after the scans of
+// task a too: they read the image under the image lock (TSan reports the
+// race otherwise), so every row and every evaluation sees whole merges.
+TEST(RealTimeSync, ConditionsAndTraceRowsReadTheGlobalImageUnderTheImageLock) {
+  auto dbg = realtime_debugger(kCounterTasks);
+  debug::Debugger& d = *dbg;
+  const std::string csv = plctest::temp_path("rt_trace.csv");
+  EXPECT_TRUE(has(d.execute("trace add A.first %QD0"), "2 variable(s)"));
+  EXPECT_TRUE(has(d.execute("trace start " + csv), "running into"));
+  {
+    plctest::Deadline deadline(d);
+    const std::string stop = d.execute("run until %QD0 >= 150");
+    ASSERT_TRUE(has(stop, "condition '%QD0 >= 150' holds")) << stop;
+  }
+  EXPECT_TRUE(has(d.execute("trace stop"), "rows written"));
+  EXPECT_GE(value_of(d.execute("print L.to_dev"), "L.to_dev"), 150);
+  // The rows come from task a's scans (A.first goes up by one) and %QD0
+  // only ever counts up.
+  std::istringstream rows(plctest::read_file(csv));
+  std::string line;
+  std::getline(rows, line);
+  EXPECT_EQ(line, "time_ns,cycle,A.first,%QD0");
+  long last_first = -1, last_q = -1, n = 0;
+  while (std::getline(rows, line)) {
+    long t = 0, c = 0, first = 0, q = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%ld,%ld,%ld,%ld", &t, &c, &first, &q), 4) << line;
+    if (last_first >= 0) {
+      EXPECT_EQ(first, last_first + 1) << line;
+    }
+    EXPECT_GE(q, last_q) << line;
+    last_first = first;
+    last_q = q;
+    ++n;
+  }
+  EXPECT_GT(n, 0);
+  std::remove(csv.c_str());
+  d.execute("quit");
+}
+
+// `continue for D` in real time runs D of real time, then pauses (as in
+// virtual time); Ctrl-C (interrupt) ends it early. It used to return at once
+// and leave the tasks running.
+TEST(RealTimeSync, ContinueForRunsThatLongThenPauses) {
+  auto dbg = realtime_debugger(kCounterTasks);
+  debug::Debugger& d = *dbg;
+  d.execute("pause");
+  const TaskRuntime& a = *d.runtime().task("a");
+  const std::uint64_t before = a.stats.scans();
+  const std::string out = d.execute("continue for 50ms");
+  EXPECT_TRUE(has(out, "stopped: ran for T#50ms")) << out;
+  EXPECT_TRUE(d.runtime().paused()) << "the session pauses at the end of the span";
+  EXPECT_EQ(d.prompt(), "[realtime paused] > ");
+  const std::uint64_t after = a.stats.scans();
+  EXPECT_GT(after, before) << "the tasks ran";
+  // Paused and settled: a step lets exactly one more scan of a through.
+  EXPECT_TRUE(has(d.execute("step task a 1"), "stepped 1 scan(s) of task 'a'"));
+  EXPECT_EQ(a.stats.scans(), after + 1);
+  // A long span ends early on Ctrl-C, paused too.
+  std::thread ctrl_c([&] {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (a.stats.scans() < after + 20 && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::yield();
+    d.interrupt();
+  });
+  const std::string longer = d.execute("continue for 1h");
+  ctrl_c.join();
+  EXPECT_TRUE(has(longer, "stopped: interrupted")) << longer;
+  EXPECT_TRUE(d.runtime().paused());
+  d.execute("quit");
+}
 
 // A stop (breakpoint, pause, step) waits until no task is inside a scan, so
 // reading the variables afterwards never sees half a scan.

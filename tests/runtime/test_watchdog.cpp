@@ -4,6 +4,9 @@
 // preempted (not runaway) scan never trips it.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <thread>
+
 #include "plc/io/sim_plugin.hpp"
 #include "test_helpers.hpp"
 #include "test_programs.hpp"
@@ -97,4 +100,38 @@ programs: [{name: L, type: LoopCounter}]
   rt->run(io::ClockMode::Virtual, std::chrono::seconds(10));
   EXPECT_FALSE(rt->task("t")->stats.snapshot().watchdog_tripped);
   EXPECT_EQ(rt->task("t")->stats.scans(), 10000u);
+}
+
+// Real time: the watchdog stops a task whose program never returns; the run
+// leaves its thread inside the program, and the Runtime is destroyed while
+// it is still there. When the program comes back it must find itself (and
+// the task image its located output writes into) alive, and its thread
+// must touch nothing of the destroyed Runtime: before the fix that was a
+// heap-use-after-free (ASan/TSan report it; without a sanitizer the
+// program found itself destroyed).
+TEST(RealTimeWatchdog, ARunawayScanThatOutlivesItsRuntimeFindsItsStateAlive) {
+  using plctest::Runaway;
+  Runaway::release = false;
+  Runaway::live_at_return = -1;
+  const int live_before = Runaway::live.load();
+  auto rt = plctest::make_runtime(R"(
+tasks: [{name: fast, period: 1ms, watchdog: 3, programs: [R]}]
+programs: [{name: R, type: Runaway}]
+safe_values: {"%QW0": 16#0400}
+)");
+  ASSERT_EQ(Runaway::live.load(), live_before + 1);
+  // The only task stops at the trip, which ends the run; its scan stays.
+  rt->run(io::ClockMode::RealTime, std::chrono::seconds(30));
+  const TaskStats st = rt->task("fast")->stats.snapshot();
+  EXPECT_TRUE(st.watchdog_tripped) << st.stop_reason;
+  EXPECT_EQ(Runaway::live_at_return.load(), -1) << "the scan is still running";
+  rt.reset();
+  Runaway::release = true;
+  // The thread frees what it kept when it ends: wait for that (bounded).
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (Runaway::live.load() != live_before && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::yield();
+  EXPECT_EQ(Runaway::live_at_return.load(), live_before + 1)
+      << "the program came back to a destroyed object";
+  EXPECT_EQ(Runaway::live.load(), live_before) << "the left-behind thread freed what it kept";
 }

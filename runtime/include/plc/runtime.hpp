@@ -50,6 +50,8 @@
 
 namespace plc {
 
+struct TaskThread;  // a real-time task thread's record (runtime/src/task_thread.hpp)
+
 struct DeviceRuntime {
   std::string name;
   std::string plugin_name;
@@ -240,9 +242,11 @@ class Runtime {
 
  private:
   void build(const CellConfig& cfg);
-  void scan(TaskRuntime& t, TIME now);
+  // false: the run left this real-time task thread behind inside a program
+  // (TaskThread), and it must return without touching the runtime.
+  bool scan(TaskRuntime& t, TIME now);
   ScanContext scan_latch(TaskRuntime& t, TIME now);          // step 1
-  void scan_finish(TaskRuntime& t, const ScanContext& ctx);  // steps 2-5
+  bool scan_finish(TaskRuntime& t, const ScanContext& ctx);  // steps 2-5
   void trip(TaskRuntime& t, const std::string& reason, bool watchdog);
   void apply_safe_outputs(const std::vector<std::uint8_t>* mask);
   void publish_all();
@@ -286,6 +290,10 @@ class Runtime {
   std::atomic<bool> rt_running_{false};
   std::atomic<bool> watchdog_running_{false};
   std::thread watchdog_thread_;
+  // Real time: task threads that a run left inside a runaway program; the
+  // destructor hands them what they may still touch (TaskThread).
+  std::vector<std::shared_ptr<TaskThread>> left_behind_;
+  void hand_over_left_behind();
   clockid_t scan_thread_cpu_clock_{};  // virtual time: the thread that calls tick()
   double wall_seconds_ = 0;
 };

@@ -1,5 +1,6 @@
 #include "plc/debug/condition.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -363,6 +364,16 @@ std::optional<Condition> Condition::compile(std::string_view text, const VarRegi
     return std::nullopt;
   }
   return c;
+}
+
+std::vector<const VarInfo*> Condition::variables() const {
+  std::vector<const VarInfo*> out;
+  for (const VarInfo& v : vars_) out.push_back(&v);
+  return out;
+}
+
+bool Condition::reads_global() const {
+  return std::any_of(vars_.begin(), vars_.end(), [](const VarInfo& v) { return v.task < 0; });
 }
 
 namespace {

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "plc/debug/one_task.hpp"
 #include "plc/iec_literal.hpp"
 
 namespace plc::debug {
@@ -116,6 +117,11 @@ void Debugger::build() {
   writes_.clear();
   trace_ = std::make_unique<Trace>(rt_->vars(), rt_->image(), rt_->byte_order());
   trace_->set_backpressure(opt_.mode == io::ClockMode::Virtual);
+  if (opt_.mode == io::ClockMode::RealTime) {
+    std::vector<std::string> names;
+    for (const auto& t : rt_->tasks()) names.push_back(t->name);
+    trace_->set_one_task(std::move(names));
+  }
   for (const std::string& spec : trace_spec_) {
     auto w = words(spec);
     if (w[0] == "add")
@@ -124,6 +130,10 @@ void Debugger::build() {
       trace_->set_trigger(rest_after(spec, 1));
     else if (w[0] == "pre")
       trace_->set_pretrigger(std::stoul(w[1]));
+  }
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    note_scan_end_reads();
   }
   if (!opt_.record_file.empty()) {
     recorder_ = std::make_unique<Recorder>(*rt_, opt_.record_file, Recorder::Attach::ByCaller);
@@ -277,12 +287,38 @@ void Debugger::on_stop(TaskRuntime& t, io::ProcessImage& global) {
 }
 
 void Debugger::on_scan_end(const TaskRuntime& t, const ScanContext& ctx) {
+  // Virtual time: nothing runs concurrently, the image is always readable
+  // (with_image_locked takes no lock there).
+  if (scan_end_reads_global_.load(std::memory_order_acquire)) {
+    rt_->with_image_locked([&] { scan_end(t, ctx, true); });
+  } else {
+    scan_end(t, ctx, opt_.mode != io::ClockMode::RealTime);
+  }
+}
+
+void Debugger::note_scan_end_reads() {
+  bool reads = trace_ && trace_->running() && trace_->reads_global();
+  for (const Breakpoint& b : breaks_) reads |= b.cond && b.cond->reads_global();
+  scan_end_reads_global_.store(reads, std::memory_order_release);
+}
+
+std::string Debugger::realtime_condition_error(const Condition& c) const {
+  if (opt_.mode != io::ClockMode::RealTime) return {};
+  std::vector<std::string> names;
+  for (const auto& t : rt_->tasks()) names.push_back(t->name);
+  return one_task_error(c.variables(), names);
+}
+
+void Debugger::scan_end(const TaskRuntime& t, const ScanContext& ctx, bool global_readable) {
   std::lock_guard<std::mutex> lock(mu_);
   if (scan_reads_n_) serve_reads(t);
   ++last_.scans;
   last_.time = ctx.now;
   last_.task = static_cast<int>(t.order);
-  if (trace_ && trace_->running()) {
+  // The trace and the conditions read the variables of this task only (in
+  // real time the commands refuse others: one_task.hpp), and the global
+  // image when it is readable.
+  if (trace_ && trace_->running() && (global_readable || !trace_->reads_global())) {
     int fastest = 0;
     for (const auto& task : rt_->tasks())
       if (task->period == rt_->fastest_period()) {
@@ -294,6 +330,7 @@ void Debugger::on_scan_end(const TaskRuntime& t, const ScanContext& ctx) {
   for (Breakpoint& b : breaks_) {
     if (!b.before_program.empty() || !b.cond) continue;
     if (b.task >= 0 && b.task != static_cast<int>(t.order)) continue;
+    if (!global_readable && b.cond->reads_global()) continue;
     if (!b.cond->holds()) continue;
     if (++b.hits % b.hit_target != 0) continue;
     if (!stop_hit_.load()) {
@@ -386,13 +423,26 @@ std::string Debugger::watch_lines() {
   return s;
 }
 
-std::string Debugger::realtime_wait_until_paused() {
-  while (!stop_hit_.load() && !interrupted_.load() && !end_requested())
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+std::string Debugger::realtime_wait_until_paused(std::optional<TIME> span) {
+  // The span counts on the monotonic clock, as the tasks' releases do.
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = span ? Clock::now() + *span : Clock::time_point::max();
+  bool ran_out = false;
+  while (!stop_hit_.load() && !interrupted_.load() && !end_requested()) {
+    const auto now = Clock::now();
+    if (now >= deadline) {
+      ran_out = true;
+      break;
+    }
+    std::this_thread::sleep_until(std::min(deadline, now + std::chrono::milliseconds(1)));
+  }
   const std::string note = pause_and_settle();
   // The scan thread that stopped us wrote the reason under mu_.
   std::lock_guard<std::mutex> lock(mu_);
-  return (stop_hit_.load() ? stop_reason_ : std::string("interrupted")) + note;
+  const std::string why = stop_hit_.load() ? stop_reason_
+                          : ran_out        ? "ran for " + format_iec_time(*span)
+                                           : std::string("interrupted");
+  return why + note;
 }
 
 std::string Debugger::pause_and_settle() {
@@ -487,6 +537,7 @@ std::string Debugger::cmd_continue(const std::vector<std::string>& a, bool until
     auto cond = Condition::compile(rest_after(joined_line_, 2), rt_->vars(), rt_->image(),
                                    rt_->byte_order(), err);
     if (!cond) return "run until: " + err + "\n";
+    if (err = realtime_condition_error(*cond); !err.empty()) return "run until: " + err + "\n";
     Breakpoint b;
     b.id = temp_id = -1;
     b.text = cond->text();
@@ -495,6 +546,7 @@ std::string Debugger::cmd_continue(const std::vector<std::string>& a, bool until
     b.temporary = true;
     std::lock_guard<std::mutex> lock(mu_);
     breaks_.push_back(std::move(b));
+    note_scan_end_reads();
   } else if (a.size() >= 2 && a[1] == "for") {
     if (a.size() != 3) return "usage: continue for DURATION (e.g. continue for 5s)\n";
     for_time = parse_iec_time(a[2]);
@@ -513,8 +565,8 @@ std::string Debugger::cmd_continue(const std::vector<std::string>& a, bool until
   std::string why;
   if (opt_.mode == io::ClockMode::RealTime) {
     rt_->set_paused(false);
-    if (!until) return "running (pause, or a breakpoint, stops it)\n";
-    why = realtime_wait_until_paused();
+    if (!until && !for_time) return "running (pause, or a breakpoint, stops it)\n";
+    why = realtime_wait_until_paused(for_time);
   } else {
     const TIME end = for_time ? rt_->now() + *for_time : opt_.span;
     while (true) {
@@ -545,6 +597,7 @@ std::string Debugger::cmd_continue(const std::vector<std::string>& a, bool until
   if (temp_id) {
     std::lock_guard<std::mutex> lock(mu_);
     std::erase_if(breaks_, [](const Breakpoint& b) { return b.temporary; });
+    note_scan_end_reads();
   }
   stop_hit_ = false;
   return stop_report("stopped: " + why);
@@ -592,6 +645,7 @@ std::string Debugger::cmd_break(const std::vector<std::string>& a) {
     std::string err;
     b.cond = Condition::compile(cond_text, rt_->vars(), rt_->image(), rt_->byte_order(), err);
     if (!b.cond) return "break: " + err + "\n";
+    if (err = realtime_condition_error(*b.cond); !err.empty()) return "break: " + err + "\n";
     b.task = b.cond->task();
   } else if (b.before_program.empty()) {
     return "usage: break CONDITION [hits N] | break before PROGRAM [if CONDITION] [hits N]\n";
@@ -607,6 +661,7 @@ std::string Debugger::cmd_break(const std::vector<std::string>& a) {
                     "\n";
   std::lock_guard<std::mutex> lock(mu_);
   breaks_.push_back(std::move(b));
+  note_scan_end_reads();
   return out;
 }
 
@@ -911,11 +966,13 @@ std::string Debugger::cmd_trace(const std::vector<std::string>& a) {
   if (sub == "start") {
     if (a.size() < 3) return "usage: trace start FILE.csv|FILE.vcd\n";
     const std::string err = trace_->start(a[2]);
+    note_scan_end_reads();
     return err.empty() ? "trace: " + trace_->describe() + "\n" : "trace start: " + err + "\n";
   }
   if (sub == "stop") {
     const std::uint64_t rows = trace_->rows_written();
     trace_->stop();
+    note_scan_end_reads();
     return "trace: stopped, " + std::to_string(rows) + " rows written\n";
   }
   return "trace: unknown subcommand '" + sub +
@@ -955,7 +1012,8 @@ std::string Debugger::cmd_record(const std::vector<std::string>& a) {
   std::string note;
   if (const std::uint64_t at = scan_count(); at > 0)
     note = "note: the recording starts at scan " + std::to_string(at) +
-           " (or the first scan after it with no acyclic request in flight) with a snapshot of the state the programs declare in PLC_REFLECT (all library blocks "
+           " (or the first scan after it with no acyclic request in flight) with a snapshot of the "
+           "state the programs declare in PLC_REFLECT (all library blocks "
            "declare theirs); state a program keeps undeclared is not in it and would show as "
            "differences in the replay. A recording from scan 0 (goto 0 first) needs no snapshot.\n";
   return "recording every scan's inputs into " + a[1] + "\n" + note;
@@ -1087,6 +1145,7 @@ std::string Debugger::execute(std::string_view line_in) {
       breaks_.clear();
     else
       std::erase_if(breaks_, [&](const Breakpoint& b) { return std::to_string(b.id) == a[1]; });
+    note_scan_end_reads();
     return before == breaks_.size()
                ? "delete: no breakpoint " + a[1] + "\n"
                : "deleted " + std::to_string(before - breaks_.size()) + " breakpoint(s)\n";

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "plc/debug/one_task.hpp"
 #include "plc/iec_literal.hpp"
 
 namespace plc::debug {
@@ -65,8 +66,26 @@ std::string Trace::add(const std::string& p) {
     if (v->type == VarType::STRING) return "'" + p + "' is a STRING; traces hold numbers and bits";
     c.var = *v;
   }
+  if (std::string err = one_task_check({&c.var}, true); !err.empty()) return err;
   columns_.push_back(std::move(c));
   return {};
+}
+
+std::string Trace::one_task_check(const std::vector<const VarInfo*>& extra,
+                                  bool with_trigger) const {
+  if (!one_task_) return {};
+  std::vector<const VarInfo*> vars;
+  for (const Column& c : columns_) vars.push_back(&c.var);
+  if (with_trigger && trigger_)
+    for (const VarInfo* v : trigger_->variables()) vars.push_back(v);
+  vars.insert(vars.end(), extra.begin(), extra.end());
+  return one_task_error(vars, one_task_names_);
+}
+
+bool Trace::reads_global() const {
+  for (const Column& c : columns_)
+    if (c.var.task < 0) return true;
+  return trigger_ && trigger_->reads_global();
 }
 
 std::string Trace::set_trigger(const std::string& text) {
@@ -76,13 +95,19 @@ std::string Trace::set_trigger(const std::string& text) {
     return {};
   }
   std::string err;
-  trigger_ = Condition::compile(text, vars_, global_, order_, err);
-  return trigger_ ? "" : err;
+  auto trigger = Condition::compile(text, vars_, global_, order_, err);
+  if (!trigger) return err;
+  if (err = one_task_check(trigger->variables(), false); !err.empty()) return err;
+  trigger_ = std::move(trigger);
+  return {};
 }
 
 int Trace::sampling_task(int fallback) const {
   for (const Column& c : columns_)
     if (c.var.task >= 0) return c.var.task;
+  if (one_task_ && trigger_)
+    for (const VarInfo* v : trigger_->variables())
+      if (v->task >= 0) return v->task;
   return fallback;
 }
 

@@ -69,6 +69,12 @@ class Condition {
   // The task that owns the first variable in the condition (-1: none, e.g.
   // only addresses): the condition is evaluated after that task's scans.
   [[nodiscard]] int task() const { return task_; }
+  // The variables it reads (program variables, and addresses, which belong
+  // to no task: VarInfo::task -1).
+  [[nodiscard]] std::vector<const VarInfo*> variables() const;
+  // Whether it reads the global image (an address operand): in real time it
+  // is then evaluated under the image lock.
+  [[nodiscard]] bool reads_global() const;
 
  private:
   enum class Op : std::uint8_t {

@@ -149,11 +149,26 @@ class Debugger final : public ScanHooks {
   bool one_scan();
   // A write into t's scan, noted by a running recording (mu_ held).
   void apply_write(TaskRuntime& t, const VarInfo& v, const void* value);
+  // After every scan, on its thread: counters, reads, trace row, conditions.
+  // In real time only the finishing task's variables are settled, and the
+  // global image is only readable under the image lock (one_task.hpp):
+  // on_scan_end takes that lock (before mu_) when a condition or the trace
+  // reads the image, and scan_end() then gets global_readable.
   void on_scan_end(const TaskRuntime& t, const ScanContext& ctx);
+  void scan_end(const TaskRuntime& t, const ScanContext& ctx, bool global_readable);
+  // Whether a breakpoint or the running trace reads the global image; kept
+  // up to date (mu_ held) by every change to breaks_ and the trace. A scan
+  // that looked before a change skips what it cannot read, for that scan.
+  std::atomic<bool> scan_end_reads_global_{false};
+  void note_scan_end_reads();
+  // Real time: "" when condition c reads variables of one task only
+  // (one_task.hpp), else why it is refused.
+  [[nodiscard]] std::string realtime_condition_error(const Condition& c) const;
   void freeze_if_due(TaskRuntime& t, std::size_t index);  // a freeze point before program `index`
   void freeze_loop(TaskRuntime& t, std::size_t index);
-  // Real time: waits for a breakpoint or Ctrl-C, pauses; the stop reason.
-  std::string realtime_wait_until_paused();
+  // Real time: waits for a breakpoint or Ctrl-C, or until `span` of real
+  // time has passed (`continue for`), then pauses; the stop reason.
+  std::string realtime_wait_until_paused(std::optional<TIME> span = std::nullopt);
 
   Factory factory_;
   Options opt_;

@@ -48,6 +48,13 @@ class Trace {
   void set_pretrigger(std::size_t rows) { pre_rows_ = rows; }
   // Off for real time: never make a scan thread wait for the disk.
   void set_backpressure(bool on) { backpressure_ = on; }
+  // Real time (one_task.hpp): add() and set_trigger() refuse a variable of
+  // another task than the trace's others; `task_names` name them in the
+  // error. The trace is then sampled after the scans of that task.
+  void set_one_task(std::vector<std::string> task_names) {
+    one_task_names_ = std::move(task_names);
+    one_task_ = true;
+  }
   // Opens the file and arms the trace. The format follows the extension
   // (.vcd -> VCD, else CSV) unless given.
   std::string start(const std::string& file, std::optional<TraceFormat> format = std::nullopt);
@@ -55,8 +62,12 @@ class Trace {
   void stop();
 
   // The task whose scans are sampled: the owner of the first variable, or
-  // `fallback` (the fastest task) when no variable belongs to a task.
+  // `fallback` (the fastest task) when no variable belongs to a task. With
+  // set_one_task(), the trigger's variables count too.
   [[nodiscard]] int sampling_task(int fallback) const;
+  // Whether a row or the trigger reads the global image (an address): in
+  // real time the sample is then taken under the image lock.
+  [[nodiscard]] bool reads_global() const;
   // Called after each scan of the sampling task.
   void sample(const ScanContext& ctx);
 
@@ -117,6 +128,12 @@ class Trace {
   std::thread writer_;
   bool closing_ = false;
   bool backpressure_ = true;
+  bool one_task_ = false;
+  std::vector<std::string> one_task_names_;
+  // The variables of the columns and the trigger, plus `extra`, must belong
+  // to one task (set_one_task); "" or why not.
+  [[nodiscard]] std::string one_task_check(const std::vector<const VarInfo*>& extra,
+                                           bool with_trigger) const;
 };
 
 }  // namespace plc::debug
