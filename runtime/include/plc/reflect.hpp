@@ -233,7 +233,7 @@
 // attribute macros' `int` overloads win over. Declared again by every
 // reflecting class, so a derived class never sees its base's attributes.
 #define PLC_RF_ATTR_DEFAULTS(...)                                                    \
-  static constexpr std::string_view plc_reflected_[] = {                             \
+  [[maybe_unused]] static constexpr std::string_view plc_reflected_[] = {            \
       PLC_RF_FOR_EACH(PLC_RF_NAME, __VA_ARGS__)};                                    \
   static constexpr bool plc_internal_(std::string_view, long) { return false; }      \
   [[nodiscard]] ::plc::WriteCheckFn plc_write_check_(std::string_view, long) const { \
