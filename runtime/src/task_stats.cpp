@@ -42,29 +42,25 @@ void LiveTaskStats::set_stopped(bool watchdog, std::string reason) {
   stop_published_.store(true, std::memory_order_release);
 }
 
+void LiveTaskStats::copy_counters(TaskStats& s) const {
+  s.scan_ns = Histogram(scan_ns_);
+  s.latency_ns = Histogram(latency_ns_);
+  s.scans = scans_;
+  s.overruns = overruns_;
+  s.skipped = skipped_;
+  s.paused_releases = paused_releases_;
+}
+
 void LiveTaskStats::help_reader() {
   int asked = kAsked;
   if (!help_.compare_exchange_strong(asked, kCopying, std::memory_order_acquire)) return;
-  // Between two updates: the figures are this thread's own, consistent.
-  helped_.scan_ns = Histogram(scan_ns_);
-  helped_.latency_ns = Histogram(latency_ns_);
-  helped_.scans = scans_;
-  helped_.overruns = overruns_;
-  helped_.skipped = skipped_;
-  helped_.paused_releases = paused_releases_;
+  copy_counters(helped_);  // between two updates: this thread's own, consistent
   help_.store(kCopied, std::memory_order_release);
 }
 
 TaskStats LiveTaskStats::snapshot() const {
   TaskStats s;
-  auto copy = [&] {
-    s.scan_ns = Histogram(scan_ns_);
-    s.latency_ns = Histogram(latency_ns_);
-    s.scans = scans_;
-    s.overruns = overruns_;
-    s.skipped = skipped_;
-    s.paused_releases = paused_releases_;
-  };
+  auto copy = [&] { copy_counters(s); };
   if (!seq_.read(copy, 64)) {
     std::lock_guard<std::mutex> lock(readers_);
     help_.store(kAsked, std::memory_order_release);
@@ -72,12 +68,7 @@ TaskStats LiveTaskStats::snapshot() const {
     // that went quiet leaves the lock-free copy free to succeed.
     for (int i = 0; i < 1'000'000; ++i) {
       if (help_.load(std::memory_order_acquire) == kCopied) {
-        s.scan_ns = helped_.scan_ns;
-        s.latency_ns = helped_.latency_ns;
-        s.scans = helped_.scans;
-        s.overruns = helped_.overruns;
-        s.skipped = helped_.skipped;
-        s.paused_releases = helped_.paused_releases;
+        s = helped_;  // its stop fields are never set (below)
         break;
       }
       if (i % 64 == 63) {

@@ -69,6 +69,7 @@ class LiveTaskStats {
     if (help_.load(std::memory_order_relaxed) == kAsked) help_reader();
   }
   void help_reader();
+  void copy_counters(TaskStats& s) const;  // everything but the stop fields
   static constexpr int kIdle = 0, kAsked = 1, kCopying = 2, kCopied = 3;
 
   SeqLock seq_;
