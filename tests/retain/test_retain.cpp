@@ -351,3 +351,58 @@ TEST_F(Retain, StalledWriterNeverBlocksTheScan) {
 }
 
 }  // namespace
+
+namespace {
+
+// plcrun on the filling cell with a retain section: --list-vars shows the
+// classes, the second run starts warm, and the options are checked.
+TEST(RetainPlcrun, FillingCellListsClassesAndRestartsWarm) {
+  const std::string dir = plctest::temp_path("plcrun_retain");
+  ASSERT_EQ(std::system(("rm -rf " + dir + " && mkdir -p " + dir).c_str()), 0);
+  const std::string cfg = dir + "/cell.yaml";
+  std::ofstream(cfg) << plctest::read_file(plctest::source_dir() +
+                                           "/programs/filling_cell/cell.yaml")
+                     << "\nretain: {file: filling.retain}\n";
+  const std::string plcrun = plctest::plcrun_path();
+  auto vars = plctest::run_command(plcrun + " " + cfg + " --list-vars");
+  ASSERT_EQ(vars.exit_code, 0) << vars.output;
+  EXPECT_NE(vars.output.find("Cell.containers DINT retain\n"), std::string::npos);
+  EXPECT_NE(vars.output.find("Cell.dose.PreactActual REAL retain\n"), std::string::npos);
+  EXPECT_NE(vars.output.find("Cell.dose.prev_reset_ BOOL read-only retain\n"), std::string::npos);
+  EXPECT_NE(vars.output.find("Cell.dose.State USINT read-only\n"), std::string::npos);
+
+  auto first =
+      plctest::run_command(plcrun + " " + cfg + " --for 60s -q --print-vars Cell.containers");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  EXPECT_NE(first.output.find("plcrun: retain: cold start: no retain file yet"), std::string::npos)
+      << first.output;
+  auto second =
+      plctest::run_command(plcrun + " " + cfg + " --for 1ms -q --print-vars Cell.containers");
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  EXPECT_NE(second.output.find("plcrun: retain: warm start from " + dir + "/filling.retain."),
+            std::string::npos)
+      << second.output;
+  // The count of the first life goes on (nonzero: 60 s fill several containers).
+  const auto count = [](const std::string& out) {
+    const auto at = out.find("Cell.containers = ");
+    return at == std::string::npos ? std::string("?")
+                                   : out.substr(at + 18, out.find('\n', at) - at - 18);
+  };
+  EXPECT_EQ(count(second.output), count(first.output));
+  EXPECT_NE(count(first.output), "0");
+  auto cold = plctest::run_command(plcrun + " " + cfg +
+                                   " --cold --for 1ms -q --print-vars Cell.containers");
+  EXPECT_EQ(count(cold.output), "0") << cold.output;
+
+  auto both = plctest::run_command(plcrun + " " + cfg + " --cold --warm");
+  EXPECT_EQ(both.exit_code, 2);
+  EXPECT_NE(both.output.find("--warm, --cold and --reset-retain exclude each other"),
+            std::string::npos);
+  auto none = plctest::run_command(plcrun + " " + plctest::source_dir() +
+                                   "/programs/filling_cell/cell.yaml --warm");
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.output.find("the config has no 'retain:' section"), std::string::npos);
+  std::system(("rm -rf " + dir).c_str());
+}
+
+}  // namespace
