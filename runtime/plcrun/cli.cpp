@@ -318,6 +318,10 @@ int plcrun_main(int argc, char** argv) {
   }
 
   if (vm.count("debug") || vm.count("commands")) {
+    if (cfg.retain.present)
+      std::fprintf(stderr,
+                   "plcrun: retain: not loaded or saved in a debugger session (every variable "
+                   "starts at its initial value; goto re-runs from them)\n");
     rt.reset();  // the debugger builds (and for goto rebuilds) its own
     debug::Debugger::Options o;
     o.mode = mode;
@@ -391,6 +395,7 @@ int plcrun_main(int argc, char** argv) {
     return 2;
   }
 
+  // A replay needs the initial values the recording started from.
   std::unique_ptr<retain::Manager> retained;
   if (cfg.retain.present && !replayer) {
     retained = std::make_unique<retain::Manager>(*rt, cfg.retain);

@@ -12,6 +12,7 @@
 #include <mutex>
 
 #include "../runtime/test_helpers.hpp"
+#include "plc/debug/debugger.hpp"
 #include "plc/retain/retain_manager.hpp"
 #include "retain_programs.hpp"
 
@@ -403,6 +404,35 @@ TEST(RetainPlcrun, FillingCellListsClassesAndRestartsWarm) {
   EXPECT_EQ(none.exit_code, 2);
   EXPECT_NE(none.output.find("the config has no 'retain:' section"), std::string::npos);
   std::system(("rm -rf " + dir).c_str());
+}
+
+}  // namespace
+
+namespace {
+
+// The debugger's restart (virtual time): warm keeps RETAIN and PERSISTENT
+// values of the running cell, cold only PERSISTENT (IEC 61131-3 6.5.6).
+TEST(RetainDebugger, RestartWarmAndCold) {
+  const auto cfg = parse_cell_config(
+      "image: {memory: 16}\ntasks: [{name: m, period: 1ms, programs: [P]}]\n"
+      "programs: [{name: P, type: RetainProbe}]\n",
+      "test.yaml");
+  debug::Debugger::Options o;
+  debug::Debugger d([&cfg] { return std::make_unique<Runtime>(cfg); }, o);
+  d.execute("step 10");
+  EXPECT_EQ(d.execute("print P.counter P.persist P.plain"),
+            "P.counter = 10  (DINT)\nP.persist = 10  (DINT)\nP.plain = 10  (DINT)\n");
+  const std::string warm = d.execute("restart warm");
+  EXPECT_NE(warm.find("warm restart: 13 RETAIN/PERSISTENT values kept"), std::string::npos) << warm;
+  EXPECT_EQ(d.execute("print P.counter P.persist P.plain P.mem"),
+            "P.counter = 10  (DINT)\nP.persist = 10  (DINT)\nP.plain = 0  (DINT)\nP.mem = 10  "
+            "(DINT %MD8)\n");
+  d.execute("step 5");
+  const std::string cold = d.execute("restart cold");
+  EXPECT_NE(cold.find("cold restart: 3 PERSISTENT values kept"), std::string::npos) << cold;
+  EXPECT_EQ(d.execute("print P.counter P.persist P.kept.scratch"),
+            "P.counter = 0  (DINT)\nP.persist = 15  (DINT)\nP.kept.scratch = 16  (DINT)\n");
+  EXPECT_EQ(d.execute("restart hot"), "usage: restart warm|cold\n");
 }
 
 }  // namespace
