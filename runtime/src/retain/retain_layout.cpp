@@ -37,11 +37,24 @@ Layout::Layout(const VarRegistry& vars, const RetainConfig& cfg, io::ProcessImag
   }
   std::uint64_t h = 1469598103934665603ULL;  // FNV-1a
   auto mix = [&h](unsigned char c) { h = (h ^ c) * 1099511628211ULL; };
-  for (Entry& e : entries_) {
-    // 8-byte aligned slots: a value is copied with one memcpy.
-    bytes_ = (bytes_ + 7) & ~std::size_t(7);
+  for (std::size_t i = 0; i < entries_.size(); ++i) {
+    Entry& e = entries_[i];
+    // Natural alignment, so that an array's elements stay neighbours.
+    const std::size_t align = e.size >= 8 ? 8 : e.size >= 4 ? 4 : e.size >= 2 ? 2 : 1;
+    bytes_ = (bytes_ + align - 1) & ~(align - 1);
     e.offset = bytes_;
     bytes_ += e.size;
+    const bool plain = e.type != kMemoryBytes && !e.var.address && e.var.type != VarType::STRING;
+    if (!plain) {
+      others_.push_back(i);
+    } else if (const auto* src = static_cast<const std::uint8_t*>(e.var.ptr);
+               !runs_.empty() && runs_.back().task == e.task &&
+               runs_.back().src + runs_.back().n == src &&
+               runs_.back().dst + runs_.back().n == e.offset) {
+      runs_.back().n += e.size;
+    } else {
+      runs_.push_back({src, e.offset, e.size, e.task});
+    }
     for (unsigned char c : e.path) mix(c);
     mix(0);
     mix(e.type);
@@ -51,7 +64,10 @@ Layout::Layout(const VarRegistry& vars, const RetainConfig& cfg, io::ProcessImag
 }
 
 void Layout::capture(int task, bool image, std::span<std::uint8_t> snapshot) const {
-  for (const Entry& e : entries_) {
+  for (const Run& r : runs_)
+    if (task < 0 || r.task == task) std::memcpy(snapshot.data() + r.dst, r.src, r.n);
+  for (std::size_t i : others_) {
+    const Entry& e = entries_[i];
     std::uint8_t* dst = snapshot.data() + e.offset;
     if (e.type == kMemoryBytes) {
       if (image) std::memcpy(dst, global_->area(io::Area::Memory).data() + e.mem_byte, e.size);

@@ -66,7 +66,8 @@ Manager::Manager(Runtime& rt, const RetainConfig& cfg)
       layout_(rt.vars(), cfg, rt.image()),
       storage_(cfg.path),
       writer_(layout_, storage_),
-      live_(layout_.bytes()) {}
+      live_(layout_.bytes()),
+      captured_(rt.tasks().size(), false) {}
 
 Manager::~Manager() {
   if (started_) rt_.remove_hooks(this);
@@ -118,6 +119,9 @@ StartReport Manager::start(StartMode mode) {
   } else {
     r.initial = layout_.entries().size();
   }
+  // Every task's part as the start-up leaves it (a task that stops before
+  // its first capture is saved with these values).
+  layout_.capture(-1, true, live_);
   writer_.start(next);
   rt_.add_hooks(this);
   started_ = true;
@@ -126,9 +130,19 @@ StartReport Manager::start(StartMode mode) {
 }
 
 void Manager::before_publish(TaskRuntime& t, io::ProcessImage&) {
+  if (!gathering_) {
+    if (t.scan_time < next_due_) return;
+    next_due_ = t.scan_time + save_every_;
+    gathering_ = true;
+    std::fill(captured_.begin(), captured_.end(), false);
+  }
+  if (captured_[t.order]) return;
   layout_.capture(static_cast<int>(t.order), true, live_);
-  if (t.scan_time < next_due_) return;
-  next_due_ = t.scan_time + save_every_;
+  captured_[t.order] = true;
+  // A stopped task scans no more: its part stays as its last scan left it.
+  for (const auto& other : rt_.tasks())
+    if (!captured_[other->order] && !other->stopped.load(std::memory_order_relaxed)) return;
+  gathering_ = false;
   writer_.offer(live_);
 }
 

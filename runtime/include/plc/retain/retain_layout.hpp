@@ -55,7 +55,17 @@ class Layout {
   static std::size_t stored_size(VarType t);
 
  private:
+  // Plain variables other than STRING, as memcpy runs: neighbours in the
+  // program object that are neighbours in the snapshot too (an array, a
+  // struct's fields) are one copy.
+  struct Run {
+    const std::uint8_t* src;
+    std::size_t dst, n;
+    int task;
+  };
   std::vector<Entry> entries_;
+  std::vector<Run> runs_;
+  std::vector<std::size_t> others_;  // entries not in runs_
   std::size_t bytes_ = 0;
   std::uint64_t hash_ = 0;
   io::ProcessImage* global_ = nullptr;

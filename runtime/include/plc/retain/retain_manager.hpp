@@ -3,13 +3,14 @@
 // a snapshot at a scan boundary at most every `save_every`, and saves a last
 // one at a controlled stop.
 //
-// Snapshots: every scan copies the retained variables of its task (and the
-// retained %M, from the global image) into a live buffer, after its
-// changes are merged and before the outputs are published (ScanHooks::
-// before_publish, under the image lock in real time). So each task's values
-// in the buffer come from one whole scan, never a torn one. Every
-// `save_every` of scan time the live buffer goes to the writer (Writer::
-// offer: one memcpy, or a counted skip while the writer is busy).
+// Snapshots: every `save_every` of scan time a snapshot is due. Then each
+// task, at the end of its next scan (after its changes are merged, before
+// the outputs are published: ScanHooks::before_publish, under the image lock
+// in real time), copies its retained variables (and the retained %M, from
+// the global image) into the live buffer; so each task's values come from
+// one whole scan of it, never a torn one. When every running task has done
+// so, the buffer goes to the writer (Writer::offer: one memcpy, or a
+// counted skip while the writer is busy). Other scans only compare a time.
 #pragma once
 
 #include <cstdint>
@@ -72,6 +73,9 @@ class Manager : public ScanHooks {
   std::vector<std::uint8_t> live_;
   TIME next_due_{};
   bool started_ = false;
+  // The snapshot being gathered: which tasks copied their part into live_.
+  bool gathering_ = false;
+  std::vector<bool> captured_;
 };
 
 }  // namespace plc::retain
