@@ -58,6 +58,30 @@ struct CellRun {
   std::uint8_t mem(std::size_t byte) { return rt->image().area(io::Area::Memory)[byte]; }
 };
 
+// A disk that hangs in every write until release() (test hook on the
+// writer thread; bounded: a broken test ends after 30 s instead of hanging).
+class StalledDisk {
+ public:
+  explicit StalledDisk(retain::Writer& w) {
+    w.set_before_write([this] {
+      std::unique_lock<std::mutex> lock(mu_);
+      cv_.wait_for(lock, std::chrono::seconds(30), [this] { return released_; });
+    });
+  }
+  void release() {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      released_ = true;
+    }
+    cv_.notify_all();
+  }
+
+ private:
+  std::mutex mu_;
+  std::condition_variable cv_;
+  bool released_ = false;
+};
+
 class Retain : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -324,14 +348,7 @@ TEST_F(Retain, StalledWriterNeverBlocksTheScan) {
   auto cfg = parse_cell_config(cell_yaml(file_, "RetainProbe", "1ms"), "test.yaml");
   Runtime rt(cfg);
   retain::Manager mgr(rt, cfg.retain);
-  std::mutex mu;
-  std::condition_variable cv;
-  bool release = false;
-  mgr.writer().set_before_write([&] {
-    std::unique_lock<std::mutex> lock(mu);
-    // Bounded: a broken test ends after 30 s instead of hanging.
-    cv.wait_for(lock, std::chrono::seconds(30), [&] { return release; });
-  });
+  StalledDisk disk(mgr.writer());
   mgr.start(StartMode::Cold);
   rt.start(io::ClockMode::Virtual);
   for (int i = 0; i < 1000; ++i) rt.tick();
@@ -339,11 +356,7 @@ TEST_F(Retain, StalledWriterNeverBlocksTheScan) {
   const auto st = mgr.stats();
   EXPECT_EQ(st.offered, 1u);
   EXPECT_EQ(st.skipped, 999u);  // one per period: save_every = 1ms = the task period
-  {
-    std::lock_guard<std::mutex> lock(mu);
-    release = true;
-  }
-  cv.notify_all();
+  disk.release();
   rt.finish();
   EXPECT_EQ(mgr.stop(), "");
   CellRun r(file_, StartMode::Warm);
@@ -452,24 +465,14 @@ TEST(RetainTasks, SnapshotGathersOneScanOfEveryTask) {
       "test.yaml");
   Runtime rt(cfg);
   retain::Manager mgr(rt, cfg.retain);
-  std::mutex mu;
-  std::condition_variable cv;
-  bool release = false;
-  mgr.writer().set_before_write([&] {
-    std::unique_lock<std::mutex> lock(mu);
-    cv.wait_for(lock, std::chrono::seconds(30), [&] { return release; });
-  });
+  StalledDisk disk(mgr.writer());
   mgr.start(StartMode::Cold);
   rt.start(io::ClockMode::Virtual);
   for (int i = 0; i < 100; ++i) rt.tick();  // t = 0 .. 99 ms
   const auto st = mgr.stats();
   EXPECT_EQ(st.offered, 1u);   // complete at t = 0 (both tasks scanned)
   EXPECT_EQ(st.skipped, 49u);  // t = 2, 4, ... 98
-  {
-    std::lock_guard<std::mutex> lock(mu);
-    release = true;
-  }
-  cv.notify_all();
+  disk.release();
   rt.finish();
   EXPECT_EQ(mgr.stop(), "");
   Runtime again(cfg);
