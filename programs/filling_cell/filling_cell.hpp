@@ -48,6 +48,9 @@ class FillingCell : public ProgramBase<FillingCell> {
 
   PLC_REFLECT(run, pitch, index_velocity, target_kg, conveyor, power, index, reset, scale, dose,
               guard, step, containers, last_error, fault_edge)
+  // The production count survives a power cut (a warm start); the batch
+  // block keeps its learned preact and totals itself.
+  PLC_RETAIN(containers)
 };
 
 }  // namespace cell

@@ -18,6 +18,7 @@
 #include "plc/debug/recording.hpp"
 #include "plc/debug/trace.hpp"
 #include "plc/iec_literal.hpp"
+#include "plc/retain/retain_manager.hpp"
 #include "plc/runtime.hpp"
 
 namespace plc {
@@ -181,12 +182,15 @@ int plcrun_main(int argc, char** argv) {
     ("trace-trigger", po::value<std::string>()->value_name("CONDITION"), "start tracing when this condition holds, e.g. 'Tank.step = 3'")
     ("trace-pre", po::value<std::size_t>()->value_name("ROWS"), "rows kept from before the trigger (default 0)")
     ("stats-json", po::value<std::string>()->value_name("FILE"), "write per-task statistics as JSON at the end")
-    ("list-vars", "print every variable path with its type (and address; 'read-only' for a block's internal state), then exit")
+    ("list-vars", "print every variable path with its type (and address; 'read-only' for a block's internal state; 'retain' or 'persistent'), then exit")
     ("print-vars", po::value<std::string>()->value_name("PATH,..."), "print these variables' final values after the summary: PATH,PATH,...")
     ("debug", "open the debugger console (pause, step, break, watch, force, trace, goto ...)")
     ("commands", po::value<std::string>()->value_name("FILE"), "run debugger commands from FILE (then the console if --debug)")
     ("record", po::value<std::string>()->value_name("FILE"), "record every scan's device inputs into FILE (for --replay)")
     ("replay", po::value<std::string>()->value_name("FILE"), "replay a recording instead of the devices, checking the outputs")
+    ("warm", "warm start: RETAIN and PERSISTENT variables from the retain file (the default when a valid one exists)")
+    ("cold", "cold start: only PERSISTENT variables from the retain file, everything else initial")
+    ("reset-retain", "remove the retain file first: every variable at its initial value")
     ("quiet,q", "no live status line")
     ("config", po::value<std::string>()->value_name("FILE"), "the cell config (YAML)");
   // clang-format on
@@ -221,6 +225,12 @@ int plcrun_main(int argc, char** argv) {
     return 2;
   }
 
+  if (vm.count("warm") + vm.count("cold") + vm.count("reset-retain") > 1) {
+    std::cerr << "plcrun: --warm, --cold and --reset-retain exclude each other\n";
+    return 2;
+  }
+  const bool start_mode_given = vm.count("warm") || vm.count("cold") || vm.count("reset-retain");
+
   std::unique_ptr<Runtime> rt;
   io::ClockMode mode = io::ClockMode::Virtual;
   CellConfig cfg;
@@ -242,6 +252,7 @@ int plcrun_main(int argc, char** argv) {
       // Internal state of a block: print, watch, trace, break; not write,
       // force or init: (reflect.hpp).
       if (v.read_only) std::cout << " read-only";
+      if (v.retain != RetainClass::None) std::cout << " " << to_string(v.retain);
       std::cout << "\n";
     }
     return 0;
@@ -285,6 +296,18 @@ int plcrun_main(int argc, char** argv) {
     return 2;
   }
 
+  if (start_mode_given && !cfg.retain.present) {
+    std::cerr << "plcrun: --warm/--cold/--reset-retain: the config has no 'retain:' section\n";
+    return 2;
+  }
+  if (start_mode_given && (vm.count("replay") || vm.count("debug") || vm.count("commands"))) {
+    // A replay and a debugger session (goto re-runs from the start) need the
+    // initial values; they neither load nor save retain data.
+    std::cerr << "plcrun: --warm/--cold/--reset-retain apply to a plain run, not to --replay, "
+                 "--debug or --commands\n";
+    return 2;
+  }
+
   if (vm.count("replay") && mode == io::ClockMode::RealTime) {
     std::cerr << "plcrun: --replay runs in virtual time\n";
     return 2;
@@ -295,6 +318,10 @@ int plcrun_main(int argc, char** argv) {
   }
 
   if (vm.count("debug") || vm.count("commands")) {
+    if (cfg.retain.present)
+      std::fprintf(stderr,
+                   "plcrun: retain: not loaded or saved in a debugger session (every variable "
+                   "starts at its initial value; goto re-runs from them)\n");
     rt.reset();  // the debugger builds (and for goto rebuilds) its own
     debug::Debugger::Options o;
     o.mode = mode;
@@ -366,6 +393,18 @@ int plcrun_main(int argc, char** argv) {
   } catch (const std::exception& e) {
     std::cerr << "plcrun: " << e.what() << "\n";
     return 2;
+  }
+
+  // A replay needs the initial values the recording started from.
+  std::unique_ptr<retain::Manager> retained;
+  if (cfg.retain.present && !replayer) {
+    retained = std::make_unique<retain::Manager>(*rt, cfg.retain);
+    const retain::StartMode sm = vm.count("warm")           ? retain::StartMode::Warm
+                                 : vm.count("cold")         ? retain::StartMode::Cold
+                                 : vm.count("reset-retain") ? retain::StartMode::Reset
+                                                            : retain::StartMode::Auto;
+    for (const auto& line : retained->start(sm).lines())
+      std::fprintf(stderr, "plcrun: retain: %s\n", line.c_str());
   }
 
   std::unique_ptr<debug::Trace> trace;
@@ -446,6 +485,22 @@ int plcrun_main(int argc, char** argv) {
     }
   }
   g_runtime = nullptr;
+  if (retained) {
+    // A controlled stop saves the last state (the scans are over).
+    const std::string err = retained->stop();
+    const retain::WriterStats st = retained->stats();
+    std::fprintf(
+        stderr,
+        "plcrun: retain: %llu saves (last sequence %llu), %llu unchanged, %llu skipped "
+        "(writer busy), %llu failed\n",
+        static_cast<unsigned long long>(st.written), static_cast<unsigned long long>(st.sequence),
+        static_cast<unsigned long long>(st.unchanged), static_cast<unsigned long long>(st.skipped),
+        static_cast<unsigned long long>(st.failed));
+    if (!err.empty()) {
+      std::fprintf(stderr, "plcrun: retain: the final save FAILED: %s\n", err.c_str());
+      rc = 1;
+    }
+  }
   if (status) status->done();
   if (trace) trace->stop();
   print_summary(*rt);

@@ -123,7 +123,8 @@ class Loader {
     if (!root || root.IsNull()) fail(Mark{1, 1}, "the config is empty");
     expect_map(root, "the cell config");
     check_keys(root,
-               {"cell", "clock", "image", "tasks", "programs", "plugins", "devices", "safe_values"},
+               {"cell", "clock", "image", "tasks", "programs", "plugins", "devices", "safe_values",
+                "retain"},
                "the cell config");
     if (root["cell"]) c.cell = scalar(root["cell"], "cell");
     if (const auto n = root["clock"]) {
@@ -161,6 +162,7 @@ class Loader {
     if (const auto n = root["safe_values"]) {
       for (auto& [a, v] : string_map(n, "safe_values")) c.safe_values.push_back({a, v});
     }
+    if (const auto n = root["retain"]) c.retain = retain(n, c.image);
     if (c.tasks.empty()) fail(root, "the cell config declares no tasks (key 'tasks')");
     cross_check(c);
     return c;
@@ -201,6 +203,61 @@ class Loader {
     if (!progs.IsSequence()) fail(progs, "key 'programs' must be a list of program names");
     for (const auto& p : progs) t.programs.push_back(scalar(p, "programs"));
     return t;
+  }
+
+  RetainConfig retain(const YAML::Node& n, const io::ImageSizes& image) const {
+    RetainConfig r;
+    r.present = true;
+    r.mark = mark_of(n);
+    expect_map(n, "retain");
+    check_keys(n, {"file", "save_every", "memory"}, "retain");
+    r.file = scalar(require(n, "file", "retain"), "file");
+    if (r.file.value.empty()) fail(n["file"], "key 'file': names no file");
+    r.path = r.file.value;
+    // Relative to the config's folder: the cell keeps its file wherever it
+    // is started from.
+    const auto slash = file_.rfind('/');
+    if (r.path[0] != '/' && slash != std::string::npos)
+      r.path = file_.substr(0, slash + 1) + r.path;
+    r.save_every.mark = r.mark;
+    if (n["save_every"]) {
+      r.save_every = time(n["save_every"], "save_every");
+      if (r.save_every.value < kMinSaveEvery || r.save_every.value > kMaxSaveEvery)
+        fail(n["save_every"], "key 'save_every': " + format_iec_time(r.save_every.value) +
+                                  " out of range [" + format_iec_time(kMinSaveEvery) + ", " +
+                                  format_iec_time(kMaxSaveEvery) + "]");
+    }
+    if (const auto m = n["memory"]) {
+      if (!m.IsSequence())
+        fail(m,
+             "key 'memory' must be a list of %M addresses or ranges (e.g. [\"%MB0..%MB15\", "
+             "%MD20])");
+      for (const auto& item : m) r.memory.push_back(memory_range(item, image));
+    }
+    return r;
+  }
+
+  // "%MW10" (its bytes) or "%MB0..%MB15" (inclusive), inside the %M image.
+  RetainMemoryRange memory_range(const YAML::Node& n, const io::ImageSizes& image) const {
+    const auto s = scalar(n, "memory");
+    const auto dots = s.value.find("..");
+    auto one = [&](const std::string& text) {
+      auto a = io::parse_iec_address(text);
+      if (!a.address) fail(n, "key 'memory': " + a.error);
+      if (a.address->area != io::Area::Memory)
+        fail(n, "key 'memory': " + text + " is not a %M address (only memory is retained)");
+      return *a.address;
+    };
+    const io::IecAddress first = one(s.value.substr(0, dots));
+    const io::IecAddress last = dots == std::string::npos ? first : one(s.value.substr(dots + 2));
+    RetainMemoryRange r{first.byte, 0, s.mark};
+    const std::size_t end = last.byte + last.width_bytes();
+    if (end <= first.byte) fail(n, "key 'memory': '" + s.value + "' ends before it starts");
+    r.count = end - first.byte;
+    if (end > image.memory)
+      fail(n, "key 'memory': '" + s.value + "' lies outside the %M image (" +
+                  std::to_string(image.memory) + " bytes; see image: memory)");
+    return r;
   }
 
   ProgramConfig program(const YAML::Node& n) {

@@ -234,6 +234,7 @@ void Runtime::build(const CellConfig& cfg) {
       v.task = static_cast<int>(task.order);
       v.read_only = fld.access.read_only;
       v.check = fld.access.check;
+      v.retain = fld.retain;
       program_vars.emplace_back(fld.seq, std::move(v));
     }
     for (const auto& l : fv.located) {
@@ -275,6 +276,14 @@ void Runtime::build(const CellConfig& cfg) {
       v.task = static_cast<int>(task.order);
       v.read_only = l.access.read_only;
       v.check = l.access.check;
+      v.retain = l.retain;
+      // Only %M is restored: an input comes from its device at the next
+      // latch and an output starts at its safe value (a retained output
+      // would be overwritten by the copy-in anyway, OpenPLC v4's bug).
+      if (l.retain != RetainClass::None && r.address->area != io::Area::Memory)
+        fail(m, l.path + ": " + to_string(l.retain) + " located at " + addr +
+                    ": only %M located variables can be retained (keep the value in a plain "
+                    "variable or a %M address)");
       program_vars.emplace_back(l.seq, std::move(v));
     }
     std::sort(program_vars.begin(), program_vars.end(),

@@ -92,6 +92,27 @@ struct SafeValueConfig {
   Item<std::string> value;
 };
 
+// The `retain:` section (docs/config.md): where the cell keeps its RETAIN and
+// PERSISTENT variables, how often they are saved, and which %M bytes are
+// kept with them.
+inline constexpr TIME kMinSaveEvery = std::chrono::milliseconds(1);
+inline constexpr TIME kMaxSaveEvery = std::chrono::hours(1);
+inline constexpr TIME kDefaultSaveEvery = std::chrono::milliseconds(100);
+
+struct RetainMemoryRange {
+  std::size_t byte = 0, count = 0;  // %MB<byte> .. %MB<byte+count-1>
+  Mark mark;
+};
+
+struct RetainConfig {
+  bool present = false;
+  Item<std::string> file;  // as written; resolved against the config's folder
+  std::string path;        // the file to use
+  Item<TIME> save_every{kDefaultSaveEvery, {}};
+  std::vector<RetainMemoryRange> memory;
+  Mark mark;
+};
+
 struct CellConfig {
   std::string file;
   Item<std::string> cell;
@@ -103,6 +124,7 @@ struct CellConfig {
   std::vector<PluginConfig> plugins;
   std::vector<DeviceConfig> devices;
   std::vector<SafeValueConfig> safe_values;
+  RetainConfig retain;
   Mark image_mark;
 };
 

@@ -3,7 +3,8 @@
 // variables (to bind into the image) and device ports (to bind to devices),
 // each with its write access: internal state (PLC_INTERNAL, and everything
 // below an internal field) is read-only unless its block gives a write
-// check (PLC_WRITE_CHECK), see reflect.hpp.
+// check (PLC_WRITE_CHECK), see reflect.hpp; and its retain class
+// (PLC_RETAIN, PLC_PERSISTENT, inherited the same way).
 #pragma once
 
 #include <string>
@@ -31,6 +32,7 @@ class FieldVisitor {
     void* ptr;
     std::size_t seq;
     Access access;
+    RetainClass retain = RetainClass::None;
   };
   struct LocatedField {
     std::string path;
@@ -38,6 +40,7 @@ class FieldVisitor {
     io::LocatedBase* var;
     std::size_t seq;
     Access access;
+    RetainClass retain = RetainClass::None;
   };
   struct PortField {
     std::string path;
@@ -63,16 +66,20 @@ class FieldVisitor {
       access.read_only = meta.internal && meta.check == nullptr;
       access.check = {meta.check, meta.owner};
     }
+    // The retain class is inherited too: an FB instance declared RETAIN
+    // keeps all of itself; inner declarations count below an unclassed field.
+    const RetainClass retain = inside_retain_ != RetainClass::None ? inside_retain_ : meta.retain;
     if constexpr (io::IsLocated<T>::value) {
-      located.push_back({path(name), VarTypeOf<typename T::value_type>::value, &f, seq_++, access});
+      located.push_back(
+          {path(name), VarTypeOf<typename T::value_type>::value, &f, seq_++, access, retain});
     } else if constexpr (std::is_same_v<T, io::DevicePort>) {
       ports.push_back({path(name), &f, seq_++});
     } else if constexpr (is_elementary_v<T>) {
-      fields.push_back({path(name), VarTypeOf<T>::value, &f, seq_++, access});
+      fields.push_back({path(name), VarTypeOf<T>::value, &f, seq_++, access, retain});
     } else if constexpr (std::is_enum_v<T>) {
       using U = std::underlying_type_t<T>;
       static_assert(is_elementary_v<U>, "reflected enums need an integer underlying type");
-      fields.push_back({path(name), VarTypeOf<U>::value, &f, seq_++, access});
+      fields.push_back({path(name), VarTypeOf<U>::value, &f, seq_++, access, retain});
     } else if constexpr (IsStdArray<T>::value) {
       const std::string base = name;
       for (std::size_t i = 0; i < f.size(); ++i) {
@@ -82,11 +89,14 @@ class FieldVisitor {
     } else if constexpr (HasReflect<T, FieldVisitor>::value) {
       const std::size_t keep = prefix_.size();
       const bool keep_internal = inside_internal_;
+      const RetainClass keep_retain = inside_retain_;
       prefix_ += '.';
       prefix_ += name;
       inside_internal_ = inside_internal_ || meta.internal;
+      inside_retain_ = retain;
       f.reflect(*this);
       inside_internal_ = keep_internal;
+      inside_retain_ = keep_retain;
       prefix_.resize(keep);
     } else {
       static_assert(sizeof(T) == 0,
@@ -105,6 +115,7 @@ class FieldVisitor {
   std::string prefix_;
   std::size_t seq_ = 0;
   bool inside_internal_ = false;
+  RetainClass inside_retain_ = RetainClass::None;
 };
 
 // Collects the fields of any reflected object under `root` (tests, tools).

@@ -40,6 +40,19 @@
 //       must not depend on state that changes; the block stays robust to
 //       any value its own code may store.
 //
+//   PLC_RETAIN(f, ...)  kept over a warm start (power loss, crash, plcrun
+//       --warm), initial again after a cold start (IEC 61131-3 RETAIN).
+//   PLC_PERSISTENT(f, ...)  kept over warm and cold starts; only plcrun
+//       --reset-retain clears it (IEC PERSISTENT / TwinCAT PERSISTENT).
+//       A field listed in both is PERSISTENT. The class is inherited: a
+//       whole FB instance declared RETAIN keeps every field below it (the
+//       CTU's CV, its edge memory, ...), whatever its class declares; only
+//       below a field without a class do the inner declarations apply (a
+//       batch block keeps its learned preact and totals on its own).
+//       Located fields: only %M ones (the image is restored); a retained %I
+//       or %Q is refused when the cell is built (inputs come from devices,
+//       outputs start at their safe values).
+//
 // The library's rule (fblocks/): every member ending in `_` is internal, and
 // so is an output the block reads back as the state it runs on
 // (PR5510_BatchWeigh.State, AbsEncoderInit.Step, DriveAxis.State,
@@ -53,8 +66,7 @@
 // snapshot and goto's re-run restore internal state on purpose.
 //
 // The attributes are plain name lists next to PLC_REFLECT so that more of
-// them fit the same shape (issue 14: RETAIN and PERSISTENT, declared once at
-// any depth): a new attribute is one more FieldMeta member, one more default
+// them fit the same shape: a new attribute is one more FieldMeta member, one more default
 // in PLC_RF_ATTR_DEFAULTS and its macro. A class that extends a reflected
 // base (PLC_REFLECT_DERIVED) declares the attributes of the fields it lists;
 // the base's reflect() applies the base's own.
@@ -62,6 +74,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <initializer_list>
 #include <string>
 #include <string_view>
@@ -225,9 +238,12 @@
 #define PLC_RF_NAME(f) #f,
 #define PLC_RF_PAIR_NAME(f, check) #f,
 
-#define PLC_RF_ONE(f)            \
-  ::plc::reflect_field(v, #f, f, \
-                       ::plc::FieldMeta{plc_internal_(#f, 0), plc_write_check_(#f, 0), this});
+#define PLC_RF_ONE(f)                                                                           \
+  ::plc::reflect_field(v, #f, f,                                                                \
+                       ::plc::FieldMeta{plc_internal_(#f, 0), plc_write_check_(#f, 0), this,    \
+                                        plc_persistent_(#f, 0) ? ::plc::RetainClass::Persistent \
+                                        : plc_retain_(#f, 0)   ? ::plc::RetainClass::Retain     \
+                                                               : ::plc::RetainClass::None});
 
 // The attributes' defaults (no attribute): the `long` overloads, which the
 // attribute macros' `int` overloads win over. Declared again by every
@@ -236,6 +252,8 @@
   [[maybe_unused]] static constexpr std::string_view plc_reflected_[] = {            \
       PLC_RF_FOR_EACH(PLC_RF_NAME, __VA_ARGS__)};                                    \
   static constexpr bool plc_internal_(std::string_view, long) { return false; }      \
+  static constexpr bool plc_retain_(std::string_view, long) { return false; }        \
+  static constexpr bool plc_persistent_(std::string_view, long) { return false; }    \
   [[nodiscard]] ::plc::WriteCheckFn plc_write_check_(std::string_view, long) const { \
     return nullptr;                                                                  \
   }
@@ -259,16 +277,23 @@
   }                                          \
   PLC_RF_ATTR_DEFAULTS(__VA_ARGS__)
 
-// The block's internal state (see the top of this file). After PLC_REFLECT.
-#define PLC_INTERNAL(...)                                                                          \
-  static constexpr bool plc_internal_(std::string_view plc_name_, int) {                           \
+// An attribute that is a list of field names: `fn(name, 0)` says whether
+// the field is listed.
+#define PLC_RF_NAME_LIST_FN(fn, what, ...)                                                         \
+  static constexpr bool fn(std::string_view plc_name_, int) {                                      \
     static_assert(                                                                                 \
         ::plc::detail::all_reflected({PLC_RF_FOR_EACH(PLC_RF_NAME, __VA_ARGS__)}, plc_reflected_), \
-        "PLC_INTERNAL names a field that this class's PLC_REFLECT does not list");                 \
+        what " names a field that this class's PLC_REFLECT does not list");                        \
     for (std::string_view n : {PLC_RF_FOR_EACH(PLC_RF_NAME, __VA_ARGS__)})                         \
       if (n == plc_name_) return true;                                                             \
     return false;                                                                                  \
   }
+// The block's internal state (see the top of this file). After PLC_REFLECT.
+#define PLC_INTERNAL(...) PLC_RF_NAME_LIST_FN(plc_internal_, "PLC_INTERNAL", __VA_ARGS__)
+// Retain classes (IEC 61131-3 RETAIN / PERSISTENT, see the top of this
+// file). After PLC_REFLECT.
+#define PLC_RETAIN(...) PLC_RF_NAME_LIST_FN(plc_retain_, "PLC_RETAIN", __VA_ARGS__)
+#define PLC_PERSISTENT(...) PLC_RF_NAME_LIST_FN(plc_persistent_, "PLC_PERSISTENT", __VA_ARGS__)
 
 #define PLC_RF_CHECK_ONE(f, check)                                                      \
   if (plc_name_ == #f)                                                                  \
@@ -306,12 +331,21 @@ struct WriteCheck {
   [[nodiscard]] std::string operator()(const void* value) const { return fn(owner, value); }
 };
 
+// Whether a value survives a restart (IEC 61131-3 2.4.3.1 / 6.5.6): RETAIN
+// over a warm start, PERSISTENT over a warm and a cold start (only a reset
+// of the retain data clears it). None: initial value at every start.
+enum class RetainClass : std::uint8_t { None, Retain, Persistent };
+constexpr const char* to_string(RetainClass c) {
+  return c == RetainClass::Persistent ? "persistent" : c == RetainClass::Retain ? "retain" : "";
+}
+
 // What a reflecting class declares about one field (PLC_INTERNAL,
-// PLC_WRITE_CHECK).
+// PLC_WRITE_CHECK, PLC_RETAIN, PLC_PERSISTENT).
 struct FieldMeta {
   bool internal = false;
   WriteCheckFn check = nullptr;
   const void* owner = nullptr;
+  RetainClass retain = RetainClass::None;
 };
 
 // Calls the visitor with the field's attributes when it takes them.

@@ -32,6 +32,8 @@ struct VarInfo {
   // a block is read-only; a block's write check vets every value first.
   bool read_only = false;
   WriteCheck check;
+  // Kept over restarts (PLC_RETAIN / PLC_PERSISTENT, runtime/…/retain/).
+  RetainClass retain = RetainClass::None;
 };
 
 class VarRegistry {

@@ -10,6 +10,7 @@
 
 #include "plc/debug/one_task.hpp"
 #include "plc/iec_literal.hpp"
+#include "plc/retain/retain_layout.hpp"
 
 namespace plc::debug {
 namespace {
@@ -91,9 +92,10 @@ void Debugger::detach() {
   rt_.reset();
 }
 
-void Debugger::build() {
+void Debugger::build(const std::function<void(Runtime&)>& before_start) {
   detach();
   rt_ = factory_();
+  if (before_start) before_start(*rt_);
   if (!opt_.replay_file.empty()) replayer_ = std::make_unique<Replayer>(*rt_, opt_.replay_file);
   rt_->add_hooks(this);
   rt_->add_scan_observer(
@@ -1048,6 +1050,38 @@ std::string Debugger::cmd_goto(const std::vector<std::string>& a) {
   return stop_report("at scan " + std::to_string(scan_count()) + note);
 }
 
+// IEC 61131-3 restart of the running cell, from memory (the session keeps
+// no retain file): warm keeps RETAIN and PERSISTENT variables, cold only
+// PERSISTENT; everything else, the devices included, starts over.
+std::string Debugger::cmd_restart(const std::vector<std::string>& a) {
+  if (a.size() != 2 || (a[1] != "warm" && a[1] != "cold")) return "usage: restart warm|cold\n";
+  if (opt_.mode != io::ClockMode::Virtual)
+    return "restart needs virtual time (in real time: quit, then plcrun --warm or --cold)\n";
+  const bool warm = a[1] == "warm";
+  RetainConfig no_memory;  // the declared variables (the %M ranges live in the config)
+  const retain::Layout old_layout(rt_->vars(), no_memory, rt_->image());
+  std::vector<std::uint8_t> values(old_layout.bytes());
+  old_layout.capture(-1, true, values);
+  std::size_t kept = 0;
+  build([&](Runtime& rt) {
+    const retain::Layout layout(rt.vars(), no_memory, rt.image());
+    for (const retain::Entry& e : layout.entries()) {
+      if (!warm && e.cls != RetainClass::Persistent) continue;
+      for (const retain::Entry& o : old_layout.entries())
+        if (o.path == e.path && o.type == e.type && o.size == e.size) {
+          layout.restore(e, values.data() + o.offset);
+          ++kept;
+          break;
+        }
+    }
+    for (const auto& t : rt.tasks()) t->image.copy_from(rt.image());
+  });
+  stop_hit_ = false;
+  return stop_report(std::string(warm ? "warm" : "cold") + " restart: " + std::to_string(kept) +
+                     (warm ? " RETAIN/PERSISTENT" : " PERSISTENT") +
+                     " values kept, everything else at its initial value");
+}
+
 std::string Debugger::cmd_stats() {
   std::string s;
   char b[256];
@@ -1109,6 +1143,8 @@ std::string Debugger::help() const {
   trace start FILE.csv|FILE.vcd | trace stop | trace [status]
   record FILE | record stop  record every scan's device inputs for replay (plcrun --replay)
   goto SCAN                 go to scan SCAN, also backwards (re-runs from the start)
+  restart warm|cold         restart the cell: warm keeps RETAIN and PERSISTENT values,
+                            cold only PERSISTENT; the rest (devices too) starts over
   stats | status            task statistics | where the session is
   help | quit
 conditions: ST syntax, e.g.  Tank.step = 3 AND Tank.level > 16#5000 OR NOT %IX0.1
@@ -1160,6 +1196,7 @@ std::string Debugger::execute(std::string_view line_in) {
   if (c == "trace") return cmd_trace(a);
   if (c == "record") return cmd_record(a);
   if (c == "goto") return cmd_goto(a);
+  if (c == "restart") return cmd_restart(a);
   if (c == "stats") return cmd_stats();
   if (c == "status" || c == "where") return stop_report("status");
   return "unknown command '" + c + "' (help lists them)\n";

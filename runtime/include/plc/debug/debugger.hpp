@@ -123,7 +123,9 @@ class Debugger final : public ScanHooks {
     int task = -1;
   };
 
-  void build();  // (re)creates the runtime and re-resolves everything
+  // (Re)creates the runtime and re-resolves everything; `before_start` runs
+  // on the new runtime before its first scan (restart's retained values).
+  void build(const std::function<void(Runtime&)>& before_start = {});
   void attach();
   void detach();
   std::string cmd_step(const std::vector<std::string>& a);
@@ -135,6 +137,7 @@ class Debugger final : public ScanHooks {
   std::string cmd_trace(const std::vector<std::string>& a);
   std::string cmd_record(const std::vector<std::string>& a);
   std::string cmd_goto(const std::vector<std::string>& a);
+  std::string cmd_restart(const std::vector<std::string>& a);
   std::string cmd_stats();
   std::string cmd_watch(const std::vector<std::string>& a, bool add);
   std::string help() const;

@@ -170,6 +170,12 @@ class PR5510_BatchWeigh {
   PLC_INTERNAL(State, slot_, prev_execute_, prev_reset_, learned_, have_net_, closed_by_preact_,
                top_up_, adapted_, tare_step_, net_, start_net_, entered_, active_time_, last_now_,
                rate_started_, time_learned_, rate_t1_, rate_n1_, top_up_len_, below_zero_since_)
+  // Kept over a warm start (fblocks/weighing/README.md "Retain"): what the
+  // block learned (the preact and in-flight time, and that it learned them),
+  // the totals and counts, and the ResetTotals edge memory (a reset held
+  // through a power cut does not clear the totals again).
+  PLC_RETAIN(PreactActual, InFlightTime, learned_, time_learned_, TotalWeight, BatchCount,
+             InTolCount, OutTolCount, prev_reset_)
 
   void operator()(const ScanContext& ctx);
 

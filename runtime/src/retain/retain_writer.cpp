@@ -1,0 +1,113 @@
+#include "plc/retain/retain_writer.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+
+#include "plc/retain/retain_file.hpp"
+
+namespace plc::retain {
+
+Writer::Writer(const Layout& layout, Storage& storage)
+    : layout_(layout), storage_(storage), pending_(layout.bytes()), last_(layout.bytes()) {}
+
+Writer::~Writer() {
+  if (thread_.joinable()) {
+    state_.fetch_or(kStop, std::memory_order_release);
+    state_.notify_all();
+    thread_.join();
+  }
+}
+
+void Writer::start(std::uint64_t next_sequence) {
+  next_sequence_ = next_sequence;
+  thread_ = std::thread([this] { run(); });
+}
+
+bool Writer::offer(std::span<const std::uint8_t> snapshot) {
+  if (state_.load(std::memory_order_acquire) & (kFull | kStop)) {
+    skipped_.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  std::memcpy(pending_.data(), snapshot.data(), pending_.size());
+  state_.fetch_or(kFull, std::memory_order_release);
+  state_.notify_one();
+  offered_.fetch_add(1, std::memory_order_relaxed);
+  return true;
+}
+
+void Writer::run() {
+  for (;;) {
+    std::uint32_t s = state_.load(std::memory_order_acquire);
+    while (!(s & (kFull | kStop))) {
+      state_.wait(s, std::memory_order_acquire);
+      s = state_.load(std::memory_order_acquire);
+    }
+    if (!(s & kFull)) return;  // stopping, nothing pending
+    if (before_write_) before_write_();
+    write_one(pending_);
+    state_.fetch_and(~kFull, std::memory_order_release);
+  }
+}
+
+std::string Writer::write_one(std::span<const std::uint8_t> snapshot) {
+  if (have_last_ && std::memcmp(last_.data(), snapshot.data(), last_.size()) == 0) {
+    std::lock_guard<std::mutex> lock(mu_);
+    ++unchanged_;
+    return {};
+  }
+  std::uint64_t seq;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    seq = next_sequence_;
+  }
+  const std::int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                               std::chrono::system_clock::now().time_since_epoch())
+                               .count();
+  encode(layout_, snapshot, seq, now, encoded_);
+  const std::string err = storage_.write(encoded_, seq);
+  std::lock_guard<std::mutex> lock(mu_);
+  if (err.empty()) {
+    std::memcpy(last_.data(), snapshot.data(), last_.size());
+    have_last_ = true;
+    ++written_;
+    sequence_ = seq;
+    ++next_sequence_;
+    if (!last_error_.empty())
+      std::fprintf(stderr, "plcrun: retain: saving works again (sequence %llu)\n",
+                   static_cast<unsigned long long>(seq));
+    last_error_.clear();
+  } else {
+    ++failed_;
+    // Said once per new reason, not once per period of a full disk.
+    if (err != last_error_)
+      std::fprintf(stderr, "plcrun: retain: cannot save (the previous copy stays valid): %s\n",
+                   err.c_str());
+    last_error_ = err;
+  }
+  return err;
+}
+
+std::string Writer::stop(std::span<const std::uint8_t> final_snapshot) {
+  if (thread_.joinable()) {
+    state_.fetch_or(kStop, std::memory_order_release);
+    state_.notify_all();
+    thread_.join();
+  }
+  return write_one(final_snapshot);
+}
+
+WriterStats Writer::stats() const {
+  WriterStats s;
+  s.offered = offered_.load(std::memory_order_relaxed);
+  s.skipped = skipped_.load(std::memory_order_relaxed);
+  std::lock_guard<std::mutex> lock(mu_);
+  s.written = written_;
+  s.unchanged = unchanged_;
+  s.failed = failed_;
+  s.sequence = sequence_;
+  s.last_error = last_error_;
+  return s;
+}
+
+}  // namespace plc::retain
