@@ -19,7 +19,7 @@ plc_jobs() { echo "${PLC_JOBS:-$(nproc)}"; }
 # libFuzzer (fuzzer-no-link), tests/fuzz/ targets as libFuzzer executables.
 # -O1 without NDEBUG (asserts stay on); any sanitizer report is fatal.
 plc_configure_asan() {
-  plc_configure build-asan -DCMAKE_CXX_COMPILER="${PLC_ASAN_CXX:-clang++}" -DPLC_EXCLUDE="" \
+  plc_configure build-asan -DCMAKE_CXX_COMPILER="${PLC_ASAN_CXX:-clang++}" -DPLC_EXCLUDE="" -DPLC_BENCHES=OFF \
     -DPLC_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
     -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
 }
