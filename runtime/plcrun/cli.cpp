@@ -1,6 +1,7 @@
 #include "cli.hpp"
 
 #include <fcntl.h>
+#include <pthread.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -30,6 +31,7 @@ Runtime* g_runtime = nullptr;
 debug::Debugger* g_debugger = nullptr;
 bool g_console = false;            // a debugger session with a console (--debug)
 std::atomic<int> g_end_signal{0};  // the signal that ends a debugger session
+pthread_t g_main_thread;           // reads the console; set first thing in plcrun_main
 static_assert(std::atomic<int>::is_always_lock_free);  // so async-signal-safe
 
 // First Ctrl-C or SIGTERM: stop at the next scan boundary with outputs safe.
@@ -39,6 +41,13 @@ static_assert(std::atomic<int>::is_always_lock_free);  // so async-signal-safe
 // command (the console goes on); SIGTERM, and Ctrl-C without a console
 // (--commands alone), end the session the same way as a run ends.
 extern "C" void on_signal(int sig) {
+  // The kernel may give the signal to any thread (a task's, a plugin's); a
+  // console blocked in read() is woken only by one delivered to its own
+  // thread, so hand it over (pthread_kill is async-signal-safe).
+  if (!pthread_equal(pthread_self(), g_main_thread)) {
+    pthread_kill(g_main_thread, sig);
+    return;
+  }
   static std::atomic<int> count{0};
   if (g_debugger && g_console && sig == SIGINT) {
     g_debugger->interrupt();
@@ -167,6 +176,7 @@ void print_summary(const Runtime& rt) {
 }  // namespace
 
 int plcrun_main(int argc, char** argv) {
+  g_main_thread = pthread_self();
   po::options_description opts(
       "Usage: plcrun CONFIG [options]\n\nRuns a cell (tasks, programs, devices) from its YAML "
       "config.\n\nOptions");
