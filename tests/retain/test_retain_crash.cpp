@@ -32,8 +32,12 @@ using namespace std::chrono_literals;
 
 // Scans of 1 ms: save_every (100 ms) + one scan.
 constexpr std::int64_t kSavePeriodScans = 100 + 1;
-// The write in flight: up to this long on a loaded shared VM (measured
-// writes take 0.1-10 ms; the figure printed at the end says how close).
+// The snapshots are taken early by the recent write time, so the newest
+// complete copy stays within kSavePeriodScans (measured: max 100 in two
+// passes of 200 runs). A write much slower than the recent ones (a loaded
+// shared VM: 0.1-10 ms and more) can still exceed it by its excess: allowed
+// here so that CI does not fail on a slow fsync; the figure printed at the
+// end says how close the run came.
 constexpr std::int64_t kWriteAllowanceScans = 100;
 
 pid_t spawn(const std::string& exe, const std::string& cfg, const std::string& log,

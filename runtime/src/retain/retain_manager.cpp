@@ -1,5 +1,6 @@
 #include "plc/retain/retain_manager.hpp"
 
+#include <algorithm>
 #include <unordered_map>
 
 namespace plc::retain {
@@ -132,7 +133,12 @@ StartReport Manager::start(StartMode mode) {
 void Manager::before_publish(TaskRuntime& t, io::ProcessImage&) {
   if (!gathering_) {
     if (t.scan_time < next_due_) return;
-    next_due_ = t.scan_time + save_every_;
+    // A save is complete one file write after its snapshot: take the next
+    // snapshot that much before the period ends, so that the newest complete
+    // copy is never older than save_every (plus a scan) while writes take
+    // about as long as the recent ones. Never more often than every half
+    // period.
+    next_due_ = t.scan_time + std::max<TIME>(save_every_ / 2, save_every_ - writer_.write_lead());
     gathering_ = true;
     std::fill(captured_.begin(), captured_.end(), false);
   }
@@ -143,7 +149,9 @@ void Manager::before_publish(TaskRuntime& t, io::ProcessImage&) {
   for (const auto& other : rt_.tasks())
     if (!captured_[other->order] && !other->stopped.load(std::memory_order_relaxed)) return;
   gathering_ = false;
-  writer_.offer(live_);
+  // The writer still busy with the previous save (a slow disk): try again
+  // at the next scan rather than a period later.
+  if (!writer_.offer(live_)) next_due_ = t.scan_time;
 }
 
 std::string Manager::stop() {

@@ -1,5 +1,6 @@
 #include "plc/retain/retain_writer.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -65,7 +66,11 @@ std::string Writer::write_one(std::span<const std::uint8_t> snapshot) {
                                std::chrono::system_clock::now().time_since_epoch())
                                .count();
   encode(layout_, snapshot, seq, now, encoded_);
+  const auto t0 = std::chrono::steady_clock::now();
   const std::string err = storage_.write(encoded_, seq);
+  const std::int64_t took = (std::chrono::steady_clock::now() - t0).count();
+  const std::int64_t lead = write_lead_ns_.load(std::memory_order_relaxed);
+  write_lead_ns_.store(std::max(took, lead - lead / 8), std::memory_order_relaxed);
   std::lock_guard<std::mutex> lock(mu_);
   if (err.empty()) {
     std::memcpy(last_.data(), snapshot.data(), last_.size());

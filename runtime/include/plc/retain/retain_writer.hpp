@@ -9,6 +9,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <mutex>
@@ -53,6 +54,12 @@ class Writer {
   std::string stop(std::span<const std::uint8_t> final_snapshot);
 
   [[nodiscard]] WriterStats stats() const;
+  // How long a file write takes lately (the longest of the recent ones,
+  // decaying by 1/8 per write): the scan side takes its snapshots that much
+  // early, so that the newest complete copy stays within a save period.
+  [[nodiscard]] std::chrono::nanoseconds write_lead() const {
+    return std::chrono::nanoseconds(write_lead_ns_.load(std::memory_order_relaxed));
+  }
   [[nodiscard]] bool busy() const { return (state_.load(std::memory_order_acquire) & kFull) != 0; }
 
  private:
@@ -68,6 +75,7 @@ class Writer {
   bool have_last_ = false;
   std::atomic<std::uint32_t> state_{0};
   std::atomic<std::uint64_t> offered_{0}, skipped_{0};
+  std::atomic<std::int64_t> write_lead_ns_{0};
   mutable std::mutex mu_;  // the fields below (writer side, read by stats())
   std::uint64_t written_ = 0, unchanged_ = 0, failed_ = 0, sequence_ = 0, next_sequence_ = 1;
   std::string last_error_;
