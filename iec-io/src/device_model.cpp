@@ -11,6 +11,15 @@ RecordError DeviceModel::write_record(std::uint16_t, std::span<const std::uint8_
   return RecordError::InvalidIndex;
 }
 
+RecordError DeviceModel::query_record(std::uint16_t index, std::span<const std::uint8_t> request,
+                                      std::span<std::uint8_t> out, std::size_t& length) {
+  if (!request.empty()) {
+    length = 0;
+    return RecordError::InvalidIndex;
+  }
+  return read_record(index, out, length);
+}
+
 DeviceModelRegistry& DeviceModelRegistry::instance() {
   static DeviceModelRegistry r;
   return r;

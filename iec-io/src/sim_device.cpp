@@ -1,5 +1,8 @@
 #include "plc/io/sim_device.hpp"
 
+#include <algorithm>
+#include <array>
+
 namespace plc::io {
 
 SimDevice::SimDevice(std::unique_ptr<DeviceModel> model)
@@ -24,8 +27,13 @@ void SimDevice::serve_records() {
         r->fail(e, static_cast<std::uint16_t>(e));
       }
     } else {
+      // The request bytes share the answer's buffer: copy them out first.
+      std::array<std::uint8_t, kRecordMaxBytes> request{};
+      const auto req = r->data();
+      std::copy(req.begin(), req.end(), request.begin());
       std::size_t len = 0;
-      const RecordError e = model_->read_record(r->index(), r->buffer(), len);
+      const RecordError e =
+          model_->query_record(r->index(), {request.data(), req.size()}, r->buffer(), len);
       if (e == RecordError::None) {
         r->complete(len);
       } else {

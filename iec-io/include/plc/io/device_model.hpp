@@ -40,6 +40,12 @@ class DeviceModel {
   virtual RecordError read_record(std::uint16_t index, std::span<std::uint8_t> out,
                                   std::size_t& length);
   virtual RecordError write_record(std::uint16_t index, std::span<const std::uint8_t> data);
+  // A read that carries request bytes (RecordRequest::prepare_read(index,
+  // request); DeviceNet explicit services, explicit_message.hpp). The default
+  // serves a read without request bytes through read_record and refuses one
+  // with them (the model does not know such requests).
+  virtual RecordError query_record(std::uint16_t index, std::span<const std::uint8_t> request,
+                                   std::span<std::uint8_t> out, std::size_t& length);
 
   // Whether the device answers on the bus now (fault injection "stop
   // answering" turns this off; the plugin then reports the device Offline and

@@ -72,6 +72,19 @@ class RecordRequest {
     length_ = 0;
   }
 
+  // A read that first sends request bytes (a DeviceNet explicit service names
+  // class/instance/attribute in them: explicit_message.hpp). Until the plugin
+  // answers, data() holds the request; the answer then replaces it. Returns
+  // false (and prepares nothing) if the request does not fit.
+  bool prepare_read(std::uint16_t index, std::span<const std::uint8_t> request) {
+    if (request.size() > kRecordMaxBytes) return false;
+    kind_ = RecordKind::Read;
+    index_ = index;
+    std::memcpy(data_.data(), request.data(), request.size());
+    length_ = static_cast<std::uint16_t>(request.size());
+    return true;
+  }
+
   [[nodiscard]] RecordStatus status() const { return status_.load(std::memory_order_acquire); }
   [[nodiscard]] bool busy() const { return status() == RecordStatus::Queued; }
   [[nodiscard]] RecordKind kind() const { return kind_; }
