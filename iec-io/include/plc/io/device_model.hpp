@@ -55,6 +55,10 @@ class DeviceModel {
   // Power cycle: volatile state lost, non-volatile state (e.g. an absolute
   // encoder's multi-turn count) kept.
   virtual void power_cycle() {}
+
+  // The hosting transport lost the I/O connection (its connection timeout
+  // expired, e.g. a DeviceNet expected-packet-rate timeout). Default: nothing.
+  virtual void io_connection_lost() {}
 };
 
 using DeviceModelFactory = std::function<std::unique_ptr<DeviceModel>(const ModelParams&)>;
