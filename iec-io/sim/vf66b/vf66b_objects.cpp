@@ -14,6 +14,7 @@
 // while the drive runs (J-11 is "not changeable during operation").
 #include <algorithm>
 
+#include "plc/fb/acdrive/profile_objects.hpp"
 #include "plc/fb/acdrive/speed_scale.hpp"
 #include "plc/io/explicit_message.hpp"
 #include "vf66b/vf66b_model.hpp"
@@ -25,69 +26,15 @@ using acdrive::DriveState;
 
 namespace {
 
-constexpr std::uint8_t kParameterClass = 0x0F;
-constexpr std::uint8_t kMotorData = 0x28;
-constexpr std::uint8_t kControlSupervisor = 0x29;
-constexpr std::uint8_t kAcDcDrive = 0x2A;
+constexpr std::uint8_t kParameterClass = acdrive::kParameterClass;
+constexpr std::uint8_t kMotorData = acdrive::kMotorDataClass;
+constexpr std::uint8_t kControlSupervisor = acdrive::kControlSupervisorClass;
+constexpr std::uint8_t kAcDcDrive = acdrive::kAcDcDriveClass;
+using acdrive::AttrType;
 
 io::RecordError err(std::uint8_t general) {
   return static_cast<io::RecordError>(em::error_code(general));
 }
-
-enum class Type : std::uint8_t { Bool, Usint, Sint, Uint, Int };
-std::size_t size_of(Type t) { return (t == Type::Uint || t == Type::Int) ? 2 : 1; }
-
-struct Attr {
-  std::uint8_t cls, attr;
-  Type type;
-  bool settable;
-};
-// The "Supported" attributes of instance 1 (Tables 3.3.2, 3.4.2, 3.5.2).
-constexpr std::array<Attr, 21> kAttrs = {{
-    {kMotorData, 3, Type::Usint, true},           // MotorType
-    {kMotorData, 6, Type::Uint, true},            // RatedCurrent
-    {kMotorData, 7, Type::Uint, true},            // RatedVoltage
-    {kControlSupervisor, 3, Type::Bool, true},    // Run1
-    {kControlSupervisor, 4, Type::Bool, true},    // Run2
-    {kControlSupervisor, 5, Type::Bool, true},    // NetCtrl
-    {kControlSupervisor, 6, Type::Usint, false},  // State
-    {kControlSupervisor, 7, Type::Bool, false},   // Running1
-    {kControlSupervisor, 8, Type::Bool, false},   // Running2
-    {kControlSupervisor, 9, Type::Bool, false},   // Ready
-    {kControlSupervisor, 10, Type::Bool, false},  // Faulted
-    {kControlSupervisor, 11, Type::Bool, false},  // Warning
-    {kControlSupervisor, 12, Type::Bool, true},   // FaultRst
-    {kControlSupervisor, 15, Type::Bool, false},  // CtrlFromNet
-    {kAcDcDrive, 3, Type::Bool, false},           // AtReference
-    {kAcDcDrive, 4, Type::Bool, true},            // NetRef
-    {kAcDcDrive, 6, Type::Usint, true},           // DriveMode
-    {kAcDcDrive, 7, Type::Int, false},            // SpeedActual
-    {kAcDcDrive, 8, Type::Int, true},             // SpeedRef
-    {kAcDcDrive, 22, Type::Sint, true},           // SpeedScale
-    {kAcDcDrive, 29, Type::Bool, false},          // RefFromNet
-}};
-
-const Attr* find_attr(std::uint8_t cls, std::uint8_t attr) {
-  for (const Attr& a : kAttrs)
-    if (a.cls == cls && a.attr == attr) return &a;
-  return nullptr;
-}
-
-// Parameter object instances 1..19 (Table 3.2) -> class/attribute, [inf]
-// mapping by name (§3).
-struct ParamMap {
-  std::uint8_t cls, attr;
-};
-constexpr std::array<ParamMap, 19> kParams = {{
-    {kMotorData, 3},          {kMotorData, 6},          {kMotorData, 7},
-    {kControlSupervisor, 5},  {kControlSupervisor, 6},  {kControlSupervisor, 7},
-    {kControlSupervisor, 8},  {kControlSupervisor, 9},  {kControlSupervisor, 10},
-    {kControlSupervisor, 11}, {kControlSupervisor, 12}, {kControlSupervisor, 15},
-    {kAcDcDrive, 3},          {kAcDcDrive, 4},          {kAcDcDrive, 6},
-    {kAcDcDrive, 7},          {kAcDcDrive, 8},          {kAcDcDrive, 22},
-    {kAcDcDrive, 29},
-}};
-constexpr std::uint8_t kParameterValueAttr = 1;  // [std] Parameter Value
 
 std::uint8_t drive_mode_of(Vf66bMode m) {
   // 0x2A attr 6: 1 open-loop speed (V/f), 2 closed-loop speed (vector).
@@ -112,7 +59,7 @@ bool Vf66bModel::carried_by_output(std::uint8_t cls, std::uint8_t attr) const {
 
 io::RecordError Vf66bModel::get_attribute(std::uint8_t cls, std::uint8_t attr,
                                           std::span<std::uint8_t> out, std::size_t& length) const {
-  const Attr* a = find_attr(cls, attr);
+  const acdrive::ProfileAttr* a = acdrive::find_profile_attr(cls, attr);
   if (!a) return err(em::kAttributeNotSupported);
   std::int32_t v = 0;
   switch (cls << 8 | attr) {
@@ -182,7 +129,7 @@ io::RecordError Vf66bModel::get_attribute(std::uint8_t cls, std::uint8_t attr,
     default:
       return err(em::kAttributeNotSupported);
   }
-  const std::size_t n = size_of(a->type);
+  const std::size_t n = acdrive::size_of(a->type);
   if (out.size() < n) return err(em::kReplyDataTooLarge);
   out[0] = static_cast<std::uint8_t>(v & 0xFF);
   if (n == 2) out[1] = static_cast<std::uint8_t>((v >> 8) & 0xFF);
@@ -192,29 +139,29 @@ io::RecordError Vf66bModel::get_attribute(std::uint8_t cls, std::uint8_t attr,
 
 io::RecordError Vf66bModel::set_attribute(std::uint8_t cls, std::uint8_t attr,
                                           std::span<const std::uint8_t> data) {
-  const Attr* a = find_attr(cls, attr);
+  const acdrive::ProfileAttr* a = acdrive::find_profile_attr(cls, attr);
   if (!a) return err(em::kAttributeNotSupported);
   if (!a->settable) return err(em::kAttributeNotSettable);
-  const std::size_t n = size_of(a->type);
+  const std::size_t n = acdrive::size_of(a->type);
   if (data.size() < n) return err(em::kNotEnoughData);
   if (data.size() > n) return err(em::kTooMuchData);
   std::int32_t v = 0;
   switch (a->type) {
-    case Type::Bool:
-    case Type::Usint:
+    case AttrType::Bool:
+    case AttrType::Usint:
       v = data[0];
       break;
-    case Type::Sint:
+    case AttrType::Sint:
       v = static_cast<std::int8_t>(data[0]);
       break;
-    case Type::Uint:
+    case AttrType::Uint:
       v = data[0] | (data[1] << 8);
       break;
-    case Type::Int:
+    case AttrType::Int:
       v = static_cast<std::int16_t>(data[0] | (data[1] << 8));
       break;
   }
-  if (a->type == Type::Bool && v > 1) return err(em::kInvalidAttributeValue);
+  if (a->type == AttrType::Bool && v > 1) return err(em::kInvalidAttributeValue);
   if (carried_by_output(cls, attr)) return err(em::kDeviceStateConflict);
   const bool running = state_ == DriveState::Enabled || state_ == DriveState::Stopping ||
                        state_ == DriveState::FaultStop;
@@ -274,16 +221,16 @@ io::RecordError Vf66bModel::query_record(std::uint16_t index, std::span<const st
   if (cls != kParameterClass && cls != kMotorData && cls != kControlSupervisor && cls != kAcDcDrive)
     return err(em::kObjectDoesNotExist);
   const bool parameter = cls == kParameterClass;
-  const std::uint8_t max_inst = parameter ? kParams.size() : 1;
+  const std::size_t max_inst = parameter ? acdrive::kParameterMap.size() : 1;
   if (inst > max_inst) return err(em::kObjectDoesNotExist);
   if (r->service != em::kGetAttributeSingle && r->service != em::kSetAttributeSingle)
     return err(em::kServiceNotSupported);
   // Instance 0 = the class: every class attribute is "Not Support".
   if (inst == 0) return err(em::kAttributeNotSupported);
   if (parameter) {
-    if (attr != kParameterValueAttr) return err(em::kAttributeNotSupported);
-    cls = kParams[inst - 1].cls;
-    attr = kParams[inst - 1].attr;
+    if (attr != acdrive::kParameterValueAttr) return err(em::kAttributeNotSupported);
+    cls = acdrive::kParameterMap[inst - 1].cls;
+    attr = acdrive::kParameterMap[inst - 1].attr;
   }
   if (r->service == em::kGetAttributeSingle) {
     if (!r->data.empty()) return err(em::kTooMuchData);
