@@ -151,7 +151,11 @@ void AcDrive::operator()(const ScanContext& ctx) {
   ResetActive = reset;
 
   if (!Faulted && reset_phase_ == ResetPhase::Idle && !RunFwd && !RunRev) RestartInhibit = false;
-  const bool may_run = !RestartInhibit && reset_phase_ == ResetPhase::Idle;
+  // Run bits only while the drive can take them: a run level raised while
+  // it starts up or is not ready would be no event of Table 3.4.3 once it
+  // is ready (71 shows Ready; 70 and the extended inputs only Faulted).
+  const bool accepts = InputInstance == 71 ? Ready : !Faulted;
+  const bool may_run = accepts && !RestartInhibit && reset_phase_ == ResetPhase::Idle;
   const bool run_fwd = may_run && RunFwd && !RunRev;
   const bool run_rev = may_run && RunRev && !RunFwd;
 
