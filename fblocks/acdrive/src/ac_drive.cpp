@@ -74,10 +74,12 @@ void AcDrive::read_inputs() {
     AtReference = i.detect.setting_reached;
     ActualSpeed = i.speed_actual2 * TopSpeed / 20000.0;
   }
-  if (ProtectCode != 0)
-    FaultText = protect_code_text(ProtectCode);
-  else
-    FaultText = Faulted ? kProfileFaultText : "";
+  // The text changes only with the code: no string copy in a steady scan.
+  const std::int16_t text = ProtectCode != 0 ? ProtectCode : (Faulted ? -1 : 0);
+  if (text != text_code_) {
+    text_code_ = text;
+    FaultText = text > 0 ? protect_code_text(ProtectCode) : (text < 0 ? kProfileFaultText : "");
+  }
 }
 
 void AcDrive::write_outputs(bool run_fwd, bool run_rev, bool reset, std::int16_t ref_bus,

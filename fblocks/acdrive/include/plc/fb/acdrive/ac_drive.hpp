@@ -98,8 +98,10 @@ struct AcDrive {
               Error, ErrorID, Faulted, Warning, Running, RunningFwd, RunningRev, Ready, AtReference,
               CtrlFromNet, RefFromNet, State, ActualSpeed, FaultBits, ProtectCode, FaultText,
               Monitor, ResetActive, RestartInhibit,
-              /* internal state */ prev_reset_, reset_phase_, reset_start_, last_ref_, last_ref2_)
-  PLC_INTERNAL(RestartInhibit, prev_reset_, reset_phase_, reset_start_, last_ref_, last_ref2_)
+              /* internal state */ prev_reset_, reset_phase_, reset_start_, last_ref_, last_ref2_,
+              text_code_)
+  PLC_INTERNAL(RestartInhibit, prev_reset_, reset_phase_, reset_start_, last_ref_, last_ref2_,
+               text_code_)
 
   // ---- internals ----
   enum class ResetPhase : std::uint8_t { Idle, ClearRun, Pulse };
@@ -114,6 +116,7 @@ struct AcDrive {
   TIME reset_start_{};
   std::int16_t last_ref_ = 0;   // last valid SpeedRef on the wire (r/min x 2^SpeedScale)
   std::int16_t last_ref2_ = 0;  // last valid Speed Reference2 (20000 = TopSpeed)
+  std::int16_t text_code_ = 0;  // what FaultText shows: protect code, -1 profile fault
 };
 
 }  // namespace plc::acdrive
