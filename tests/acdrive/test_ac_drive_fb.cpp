@@ -297,6 +297,30 @@ TEST(AcDriveAttributeFb, SetMotorDataAndErrorResponses_Section11_1) {
   EXPECT_EQ(a.ErrorID, error_id::kBadInput);
 }
 
+TEST(AcDriveAttributeFb, DoneHoldsWhileExecuteAndOneScanAfterAnEarlyDrop) {
+  AttrBench b;
+  b.fb.Enable = true;
+  b.run(100);
+  AcDriveAttribute a;
+  a.Attribute = 22;
+  ASSERT_TRUE(b.exec(a));
+  for (int i = 0; i < 5; ++i) {
+    b.scan([&] { a(b.ctx, b.fb); });
+    EXPECT_TRUE(a.Done) << "held while Execute stays TRUE";
+  }
+  // Execute drops in the scan after the edge, before the answer.
+  a.Execute = false;
+  b.scan([&] { a(b.ctx, b.fb); });
+  a.Execute = true;
+  b.scan([&] { a(b.ctx, b.fb); });
+  EXPECT_TRUE(a.Busy);
+  a.Execute = false;
+  b.scan([&] { a(b.ctx, b.fb); });
+  EXPECT_TRUE(a.Done) << "the answer shows for one scan";
+  b.scan([&] { a(b.ctx, b.fb); });
+  EXPECT_FALSE(a.Done);
+}
+
 TEST(AcDriveAttributeFb, OfflineDriveRefusesAtOnce) {
   AttrBench b;
   b.model->set_answering(false);

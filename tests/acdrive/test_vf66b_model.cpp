@@ -447,6 +447,28 @@ TEST(Vf66bModel, RegisteredAsVf66b) {
   EXPECT_NE(io::DeviceModelRegistry::instance().find("vf66b"), nullptr);
 }
 
+TEST(Vf66bModel, MainPowerOffAndOn_Section5_2) {
+  auto c = net_config();
+  c.main_power = false;
+  Raw r(c);
+  r.step(20);
+  EXPECT_EQ(r.m.state(), DriveState::NotReady) << "Not_Ready until main power is on";
+  EXPECT_EQ(r.in[1], 2);
+  r.m.set_main_power(true);
+  r.step();
+  EXPECT_EQ(r.m.state(), DriveState::Ready) << "Not_Ready -> Ready: main power on";
+  r.out21(kFwd | kNetCtrl | kNetRef, 4000);
+  r.step(100);
+  ASSERT_EQ(r.m.state(), DriveState::Enabled);
+  r.m.set_main_power(false);
+  r.step();
+  EXPECT_EQ(r.m.state(), DriveState::NotReady) << "Enabled -> Not_Ready: main power off";
+  EXPECT_FALSE(r.in[0] & 0x14) << "neither Running1 nor Ready";
+  const double v = r.m.speed_rpm();
+  r.step(10);
+  EXPECT_LT(r.m.speed_rpm(), v) << "the motor coasts";
+}
+
 TEST(Vf66bModel, FaultSwitchTripsAtConfiguredTime) {
   auto c = net_config();
   c.fault_code = 26;

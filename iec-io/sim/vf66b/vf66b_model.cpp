@@ -58,7 +58,6 @@ void Vf66bModel::power_up() {
   faults_ = pending_ = 0;
   // A cause that persists (e.g. an external fault wired on) trips again.
   pending_ = persistent_;
-  injected_ = false;
   speed_ = 0;
   torque_pct_ = 0;
 }
@@ -227,9 +226,10 @@ void Vf66bModel::update_state(double dt_s) {
       state_ = DriveState::NotReady;
       running1_ = running2_ = false;
     }
-    return;
+    if (state_ == DriveState::NotReady) return;  // Fault_Stop still completes
+  } else if (state_ == DriveState::NotReady) {
+    state_ = DriveState::Ready;
   }
-  if (state_ == DriveState::NotReady) state_ = DriveState::Ready;
 
   switch (state_) {
     case DriveState::Ready:

@@ -191,7 +191,7 @@ class Vf66bModel : public io::DeviceModel {
   std::uint32_t faults_ = 0;      // latched fault field (bit n-1 = code n)
   std::uint32_t persistent_ = 0;  // causes still present
   std::uint32_t pending_ = 0;     // detected, not yet acted on by the state machine
-  bool injected_ = false;
+  bool injected_ = false;         // the fault switch fired (once per model, not per power-up)
 
   // motor
   double speed_ = 0;  // r/min, signed
