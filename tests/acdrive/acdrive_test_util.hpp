@@ -21,7 +21,7 @@ inline sim::Vf66bConfig net_config(unsigned j09 = 1, unsigned j10 = 1) {
   c.j10 = j10;
   c.b10 = 3;
   c.b11 = 3;
-  c.startup_time = 50ms;
+  c.startup_time = 10ms;
   c.accel_time_s = 1;  // 0 -> 1800 rpm in 1 s
   c.decel_time_s = 1;
   c.coast_time_s = 0.5;

@@ -8,6 +8,7 @@
 #include <array>
 #include <vector>
 
+#include "acdrive_test_util.hpp"
 #include "plc/io/explicit_message.hpp"
 #include "vf66b/vf66b_model.hpp"
 
@@ -30,14 +31,7 @@ struct Answer {
 
 struct Drive {
   explicit Drive(unsigned j09 = 1, unsigned j10 = 1) {
-    Vf66bConfig c;
-    c.j09 = j09;
-    c.j10 = j10;
-    c.b10 = 3;
-    c.b11 = 3;
-    c.startup_time = 10ms;
-    c.accel_time_s = 1;
-    c.decel_time_s = 1;
+    const Vf66bConfig c = acdrive::test::net_config(j09, j10);
     m = std::make_unique<Vf66bModel>(c);
     out.assign(m->output_size(), 0);
     in.assign(m->input_size(), 0);

@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "acdrive_test_util.hpp"
 #include "plc/io/model_params.hpp"
 #include "vf66b/vf66b_model.hpp"
 
@@ -18,18 +19,7 @@ using acdrive::DriveState;
 
 namespace {
 
-Vf66bConfig net_config(unsigned j09 = 1, unsigned j10 = 1) {
-  Vf66bConfig c;
-  c.j09 = j09;
-  c.j10 = j10;
-  c.b10 = 3;  // speed reference from the comm option
-  c.b11 = 3;  // run command from the comm option
-  c.startup_time = 10ms;
-  c.accel_time_s = 1;  // 0 -> 1800 rpm in 1 s
-  c.decel_time_s = 1;
-  c.coast_time_s = 0.5;
-  return c;
-}
+using acdrive::test::net_config;
 
 // Raw bytes in, raw bytes out, 1 ms steps.
 struct Raw {
