@@ -3,6 +3,7 @@
 #include <poll.h>
 #include <time.h>
 
+#include <cstdio>
 #include <cstring>
 
 #include "plc/devicenet/startup_writes.hpp"
@@ -57,8 +58,17 @@ void DeviceNetPlugin::configure(const io::ModelParams& p) {
   cfg_.explicit_timeout =
       p.get_time("explicit_timeout", cfg_.explicit_timeout, milliseconds(1), seconds(60));
   cfg_.serial = static_cast<std::uint32_t>(p.get_int("serial", cfg_.serial, 0, 0xFFFFFFFF));
+  log_ = p.get_bool("log", true);
   p.reject_unknown();
   scanner_ = std::make_unique<Scanner>(cfg_, nullptr);
+  scanner_->on_change = [this](std::size_t d, ScanState st, const std::string& why) {
+    if (!log_) return;
+    std::fprintf(stderr, "devicenet: %s (MAC %u): %s%s%s\n", entries_[d].name.c_str(),
+                 entries_[d].mac, st == ScanState::Online ? "online" : st == ScanState::Fault
+                                                                          ? "fault"
+                                                                          : "lost",
+                 why.empty() ? "" : ": ", why.c_str());
+  };
 }
 
 io::DeviceSizes DeviceNetPlugin::add_device(const io::DeviceSpec& spec) {

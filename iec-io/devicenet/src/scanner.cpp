@@ -208,6 +208,7 @@ void Scanner::on_message(Device& d, std::span<const std::uint8_t> msg, TIME now)
     d.link.set_state(io::DeviceState::Fault);
     d.next_try = now + cfg_.retry;
     ++d.counters.allocation_errors;
+    changed(d);
   };
   char gs[48];
   std::snprintf(gs, sizeof gs, "error response 0x%02X/0x%02X", general, additional);
@@ -340,6 +341,7 @@ void Scanner::next_config_step(Device& d, TIME now) {
       d.last_response = now;  // the connection timeout runs from here
       d.last_error.clear();
       d.link.set_state(io::DeviceState::Online);
+      changed(d);
       send_poll(d);
       return;
     default:
@@ -378,8 +380,15 @@ void Scanner::fail_record(Device& d, io::RecordError e, std::uint16_t code) {
   d.record = nullptr;
 }
 
-void Scanner::lose(Device& d, TIME now, const char* why) {
-  if (d.state == ScanState::Online) ++d.counters.losses;
+void Scanner::changed(const Device& d) {
+  if (!on_change) return;
+  for (std::size_t i = 0; i < devices_.size(); ++i)
+    if (devices_[i].get() == &d) on_change(i, d.state, d.last_error);
+}
+
+void Scanner::lose(Device& d, TIME now, const std::string& why) {
+  const bool was_online = d.state == ScanState::Online;
+  if (was_online) ++d.counters.losses;
   d.state = ScanState::Waiting;
   d.last_error = why;
   d.step = Step::None;
@@ -389,6 +398,7 @@ void Scanner::lose(Device& d, TIME now, const char* why) {
   d.link.set_state(io::DeviceState::Offline);
   d.poll_rx.reset();
   d.next_try = now + cfg_.retry;
+  if (was_online) changed(d);
 }
 
 void Scanner::run_device(Device& d, TIME now) {
@@ -423,8 +433,14 @@ void Scanner::run_device(Device& d, TIME now) {
       return;
   }
   if (now - d.last_response > kTimeoutMultiplier * d.cfg.epr) {
-    lose(d, now, d.counters.wrong_size && !d.last_error.empty() ? d.last_error.c_str()
-                                                                 : "connection timed out");
+    const auto silent_ms =
+        std::chrono::duration_cast<std::chrono::milliseconds>(now - d.last_response).count();
+    lose(d, now,
+         (d.last_error.empty() ? std::string("connection timed out") : d.last_error) +
+             " (no valid poll response for " + std::to_string(silent_ms) + " ms, timeout " +
+             std::to_string(kTimeoutMultiplier *
+                            std::chrono::duration_cast<std::chrono::milliseconds>(d.cfg.epr).count()) +
+             " ms)");
     return;
   }
   if (d.step != Step::None) return;

@@ -47,6 +47,7 @@ class DeviceNetPlugin final : public io::Plugin {
   std::string bus_spec_;
   bool host_hub_ = false;
   std::string pcap_path_;
+  bool log_ = true;
   std::vector<ScanEntry> entries_;
 
   std::unique_ptr<can::UdpHub> hub_;

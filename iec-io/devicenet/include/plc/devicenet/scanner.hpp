@@ -19,6 +19,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <cstdint>
 #include <optional>
@@ -97,6 +98,8 @@ class Scanner {
   [[nodiscard]] bool duplicate_mac() const { return phase_ == Phase::Duplicate; }
   [[nodiscard]] std::size_t size() const { return devices_.size(); }
   [[nodiscard]] std::uint64_t bad_frames() const { return bad_frames_; }
+  // Called on every change of a device's state (the plugin logs them).
+  std::function<void(std::size_t device, ScanState state, const std::string& why)> on_change;
 
  private:
   enum class Phase : std::uint8_t { Start, DupMacCheck, Online, Duplicate };
@@ -130,7 +133,8 @@ class Scanner {
   void run_device(Device& d, TIME now);
   void begin(Device& d, Step s, std::span<const std::uint8_t> msg, bool unconnected, TIME now);
   void next_config_step(Device& d, TIME now);
-  void lose(Device& d, TIME now, const char* why);
+  void lose(Device& d, TIME now, const std::string& why);
+  void changed(const Device& d);
   void fail_record(Device& d, io::RecordError e, std::uint16_t code = 0);
   void send_poll(Device& d);
   void allocate(Device& d, TIME now);
