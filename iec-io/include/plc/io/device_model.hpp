@@ -52,14 +52,13 @@ class DeviceModel {
   // stops updating its inputs).
   [[nodiscard]] virtual bool answering() const { return true; }
 
-  // The hosting transport's I/O connection to the PLC timed out (DeviceNet:
-  // no poll within 4 x the expected packet rate). A drive trips here (VF66B
-  // fault 18, toyo-vf66-devicenet.md §12); the default ignores it.
-  virtual void io_connection_lost() {}
-
   // Power cycle: volatile state lost, non-volatile state (e.g. an absolute
   // encoder's multi-turn count) kept.
   virtual void power_cycle() {}
+
+  // The hosting transport lost the I/O connection (its connection timeout
+  // expired, e.g. a DeviceNet expected-packet-rate timeout). Default: nothing.
+  virtual void io_connection_lost() {}
 };
 
 using DeviceModelFactory = std::function<std::unique_ptr<DeviceModel>(const ModelParams&)>;
