@@ -35,6 +35,7 @@
 #include "plc/can/udp_bus.hpp"
 #include "plc/devicenet/slave.hpp"
 #include "plc/devicenet/slave_profiles.hpp"
+#include "plc/fb/acdrive/assemblies.hpp"
 #include "plc/iec_literal.hpp"
 #include "plc/io/device_model.hpp"
 
@@ -137,16 +138,29 @@ int main(int argc, char** argv) {
       throw ConfigError(root, "key 'slaves': a list of at least one slave");
     for (const YAML::Node& s : root["slaves"]) {
       reject_unknown(s, {"name", "model", "params", "mac", "profile", "vendor", "device_type",
-                         "product_code", "revision", "serial", "product_name", "faults"});
+                         "product_code", "revision", "serial", "product_name", "faults",
+                         "input_assembly", "output_assembly"});
       if (!s["model"]) throw ConfigError(s, "key 'model' missing");
       if (!s["mac"]) throw ConfigError(s, "key 'mac' missing");
       const std::string model = s["model"].as<std::string>();
       dn::SlaveConfig cfg;
       if (s["profile"]) {
         const auto p = dn::slave_profile(s["profile"].as<std::string>());
-        if (!p) throw ConfigError(s["profile"], "unknown profile (known: pr1721_34)");
+        if (!p) throw ConfigError(s["profile"], "unknown profile (known: pr1721_34, dnet66z)");
         cfg = *p;
       }
+      // The VF66B's assemblies follow its J-09/J-10 (§7.2): 21/71 for 0/1,
+      // 100.. for the extended ones.
+      if (model == "vf66b" && s["params"]) {
+        if (s["params"]["j09"])
+          cfg.output_assembly = plc::acdrive::output_instance(s["params"]["j09"].as<unsigned>());
+        if (s["params"]["j10"])
+          cfg.input_assembly = plc::acdrive::input_instance(s["params"]["j10"].as<unsigned>());
+      }
+      cfg.input_assembly =
+          static_cast<std::uint8_t>(get<int>(s, "input_assembly", cfg.input_assembly, 1, 255));
+      cfg.output_assembly =
+          static_cast<std::uint8_t>(get<int>(s, "output_assembly", cfg.output_assembly, 1, 255));
       cfg.mac = static_cast<std::uint8_t>(get<int>(s, "mac", 0, 0, 63));
       auto& id = cfg.identity;
       id.vendor = static_cast<std::uint16_t>(get<int>(s, "vendor", id.vendor, 0, 65535));
