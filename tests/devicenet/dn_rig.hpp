@@ -44,7 +44,8 @@ class TestModel final : public io::DeviceModel {
       return io::RecordError::None;
     }
     if (r->service == em::kSetAttributeSingle && r->path.attribute == 2) {
-      if (r->data.size() > 32) return static_cast<io::RecordError>(em::error_code(em::kTooMuchData));
+      if (r->data.size() > 32)
+        return static_cast<io::RecordError>(em::error_code(em::kTooMuchData));
       stored.assign(r->data.begin(), r->data.end());
       return io::RecordError::None;
     }

@@ -39,10 +39,10 @@ TEST(UdpDatagram, KnownAnswerCannelloniV2) {
                      frame(0x3C5 | Frame::kRtr, {})};
   std::array<std::uint8_t, 64> out{};
   const std::size_t n = udp::encode(7, f, out);
-  const std::vector<std::uint8_t> expect = {2, 0, 7, 0, 2,                      // header
-                                            0x00, 0x00, 0x05, 0xEC, 6,          // frame 1
+  const std::vector<std::uint8_t> expect = {2,    0,    7,    0,    2,  // header
+                                            0x00, 0x00, 0x05, 0xEC, 6,  // frame 1
                                             0x80, 0x4B, 0x03, 0x01, 0x03, 0x00,
-                                            0x40, 0x00, 0x03, 0xC5, 0};         // frame 2 (RTR)
+                                            0x40, 0x00, 0x03, 0xC5, 0};  // frame 2 (RTR)
   ASSERT_EQ(n, expect.size());
   EXPECT_TRUE(std::equal(expect.begin(), expect.end(), out.begin()));
   std::array<Frame, 4> back{};
@@ -56,14 +56,14 @@ TEST(UdpDatagram, KnownAnswerCannelloniV2) {
 TEST(UdpDatagram, MalformedDatagramsAreRejectedWhole) {
   std::array<Frame, 4> out{};
   const std::vector<std::vector<std::uint8_t>> bad = {
-      {},                                        // empty
-      {1, 0, 0, 0, 0},                           // version 1
-      {2, 1, 0, 0, 0},                           // op code ACK
+      {},                                                         // empty
+      {1, 0, 0, 0, 0},                                            // version 1
+      {2, 1, 0, 0, 0},                                            // op code ACK
       {2, 0, 0, 0, 1, 0, 0, 1, 0, 9, 1, 2, 3, 4, 5, 6, 7, 8, 9},  // length 9 (CAN FD or junk)
-      {2, 0, 0, 0, 1, 0, 0, 1, 0, 2, 1},         // count says 1 frame, data short
-      {2, 0, 0, 0, 1, 0, 0, 1, 0, 1, 1, 0xFF},   // trailing byte
-      {2, 0, 0, 0, 1, 0, 0, 0x08, 0, 0},         // 11-bit frame with id 0x800
-      {2, 0, 0, 0, 5},                           // 5 frames announced, more than out holds
+      {2, 0, 0, 0, 1, 0, 0, 1, 0, 2, 1},                          // count says 1 frame, data short
+      {2, 0, 0, 0, 1, 0, 0, 1, 0, 1, 1, 0xFF},                    // trailing byte
+      {2, 0, 0, 0, 1, 0, 0, 0x08, 0, 0},                          // 11-bit frame with id 0x800
+      {2, 0, 0, 0, 5},  // 5 frames announced, more than out holds
   };
   for (const auto& d : bad) EXPECT_EQ(udp::decode(d, out), -1) << d.size();
   const std::vector<std::uint8_t> keep_alive = {2, 0, 9, 0, 0};
@@ -85,9 +85,9 @@ TEST(PcapWriter, LinkType227RecordLayout) {
   EXPECT_EQ(b[0], 0xD4);  // magic a1b2c3d4, little-endian file
   EXPECT_EQ(b[3], 0xA1);
   EXPECT_EQ(b[20], 227);
-  EXPECT_EQ(b[24], 1);                          // ts_sec = 1
+  EXPECT_EQ(b[24], 1);                                      // ts_sec = 1
   EXPECT_EQ(b[28] | (b[29] << 8) | (b[30] << 16), 500000);  // ts_usec
-  EXPECT_EQ(b[32], 16);                         // incl_len
+  EXPECT_EQ(b[32], 16);                                     // incl_len
   const std::uint8_t* c = &b[40];
   EXPECT_EQ(c[0], 0x00);
   EXPECT_EQ(c[2], 0x04);

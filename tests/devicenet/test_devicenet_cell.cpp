@@ -73,15 +73,17 @@ TEST(DeviceNetCell, BatchWeighingOverDeviceNetSurvivesASlaveKillAndRestart) {
   const std::string port = std::to_string(free_udp_port());
   const std::string pcap = plctest::temp_path("dnet_cell.pcap");
   const std::string trace = plctest::temp_path("dnet_cell.csv");
-  std::string cell = plctest::read_file(plctest::source_path("programs/filling_cell/cell_devicenet.yaml"));
+  std::string cell =
+      plctest::read_file(plctest::source_path("programs/filling_cell/cell_devicenet.yaml"));
   ASSERT_FALSE(cell.empty());
   cell = replace_all(cell, "udp:127.0.0.1:47800", "udp:127.0.0.1:" + port);
   cell = replace_all(cell, "      poll_cycle: 10ms",
                      "      poll_cycle: 10ms\n      pcap: \"" + pcap + "\"");
-  cell = replace_all(cell, "      scale.BusType: 1",
-                     "      target_kg: 5.0\n      scale.BusType: 1");
+  cell =
+      replace_all(cell, "      scale.BusType: 1", "      target_kg: 5.0\n      scale.BusType: 1");
   const std::string cell_file = plctest::write_temp("dnet_cell.yaml", cell);
-  std::string slave = plctest::read_file(plctest::source_path("programs/filling_cell/dnslave.yaml"));
+  std::string slave =
+      plctest::read_file(plctest::source_path("programs/filling_cell/dnslave.yaml"));
   slave = replace_all(slave, "udp:127.0.0.1:47800", "udp:127.0.0.1:" + port);
   const std::string slave_file = plctest::write_temp("dnet_slave.yaml", slave);
 
@@ -109,7 +111,8 @@ TEST(DeviceNetCell, BatchWeighingOverDeviceNetSurvivesASlaveKillAndRestart) {
   ASSERT_NE(at, std::string::npos);
   const int silent_ms = std::stoi(plc.all.substr(at + 27));
   EXPECT_GE(silent_ms, 200);
-  EXPECT_LE(silent_ms, 200 + 20) << "declared lost within the 4 x EPR timeout (+ 2 bus-thread wake-ups)";
+  EXPECT_LE(silent_ms, 200 + 20)
+      << "declared lost within the 4 x EPR timeout (+ 2 bus-thread wake-ups)";
 
   const auto rows = read_trace(trace);
   ASSERT_GT(rows.size(), 1000u);

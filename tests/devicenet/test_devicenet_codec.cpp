@@ -89,7 +89,9 @@ TEST(ExplicitFrame, FragmentationFirstMiddleLastAndReassembly) {
   // A repeated first fragment starts the message over.
   ASSERT_EQ(r.take(out.frames[0]), ExplicitReassembler::Result::FragmentAck);
   EXPECT_EQ(r.take(out.frames[1]), ExplicitReassembler::Result::FragmentAck);
-  EXPECT_EQ(r.take(out.frames[1]), ExplicitReassembler::Result::FragmentAck);  // a repeat (ack lost): acked again, not appended
+  EXPECT_EQ(
+      r.take(out.frames[1]),
+      ExplicitReassembler::Result::FragmentAck);  // a repeat (ack lost): acked again, not appended
   ASSERT_EQ(r.take(out.frames[2]), ExplicitReassembler::Result::LastFragment);
   EXPECT_EQ(r.ack_count(), 2);
   ASSERT_EQ(r.message().size(), msg.size());

@@ -263,8 +263,8 @@ TEST(DeviceNetScanner, SlaveConnectionTimeoutAndReallocation) {
   // The master returns. Its polls find a Timed Out connection that stays
   // silent (it takes no polls until released and allocated again), so the
   // master loses the device, releases, and allocates again.
-  const TIME back = r.run_until(
-      [&] { return online(r, d) && r.scanner->counters(d).allocations == 2; }, 5s);
+  const TIME back =
+      r.run_until([&] { return online(r, d) && r.scanner->counters(d).allocations == 2; }, 5s);
   ASSERT_GE(back, 0ms) << r.scanner->diagnostics(d);
   EXPECT_EQ(s.slave->poll_state(), dn::kConnEstablished);
 }
@@ -384,9 +384,9 @@ TEST(DeviceNetScanner, IdentityResetRestartsTheDevice) {
   io::RecordRequest req;
   ASSERT_EQ(explicit_call(r, d, req, em::kReset, {1, 1, 0}), io::RecordStatus::Done);
   EXPECT_EQ(s.model->power_cycles, 1);
-  ASSERT_GE(r.run_until([&] { return r.scanner->counters(d).allocations == 2 && online(r, d); },
-                        5s),
-            0ms);
+  ASSERT_GE(
+      r.run_until([&] { return r.scanner->counters(d).allocations == 2 && online(r, d); }, 5s),
+      0ms);
 }
 
 // Bad frames (unknown fragments, short frames, wrong header MAC) are counted

@@ -79,7 +79,8 @@ TEST(Dnslave, HostsThePr5510AndTheVf66bOnOneBus) {
   };
   ASSERT_TRUE(until([&] {
     return sc.state(ds) == dn::ScanState::Online && sc.state(dd) == dn::ScanState::Online;
-  })) << sc.diagnostics(ds) << "\n"
+  })) << sc.diagnostics(ds)
+      << "\n"
       << sc.diagnostics(dd);
   io::RecordRequest r;
   const std::uint8_t q[] = {1, 1, 2};  // Identity device type: 0x02 AC drive (§1.1)

@@ -104,8 +104,8 @@ TEST(Vf66bDeviceNet, RunStopReverseFaultOverTheScanner_Section5) {
   EXPECT_EQ(b.model->speed_rpm(), 900);
 
   b.fb.RunFwd = false;
-  ASSERT_TRUE(b.run_until([&] { return b.fb.State == ac::DriveState::Ready && !b.fb.Running; },
-                          3000));
+  ASSERT_TRUE(
+      b.run_until([&] { return b.fb.State == ac::DriveState::Ready && !b.fb.Running; }, 3000));
   b.fb.RunRev = true;
   b.fb.SpeedRef = 600;
   ASSERT_TRUE(b.run_until([&] { return b.fb.AtReference; }, 3000));

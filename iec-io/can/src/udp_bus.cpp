@@ -115,8 +115,7 @@ UdpHub::UdpHub(const std::string& host, std::uint16_t port) {
   if (bind(fd_, reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0) {
     const int e = errno;
     close(fd_);
-    throw BusError("udp hub: bind " + host + ":" + std::to_string(port) + ": " +
-                   std::strerror(e));
+    throw BusError("udp hub: bind " + host + ":" + std::to_string(port) + ": " + std::strerror(e));
   }
   socklen_t len = sizeof a;
   getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &len);

@@ -137,9 +137,9 @@ int main(int argc, char** argv) {
     if (!root["slaves"] || !root["slaves"].IsSequence() || root["slaves"].size() == 0)
       throw ConfigError(root, "key 'slaves': a list of at least one slave");
     for (const YAML::Node& s : root["slaves"]) {
-      reject_unknown(s, {"name", "model", "params", "mac", "profile", "vendor", "device_type",
-                         "product_code", "revision", "serial", "product_name", "faults",
-                         "input_assembly", "output_assembly"});
+      reject_unknown(
+          s, {"name", "model", "params", "mac", "profile", "vendor", "device_type", "product_code",
+              "revision", "serial", "product_name", "faults", "input_assembly", "output_assembly"});
       if (!s["model"]) throw ConfigError(s, "key 'model' missing");
       if (!s["mac"]) throw ConfigError(s, "key 'mac' missing");
       const std::string model = s["model"].as<std::string>();
@@ -164,7 +164,8 @@ int main(int argc, char** argv) {
       cfg.mac = static_cast<std::uint8_t>(get<int>(s, "mac", 0, 0, 63));
       auto& id = cfg.identity;
       id.vendor = static_cast<std::uint16_t>(get<int>(s, "vendor", id.vendor, 0, 65535));
-      id.device_type = static_cast<std::uint16_t>(get<int>(s, "device_type", id.device_type, 0, 65535));
+      id.device_type =
+          static_cast<std::uint16_t>(get<int>(s, "device_type", id.device_type, 0, 65535));
       id.product_code =
           static_cast<std::uint16_t>(get<int>(s, "product_code", id.product_code, 0, 65535));
       id.serial = static_cast<std::uint32_t>(
@@ -180,14 +181,16 @@ int main(int argc, char** argv) {
       }
       io::ModelParams params;
       if (s["params"])
-        for (const auto& kv : s["params"]) params.set(kv.first.as<std::string>(), kv.second.as<std::string>());
+        for (const auto& kv : s["params"])
+          params.set(kv.first.as<std::string>(), kv.second.as<std::string>());
       const io::DeviceModelFactory* f = io::DeviceModelRegistry::instance().find(model);
       if (!f) throw ConfigError(s["model"], "unknown device model '" + model + "'");
       std::unique_ptr<io::DeviceModel> m;
       try {
         m = (*f)(params);
       } catch (const io::ParamError& e) {
-        throw ConfigError(s["params"] ? s["params"] : s, "params: key '" + e.key + "': " + e.what());
+        throw ConfigError(s["params"] ? s["params"] : s,
+                          "params: key '" + e.key + "': " + e.what());
       }
       Hosted h{s["name"] ? s["name"].as<std::string>() : model, fan->node(), nullptr};
       h.slave = std::make_unique<dn::Slave>(cfg, std::move(m), *h.node);
@@ -234,6 +237,7 @@ int main(int argc, char** argv) {
     pollfd pfd{bus->fd(), POLLIN, 0};
     (void)poll(&pfd, 1, 1);
   }
-  for (const auto& h : slaves) std::printf("dnslave: %s: %s\n", h.name.c_str(), h.slave->describe().c_str());
+  for (const auto& h : slaves)
+    std::printf("dnslave: %s: %s\n", h.name.c_str(), h.slave->describe().c_str());
   return 0;
 }

@@ -64,9 +64,10 @@ void DeviceNetPlugin::configure(const io::ModelParams& p) {
   scanner_->on_change = [this](std::size_t d, ScanState st, const std::string& why) {
     if (!log_) return;
     std::fprintf(stderr, "devicenet: %s (MAC %u): %s%s%s\n", entries_[d].name.c_str(),
-                 entries_[d].mac, st == ScanState::Online ? "online" : st == ScanState::Fault
-                                                                          ? "fault"
-                                                                          : "lost",
+                 entries_[d].mac,
+                 st == ScanState::Online  ? "online"
+                 : st == ScanState::Fault ? "fault"
+                                          : "lost",
                  why.empty() ? "" : ": ", why.c_str());
   };
 }
@@ -83,8 +84,8 @@ io::DeviceSizes DeviceNetPlugin::add_device(const io::DeviceSpec& spec) {
     e.vendor = 560;
     e.product = 1713;
   } else if (spec.model != "generic") {
-    throw io::ParamError("model", "devicenet device model must be generic or pr1721_34, not '" +
-                                      spec.model + "'");
+    throw io::ParamError(
+        "model", "devicenet device model must be generic or pr1721_34, not '" + spec.model + "'");
   }
   e.mac = static_cast<std::uint8_t>(p.get_int("mac", -1, 0, 63));
   if (!p.has("mac")) throw io::ParamError("mac", "every DeviceNet device needs its mac (0..63)");
@@ -109,8 +110,9 @@ io::DeviceSizes DeviceNetPlugin::add_device(const io::DeviceSpec& spec) {
     throw io::ParamError("epr", "epr must be at least the plugin's poll_cycle");
   const std::string io_type = p.get_string("io", "poll");
   if (io_type != "poll")
-    throw io::ParamError("io", "io must be poll (bit-strobe and change-of-state are not "
-                               "implemented; the VF66B and the PR1721/34 support poll only)");
+    throw io::ParamError("io",
+                         "io must be poll (bit-strobe and change-of-state are not "
+                         "implemented; the VF66B and the PR1721/34 support poll only)");
   e.startup = parse_startup_writes(p.get_string("startup", ""));
   p.reject_unknown();
   entries_.push_back(e);

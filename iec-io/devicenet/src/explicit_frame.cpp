@@ -10,8 +10,7 @@ bool build_explicit(std::uint16_t id, std::uint8_t header_mac, bool xid,
                     std::span<const std::uint8_t> msg, ExplicitFrames& out) {
   out.count = 0;
   if (msg.empty() || msg.size() > kMaxExplicitMessage) return false;
-  const std::uint8_t hdr =
-      static_cast<std::uint8_t>((xid ? kXidBit : 0) | (header_mac & 0x3F));
+  const std::uint8_t hdr = static_cast<std::uint8_t>((xid ? kXidBit : 0) | (header_mac & 0x3F));
   if (msg.size() <= 7) {
     can::Frame& f = out.frames[0];
     f = {};

@@ -321,7 +321,10 @@ void Scanner::next_config_step(Device& d, TIME now) {
     case Step::Consumed: {
       const auto epr_ms = static_cast<std::uint16_t>(
           std::chrono::duration_cast<std::chrono::milliseconds>(d.cfg.epr).count());
-      const std::uint8_t m[] = {em::kSetAttributeSingle, kClassConnection, kConnPoll, kConnAttrEpr,
+      const std::uint8_t m[] = {em::kSetAttributeSingle,
+                                kClassConnection,
+                                kConnPoll,
+                                kConnAttrEpr,
                                 static_cast<std::uint8_t>(epr_ms),
                                 static_cast<std::uint8_t>(epr_ms >> 8)};
       return begin(d, Step::Epr, m, false, now);
@@ -373,8 +376,10 @@ void Scanner::allocate(Device& d, TIME now) {
 
 void Scanner::fail_record(Device& d, io::RecordError e, std::uint16_t code) {
   if (d.record) {
-    if (e == io::RecordError::Timeout) ++d.counters.explicit_timeouts;
-    else ++d.counters.explicit_errors;
+    if (e == io::RecordError::Timeout)
+      ++d.counters.explicit_timeouts;
+    else
+      ++d.counters.explicit_errors;
     d.record->fail(e, code);
   }
   d.record = nullptr;
@@ -393,7 +398,8 @@ void Scanner::lose(Device& d, TIME now, const std::string& why) {
   d.last_error = why;
   d.step = Step::None;
   fail_record(d, io::RecordError::NotReachable);
-  for (io::RecordRequest* r = d.link.pop(); r; r = d.link.pop()) r->fail(io::RecordError::NotReachable);
+  for (io::RecordRequest* r = d.link.pop(); r; r = d.link.pop())
+    r->fail(io::RecordError::NotReachable);
   std::fill(d.in.begin(), d.in.end(), 0);  // invalid inputs never look like data
   d.link.set_state(io::DeviceState::Offline);
   d.poll_rx.reset();
@@ -438,16 +444,16 @@ void Scanner::run_device(Device& d, TIME now) {
     lose(d, now,
          (d.last_error.empty() ? std::string("connection timed out") : d.last_error) +
              " (no valid poll response for " + std::to_string(silent_ms) + " ms, timeout " +
-             std::to_string(kTimeoutMultiplier *
-                            std::chrono::duration_cast<std::chrono::milliseconds>(d.cfg.epr).count()) +
+             std::to_string(
+                 kTimeoutMultiplier *
+                 std::chrono::duration_cast<std::chrono::milliseconds>(d.cfg.epr).count()) +
              " ms)");
     return;
   }
   if (d.step != Step::None) return;
   if (io::RecordRequest* r = d.link.pop()) {
-    const auto req = r->kind() == io::RecordKind::Read
-                         ? em::decode_request(r->index(), r->data())
-                         : std::nullopt;
+    const auto req = r->kind() == io::RecordKind::Read ? em::decode_request(r->index(), r->data())
+                                                       : std::nullopt;
     if (!req) {
       r->fail(io::RecordError::InvalidIndex);
       ++d.counters.explicit_errors;
@@ -475,21 +481,20 @@ std::string Scanner::diagnostics(std::size_t i) const {
   const Device& d = *devices_[i];
   const DeviceCounters& c = d.counters;
   char b[512];
-  std::snprintf(b, sizeof b,
-                "devicenet mac %u %s; polls %llu responses %llu losses %llu allocations %llu "
-                "(refused %llu) bad-frames %llu wrong-size %llu explicit ok %llu err %llu "
-                "timeout %llu%s%s",
-                d.cfg.mac, to_string(d.state), static_cast<unsigned long long>(c.polls),
-                static_cast<unsigned long long>(c.responses),
-                static_cast<unsigned long long>(c.losses),
-                static_cast<unsigned long long>(c.allocations),
-                static_cast<unsigned long long>(c.allocation_errors),
-                static_cast<unsigned long long>(c.bad_frames),
-                static_cast<unsigned long long>(c.wrong_size),
-                static_cast<unsigned long long>(c.explicit_ok),
-                static_cast<unsigned long long>(c.explicit_errors),
-                static_cast<unsigned long long>(c.explicit_timeouts),
-                d.last_error.empty() ? "" : "; last: ", d.last_error.c_str());
+  std::snprintf(
+      b, sizeof b,
+      "devicenet mac %u %s; polls %llu responses %llu losses %llu allocations %llu "
+      "(refused %llu) bad-frames %llu wrong-size %llu explicit ok %llu err %llu "
+      "timeout %llu%s%s",
+      d.cfg.mac, to_string(d.state), static_cast<unsigned long long>(c.polls),
+      static_cast<unsigned long long>(c.responses), static_cast<unsigned long long>(c.losses),
+      static_cast<unsigned long long>(c.allocations),
+      static_cast<unsigned long long>(c.allocation_errors),
+      static_cast<unsigned long long>(c.bad_frames), static_cast<unsigned long long>(c.wrong_size),
+      static_cast<unsigned long long>(c.explicit_ok),
+      static_cast<unsigned long long>(c.explicit_errors),
+      static_cast<unsigned long long>(c.explicit_timeouts),
+      d.last_error.empty() ? "" : "; last: ", d.last_error.c_str());
   return b;
 }
 

@@ -167,7 +167,7 @@ void Slave::on_explicit(const can::Frame& f, bool unconnected, TIME now) {
   explicit_last_ = now;
   ++counters_.explicit_requests;
   std::array<std::uint8_t, kMaxExplicitMessage> resp{};
-  const std::size_t n = serve(rx_.message(), unconnected, rx_.header_mac(), resp, now);
+  const std::size_t n = serve(rx_.message(), unconnected, resp, now);
   if (n) send_response({resp.data(), n});
   if (reset_pending_) {
     // Identity Reset: the answer first, then the device starts over as
@@ -179,18 +179,15 @@ void Slave::on_explicit(const can::Frame& f, bool unconnected, TIME now) {
 }
 
 void Slave::send_response(std::span<const std::uint8_t> msg) {
-  if (!build_explicit(group2_id(cfg_.mac, kG2ExplicitResponse), master_ == kUnallocated
-                                                                     ? rx_.header_mac()
-                                                                     : master_,
-                      false, msg, tx_))
+  if (!build_explicit(group2_id(cfg_.mac, kG2ExplicitResponse),
+                      master_ == kUnallocated ? rx_.header_mac() : master_, false, msg, tx_))
     return;
   bus_.send(tx_.frames[0]);
   tx_next_ = 1;
 }
 
 std::size_t Slave::serve(std::span<const std::uint8_t> msg, bool unconnected,
-                         std::uint8_t from_mac, std::span<std::uint8_t> resp, TIME now) {
-  (void)from_mac;
+                         std::span<std::uint8_t> resp, TIME now) {
   if (msg.size() < 3 || (msg[0] & kResponseBit)) {
     ++counters_.bad_frames;
     return msg.empty() || (msg[0] & kResponseBit) ? 0 : error_response(resp, em::kNotEnoughData);
@@ -215,7 +212,8 @@ std::size_t Slave::serve_allocate(std::span<const std::uint8_t> msg, std::span<s
   if (master_ != kUnallocated && master_ != mac)
     return error_response(resp, em::kObjectStateConflict, 0x01);
   // Poll and explicit only (§1.3 [inf]: the assemblies fit polled I/O).
-  if (choice & ~(kAllocExplicit | kAllocPoll)) return error_response(resp, em::kResourceUnavailable, 0x02);
+  if (choice & ~(kAllocExplicit | kAllocPoll))
+    return error_response(resp, em::kResourceUnavailable, 0x02);
   if (choice == 0 || (choice_ & choice)) return error_response(resp, em::kAlreadyInState);
   master_ = mac;
   choice_ |= choice | kAllocExplicit;  // allocating anything brings the explicit connection
@@ -394,17 +392,13 @@ std::size_t Slave::serve_object(std::uint8_t service, std::uint8_t cls, std::uin
   }
   // Every other object belongs to the model (explicit_message.hpp mapping).
   std::array<std::uint8_t, kMaxExplicitMessage> req{};
-  const std::size_t head = em::has_attribute(service) ? 3 : 2;
   if (body.size() + 2 > req.size()) return error_response(resp, em::kTooMuchData);
   req[0] = cls;
   req[1] = inst;
   std::copy(body.begin(), body.end(), req.begin() + 2);
-  if (em::has_attribute(service) && body.empty()) return error_response(resp, em::kNotEnoughData);
-  (void)head;
   std::size_t len = 0;
-  const io::RecordError e = model_->query_record(em::record_index(service),
-                                                 {req.data(), body.size() + 2},
-                                                 resp.subspan(1), len);
+  const io::RecordError e = model_->query_record(
+      em::record_index(service), {req.data(), body.size() + 2}, resp.subspan(1), len);
   if (e != io::RecordError::None) {
     const auto [g, a] = general_of(e);
     return error_response(resp, g, a);
@@ -461,7 +455,7 @@ void Slave::watchdogs(TIME now) {
 
 std::string Slave::describe() const {
   char b[256];
-  const char* ph = phase_ == Phase::Online ? "online"
+  const char* ph = phase_ == Phase::Online        ? "online"
                    : phase_ == Phase::DupMacCheck ? "dup-mac-check"
                                                   : "duplicate-mac";
   std::snprintf(b, sizeof b,

@@ -60,7 +60,8 @@ std::vector<AttributeWrite> parse_startup_writes(const std::string& text) {
       bad("data must be 1..200 bytes as pairs of hex digits");
     for (std::size_t i = 0; i < digits.size(); i += 2) {
       std::uint8_t b = 0;
-      if (!number("0x" + digits.substr(i, 2), 255, b)) bad("'" + digits.substr(i, 2) + "' is not hex");
+      if (!number("0x" + digits.substr(i, 2), 255, b))
+        bad("'" + digits.substr(i, 2) + "' is not hex");
       w.data.push_back(b);
     }
     out.push_back(std::move(w));

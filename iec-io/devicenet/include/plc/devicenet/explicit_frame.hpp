@@ -63,12 +63,12 @@ can::Frame explicit_ack(std::uint16_t id, std::uint8_t header_mac, bool xid, std
 class ExplicitReassembler {
  public:
   enum class Result : std::uint8_t {
-    Ignored,      // not an explicit frame we take (too short)
-    Message,      // a complete unfragmented message is in message()
-    FragmentAck,  // a fragment was taken: send an ack for ack_count()
+    Ignored,       // not an explicit frame we take (too short)
+    Message,       // a complete unfragmented message is in message()
+    FragmentAck,   // a fragment was taken: send an ack for ack_count()
     LastFragment,  // the last fragment: send an ack, and message() is complete
-    AckReceived,  // the peer acknowledged our fragment ack_count()
-    Bad,          // malformed or out of sequence: dropped, state reset
+    AckReceived,   // the peer acknowledged our fragment ack_count()
+    Bad,           // malformed or out of sequence: dropped, state reset
   };
   Result take(const can::Frame& f);
   [[nodiscard]] std::span<const std::uint8_t> message() const { return {buf_.data(), len_}; }

@@ -44,12 +44,14 @@ struct Identifier {
 // Splits an identifier; nullopt for 0x7F0..0x7FF (invalid) or above 11 bits.
 [[nodiscard]] constexpr std::optional<Identifier> decode_id(std::uint32_t id) {
   if (id > 0x7FF || id >= 0x7F0) return std::nullopt;
-  if (id < 0x400) return Identifier{1, static_cast<std::uint8_t>(id >> 6),
-                                    static_cast<std::uint8_t>(id & 0x3F)};
-  if (id < 0x600) return Identifier{2, static_cast<std::uint8_t>(id & 0x7),
-                                    static_cast<std::uint8_t>((id >> 3) & 0x3F)};
-  if (id < 0x7C0) return Identifier{3, static_cast<std::uint8_t>((id >> 6) & 0x7),
-                                    static_cast<std::uint8_t>(id & 0x3F)};
+  if (id < 0x400)
+    return Identifier{1, static_cast<std::uint8_t>(id >> 6), static_cast<std::uint8_t>(id & 0x3F)};
+  if (id < 0x600)
+    return Identifier{2, static_cast<std::uint8_t>(id & 0x7),
+                      static_cast<std::uint8_t>((id >> 3) & 0x3F)};
+  if (id < 0x7C0)
+    return Identifier{3, static_cast<std::uint8_t>((id >> 6) & 0x7),
+                      static_cast<std::uint8_t>(id & 0x3F)};
   return Identifier{4, static_cast<std::uint8_t>(id & 0x3F), 0};
 }
 

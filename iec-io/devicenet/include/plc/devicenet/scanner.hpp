@@ -19,9 +19,9 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <memory>
-#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,10 +41,10 @@ struct AttributeWrite {
 struct ScanEntry {
   std::string name;
   std::uint8_t mac = 0;
-  std::optional<std::uint16_t> vendor;   // Identity attr 1 must match
-  std::optional<std::uint16_t> product;  // Identity attr 3 must match
-  std::size_t input_size = 0;            // produced by the slave (%I)
-  std::size_t output_size = 0;           // consumed by the slave (%Q)
+  std::optional<std::uint16_t> vendor;       // Identity attr 1 must match
+  std::optional<std::uint16_t> product;      // Identity attr 3 must match
+  std::size_t input_size = 0;                // produced by the slave (%I)
+  std::size_t output_size = 0;               // consumed by the slave (%Q)
   TIME epr = std::chrono::milliseconds(50);  // expected packet rate of the poll connection
   std::vector<AttributeWrite> startup;
 };
@@ -92,7 +92,9 @@ class Scanner {
   std::span<std::uint8_t> outputs(std::size_t d) { return devices_[d]->out; }
   io::DeviceLink& link(std::size_t d) { return devices_[d]->link; }
   [[nodiscard]] ScanState state(std::size_t d) const { return devices_[d]->state; }
-  [[nodiscard]] const DeviceCounters& counters(std::size_t d) const { return devices_[d]->counters; }
+  [[nodiscard]] const DeviceCounters& counters(std::size_t d) const {
+    return devices_[d]->counters;
+  }
   [[nodiscard]] std::string diagnostics(std::size_t d) const;
   [[nodiscard]] bool on_line() const { return phase_ == Phase::Online; }
   [[nodiscard]] bool duplicate_mac() const { return phase_ == Phase::Duplicate; }
@@ -103,8 +105,19 @@ class Scanner {
 
  private:
   enum class Phase : std::uint8_t { Start, DupMacCheck, Online, Duplicate };
-  enum class Step : std::uint8_t { None, Release, Allocate, Vendor, Product, Produced, Consumed,
-                                   Epr, Startup, KeepAlive, Record };
+  enum class Step : std::uint8_t {
+    None,
+    Release,
+    Allocate,
+    Vendor,
+    Product,
+    Produced,
+    Consumed,
+    Epr,
+    Startup,
+    KeepAlive,
+    Record
+  };
   struct Device {
     ScanEntry cfg;
     ScanState state = ScanState::Waiting;

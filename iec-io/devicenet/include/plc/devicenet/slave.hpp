@@ -46,8 +46,8 @@ struct SlaveConfig {
 
 // Fault switches (dnslave: per slave in the YAML and by signal).
 struct SlaveFaults {
-  bool silent = false;          // answer nothing at all (as if unplugged)
-  int size_error = 0;           // produce this many bytes more (or fewer) than configured
+  bool silent = false;             // answer nothing at all (as if unplugged)
+  int size_error = 0;              // produce this many bytes more (or fewer) than configured
   bool refuse_allocation = false;  // Allocate gets Error Response 0x02
 };
 
@@ -83,7 +83,7 @@ class Slave {
   void on_explicit(const can::Frame& f, bool unconnected, TIME now);
   void on_poll(const can::Frame& f, TIME now);
   // Serves one message (service + body); writes the response into resp.
-  std::size_t serve(std::span<const std::uint8_t> msg, bool unconnected, std::uint8_t from_mac,
+  std::size_t serve(std::span<const std::uint8_t> msg, bool unconnected,
                     std::span<std::uint8_t> resp, TIME now);
   std::size_t serve_allocate(std::span<const std::uint8_t> msg, std::span<std::uint8_t> resp,
                              TIME now);
