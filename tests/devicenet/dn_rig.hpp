@@ -95,6 +95,16 @@ struct Rig {
   }
   SlaveNode& add_slave(std::uint8_t mac, std::size_t in, std::size_t out,
                        std::uint16_t vendor = 560, std::uint32_t serial = 0) {
+    slaves.push_back(make_slave(mac, in, out, vendor, serial));
+    return *slaves.back();
+  }
+  // A slave process restarted: new slave object, same MAC, fresh state.
+  SlaveNode& restart_slave(std::size_t i, std::size_t in, std::size_t out) {
+    slaves[i] = make_slave(slaves[i]->slave->mac(), in, out, 560, 0);
+    return *slaves[i];
+  }
+  std::unique_ptr<SlaveNode> make_slave(std::uint8_t mac, std::size_t in, std::size_t out,
+                                        std::uint16_t vendor, std::uint32_t serial) {
     auto n = std::make_unique<SlaveNode>();
     n->bus = wire->attach();
     dn::SlaveConfig sc;
@@ -106,24 +116,7 @@ struct Rig {
     auto m = std::make_unique<TestModel>(in, out);
     n->model = m.get();
     n->slave = std::make_unique<dn::Slave>(sc, std::move(m), *n->bus);
-    slaves.push_back(std::move(n));
-    return *slaves.back();
-  }
-  // A slave process restarted: new slave object, same MAC, fresh state.
-  SlaveNode& restart_slave(std::size_t i, std::size_t in, std::size_t out) {
-    const std::uint8_t mac = slaves[i]->slave->mac();
-    auto n = std::make_unique<SlaveNode>();
-    n->bus = wire->attach();
-    dn::SlaveConfig sc;
-    sc.mac = mac;
-    sc.identity.vendor = 560;
-    sc.identity.product_code = 1713;
-    sc.identity.serial = 0x1000u + mac;
-    auto m = std::make_unique<TestModel>(in, out);
-    n->model = m.get();
-    n->slave = std::make_unique<dn::Slave>(sc, std::move(m), *n->bus);
-    slaves[i] = std::move(n);
-    return *slaves[i];
+    return n;
   }
   void tick() {
     now += 1ms;
