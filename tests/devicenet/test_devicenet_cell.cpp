@@ -150,3 +150,62 @@ TEST(DeviceNetCell, BatchWeighingOverDeviceNetSurvivesASlaveKillAndRestart) {
   EXPECT_NE(t.output.find("Poll"), std::string::npos) << t.output.substr(0, 2000);
   EXPECT_NE(t.output.find("Unconnected"), std::string::npos) << t.output.substr(0, 2000);
 }
+
+// The AC-drive variant (FillingCellAc): the conveyor on a VF66B and the
+// scale on the PR5510, both behind one dnslave. SIGUSR1 silences both
+// slaves (a pulled cable): the scanner loses them, the drive's I/O
+// connection times out and it trips on fault 18 (toyo spec §12); SIGUSR1
+// again: re-allocation, the cell sees the drive Faulted, resets it, and the
+// belt runs and the containers count on.
+TEST(DeviceNetCell, AcConveyorCellTripsOnFault18AndRecovers) {
+  const std::string port = std::to_string(free_udp_port());
+  const std::string trace = plctest::temp_path("dnet_ac_cell.csv");
+  std::string cell =
+      plctest::read_file(plctest::source_path("programs/filling_cell/cell_vf66b_devicenet.yaml"));
+  ASSERT_FALSE(cell.empty());
+  cell = replace_all(cell, "udp:127.0.0.1:47800", "udp:127.0.0.1:" + port);
+  cell =
+      replace_all(cell, "      scale.BusType: 1", "      target_kg: 4.0\n      scale.BusType: 1");
+  const std::string cell_file = plctest::write_temp("dnet_ac_cell.yaml", cell);
+  std::string slave =
+      plctest::read_file(plctest::source_path("programs/filling_cell/dnslave_vf66b.yaml"));
+  slave = replace_all(slave, "udp:127.0.0.1:47800", "udp:127.0.0.1:" + port);
+  const std::string slave_file = plctest::write_temp("dnet_ac_slave.yaml", slave);
+
+  Child plc({plctest::plcrun_path(), cell_file, "--realtime", "--for", "28s", "-q", "--trace",
+             trace, "--trace-vars",
+             "Cell.step,Cell.containers,Cell.conveyor.RunningFwd,Cell.conveyor.Faulted,"
+             "Cell.conveyor.Valid"});
+  ASSERT_GT(plc.pid, 0);
+  Child slaves({plctest::bin_dir() + "/dnslave", slave_file});
+  ASSERT_TRUE(plc.wait_for("conveyor (MAC 7): online", 15000)) << plc.all;
+  plc.wait_for("\x01never\x01", 7000);  // fill a few containers
+  kill(slaves.pid, SIGUSR1);            // silent: a pulled cable
+  ASSERT_TRUE(plc.wait_for("conveyor (MAC 7): lost", 5000)) << plc.all;
+  plc.wait_for("\x01never\x01", 500);  // past the slave's own 4 x EPR: fault 18
+  kill(slaves.pid, SIGUSR1);
+  ASSERT_TRUE(plc.wait_for("conveyor (MAC 7): online", 10000)) << plc.all;
+  ASSERT_EQ(plc.finish(40000), 0) << plc.all;
+
+  const auto rows = read_trace(trace);
+  ASSERT_GT(rows.size(), 1000u);
+  std::size_t lost = 0, back = 0, faulted = 0, running_again = 0;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const auto& v = rows[i].v;
+    if (!lost && rows[i - 1].v.at("Cell.conveyor.Valid") == "TRUE" &&
+        v.at("Cell.conveyor.Valid") == "FALSE")
+      lost = i;
+    if (lost && !back && v.at("Cell.conveyor.Valid") == "TRUE") back = i;
+    if (back && !faulted && v.at("Cell.conveyor.Faulted") == "TRUE") faulted = i;
+    if (faulted && !running_again && v.at("Cell.conveyor.RunningFwd") == "TRUE") running_again = i;
+  }
+  ASSERT_GT(lost, 0u);
+  const int before = std::stoi(rows[lost].v.at("Cell.containers"));
+  EXPECT_GE(before, 1);
+  for (std::size_t i = lost; i < back; ++i)
+    ASSERT_EQ(rows[i].v.at("Cell.conveyor.RunningFwd"), "FALSE") << "row " << i;
+  ASSERT_GT(back, lost);
+  EXPECT_GT(faulted, 0u) << "the drive tripped on the connection timeout (fault 18)";
+  EXPECT_GT(running_again, faulted) << "reset, and the belt runs again";
+  EXPECT_GT(std::stoi(rows.back().v.at("Cell.containers")), before);
+}
