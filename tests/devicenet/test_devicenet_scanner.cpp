@@ -412,3 +412,43 @@ TEST(DeviceNetScanner, BadFramesAreCountedAndDropped) {
   EXPECT_EQ(r.scanner->counters(d).bad_frames, 2u);
   EXPECT_TRUE(std::equal(before.begin(), before.end(), r.scanner->inputs(d).begin()));
 }
+
+// Bus-off (SocketCAN error frames, can/socketcan_bus.hpp): every device is
+// lost at once; when the controller is back, each is allocated again.
+TEST(DeviceNetScanner, BusOffLosesEveryDeviceAndRecovers) {
+  class SwitchableBus final : public plc::can::Bus {
+   public:
+    explicit SwitchableBus(plc::can::Bus& inner) : inner_(inner) {}
+    bool send(const plc::can::Frame& f) override { return !off && inner_.send(f); }
+    bool receive(plc::can::Frame& f) override { return inner_.receive(f); }
+    plc::can::BusState state() const override {
+      return off ? plc::can::BusState::BusOff : plc::can::BusState::ErrorActive;
+    }
+    const plc::can::BusCounters& counters() const override { return inner_.counters(); }
+    bool off = false;
+
+   private:
+    plc::can::Bus& inner_;
+  };
+  dn::ScannerConfig c;
+  c.retry = 200ms;
+  Rig r(c);
+  SwitchableBus sw(*r.master_bus);
+  r.scanner->attach(&sw);
+  const auto d1 = r.add_device(5, 8, 8), d2 = r.add_device(6, 8, 8);
+  r.add_slave(5, 8, 8);
+  r.add_slave(6, 8, 8);
+  ASSERT_GE(r.run_until([&] { return online(r, d1) && online(r, d2); }, 5s), 0ms);
+  sw.off = true;
+  r.tick();
+  EXPECT_FALSE(online(r, d1));
+  EXPECT_FALSE(online(r, d2));
+  EXPECT_NE(r.scanner->diagnostics(d1).find("bus-off"), std::string::npos);
+  EXPECT_EQ(r.scanner->link(d2).live_state(), io::DeviceState::Offline);
+  r.run(1s);
+  EXPECT_FALSE(online(r, d1));
+  sw.off = false;
+  ASSERT_GE(r.run_until([&] { return online(r, d1) && online(r, d2); }, 5s), 0ms)
+      << r.scanner->diagnostics(d1);
+  EXPECT_EQ(r.scanner->counters(d1).losses, 1u);
+}
