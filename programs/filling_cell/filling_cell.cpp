@@ -25,12 +25,16 @@ void FillingCell::cycle(const ScanContext& ctx) {
   const bool safe = !guard.QBAD && guard.OSSD1_ON;
 
   scale(ctx);
-  power.Enable = run && safe && step != Step::Fault;
+  // No scale, no filling: the conveyor is not powered while the scale is
+  // off line (a lost fieldbus slave), so it never indexes containers that
+  // cannot be filled.
+  const bool scale_ok = scale.Online;
+  power.Enable = run && safe && scale_ok && step != Step::Fault;
   power(ctx, conveyor);
 
   switch (step) {
     case Step::WaitSafety:
-      if (safe && run) step = Step::Enable;
+      if (safe && run && scale_ok) step = Step::Enable;
       break;
     case Step::Enable:
       if (power.Status) step = Step::Index;
@@ -69,7 +73,8 @@ void FillingCell::cycle(const ScanContext& ctx) {
     last_error = power.Error ? power.ErrorID : index.Error ? index.ErrorID : dose.ErrorID;
     step = Step::Fault;
   }
-  if (!safe && step != Step::WaitSafety && step != Step::Fault) step = Step::WaitSafety;
+  if ((!safe || !scale_ok) && step != Step::WaitSafety && step != Step::Fault)
+    step = Step::WaitSafety;
   if (step != Step::Index) index.Execute = false;
   if (step != Step::Fill) dose.Execute = false;
 }
