@@ -4,6 +4,7 @@
 #include <map>
 #include <numeric>
 
+#include "plc/cell_library.hpp"
 #include "plc/iec_literal.hpp"
 #include "plc/runtime.hpp"
 
@@ -49,6 +50,16 @@ Runtime::~Runtime() {
 void Runtime::build(const CellConfig& cfg) {
   const std::string& file = cfg.file;
   auto fail = [&](Mark m, const std::string& msg) -> void { throw ConfigError(file, m, msg); };
+
+  // Cell libraries first: their programs, models and plugins are then found
+  // by name as the built-in ones are.
+  for (const Item<std::string>& lib : cfg.libraries) {
+    try {
+      libraries_.push_back(use_cell_library(lib.value));
+    } catch (const CellLibraryError& e) {
+      fail(lib.mark, "key 'libraries': " + lib.value + ": " + e.what());
+    }
+  }
 
   cell_name_ = cfg.cell.value.empty() ? "cell" : cfg.cell.value;
   order_ = cfg.byte_order.value;

@@ -50,7 +50,9 @@
 
 namespace plc {
 
-struct TaskThread;  // a real-time task thread's record (runtime/src/task_thread.hpp)
+class CellLibrary;   // plc/cell_library.hpp
+struct ProgramSwap;  // plc/online_change.hpp
+struct TaskThread;   // a real-time task thread's record (runtime/src/task_thread.hpp)
 
 struct DeviceRuntime {
   std::string name;
@@ -242,6 +244,7 @@ class Runtime {
 
  private:
   void build(const CellConfig& cfg);
+  friend class OnlineChange;  // replaces programs at scan boundaries (plc/online_change.hpp)
   // false: the run left this real-time task thread behind inside a program
   // (TaskThread), and it must return without touching the runtime.
   bool scan(TaskRuntime& t, TIME now);
@@ -257,6 +260,9 @@ class Runtime {
   void start_watchdog();
   void stop_watchdog();
 
+  // First, so destroyed last: the programs, plugins and models below run
+  // code from these libraries.
+  std::vector<std::shared_ptr<CellLibrary>> libraries_;
   std::string cell_name_;
   io::ByteOrder order_ = io::ByteOrder::Big;
   io::ProcessImage global_;
