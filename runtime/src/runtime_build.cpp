@@ -320,6 +320,9 @@ void Runtime::build(const CellConfig& cfg) {
     }
     task.programs.push_back(prog.get());
     programs_.emplace_back(pc.name.value, std::move(prog));
+    program_types_[pc.name.value] = pc.type.value;
+    for (const auto& [path, target] : pc.bind)
+      program_binds_[pc.name.value][pc.name.value + "." + path.value] = target.value;
 
     for (const auto& [path, value] : pc.init) {
       const std::string full = pc.name.value + "." + path.value;

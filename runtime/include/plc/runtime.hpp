@@ -34,6 +34,7 @@
 #include <atomic>
 #include <chrono>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -92,6 +93,8 @@ struct TaskRuntime {
   std::atomic<std::int64_t> step_budget{0};  // real time: scans allowed while paused
   std::uint64_t cycle = 0;
   TIME scan_time{};  // ScanContext::now of the scan under way (set before its latch)
+  // Online change: applied by this task's thread at its next scan start.
+  std::atomic<ProgramSwap*> swap{nullptr};
 };
 
 // Called after every scan of every task, in the scan's thread (trace,
@@ -269,6 +272,9 @@ class Runtime {
   std::vector<std::uint8_t> safe_q_;
   std::vector<std::pair<std::string, std::unique_ptr<io::Plugin>>> plugins_;
   std::vector<std::pair<std::string, std::unique_ptr<Program>>> programs_;
+  std::map<std::string, std::string> program_types_;  // program name -> type
+  // program name -> (field path -> address or device) from the config's bind:
+  std::map<std::string, std::map<std::string, std::string>> program_binds_;
   std::vector<DeviceRuntime> devices_;
   std::vector<std::unique_ptr<TaskRuntime>> tasks_;
   std::vector<TaskRuntime*> exec_order_;  // by priority, then config order

@@ -41,6 +41,9 @@ class VarRegistry {
   void add(VarInfo v);
   [[nodiscard]] const VarInfo* find(std::string_view path) const;
   [[nodiscard]] const std::vector<VarInfo>& all() const { return vars_; }
+  // Online change: the variables under `prefix` ("Main.") become `vars`, in
+  // the place the old ones had. Invalidates VarInfo pointers and copies.
+  void replace_prefix(const std::string& prefix, std::vector<VarInfo> vars);
 
   // Copies the value into/out of native storage of size_of(v.type) bytes
   // (for located variables this converts from/to the image byte order).
