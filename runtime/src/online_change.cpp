@@ -13,13 +13,21 @@ namespace {
 
 std::string type_text(VarType t) { return std::string(to_string(t)); }
 
-// Moves one value between two fields of the same type (no allocation:
-// STRING is a fixed-capacity value type).
-void copy_value(void* dst, const void* src, VarType type) {
-  if (type == VarType::STRING)
-    *static_cast<STRING*>(dst) = *static_cast<const STRING*>(src);
-  else
-    std::memcpy(dst, src, size_of(type));
+// Merges copies whose fields lie back to back in both objects (no gap:
+// a gap may hold a member outside the reflection, which must not move).
+std::vector<ProgramSwap::Copy> merged(std::vector<ProgramSwap::Copy> c) {
+  std::sort(c.begin(), c.end(),
+            [](const auto& a, const auto& b) { return std::less<const void*>()(a.dst, b.dst); });
+  std::vector<ProgramSwap::Copy> out;
+  for (const auto& x : c) {
+    if (!out.empty() && !x.string && !out.back().string &&
+        static_cast<char*>(out.back().dst) + out.back().bytes == x.dst &&
+        static_cast<const char*>(out.back().src) + out.back().bytes == x.src)
+      out.back().bytes += x.bytes;
+    else
+      out.push_back(x);
+  }
+  return out;
 }
 
 std::string same_path(const std::string& a) {
@@ -41,7 +49,13 @@ std::string ChangeReport::text() const {
 }
 
 void apply_program_swap(TaskRuntime& t, ProgramSwap& s) {
-  for (const ProgramSwap::Copy& c : s.copies) copy_value(c.dst, c.src, c.type);
+  // No allocation: STRING is a fixed-capacity value type.
+  for (const ProgramSwap::Copy& c : s.copies) {
+    if (c.string)
+      *static_cast<STRING*>(c.dst) = *static_cast<const STRING*>(c.src);
+    else
+      std::memcpy(c.dst, c.src, c.bytes);
+  }
   for (const auto& [index, p] : s.programs) t.programs[index] = p;
   t.swap.store(nullptr, std::memory_order_relaxed);
   s.applied.store(true, std::memory_order_release);
@@ -196,7 +210,7 @@ ChangeReport OnlineChange::prepare(const std::string& library) {
                             type_text(f.type));
         old_fields.erase(o);
       } else {
-        swap->copies.push_back({f.ptr, o->second->ptr, f.type});
+        swap->copies.push_back({f.ptr, o->second->ptr, size_of(f.type), f.type == VarType::STRING});
         ++r.kept;
         old_fields.erase(o);
       }
@@ -210,7 +224,10 @@ ChangeReport OnlineChange::prepare(const std::string& library) {
   }
   if (replaced_.empty())
     return refuse("no program of the cell uses a type from " + old_lib_->path());
-  for (auto& [t, s] : swaps) swaps_.emplace_back(t, std::move(s));
+  for (auto& [t, s] : swaps) {
+    s->copies = merged(std::move(s->copies));
+    swaps_.emplace_back(t, std::move(s));
+  }
   report_ = r;
   return r;
 }

@@ -58,10 +58,14 @@ struct ChangeReport {
 
 // One task's part of a change, applied by the task's thread.
 struct ProgramSwap {
+  // Field values to move; runs of fields adjacent in both the old and the
+  // new object are merged into one copy (a whole FB, usually). STRING is
+  // assigned (its own copy), everything else copied bytewise.
   struct Copy {
     void* dst;
     const void* src;
-    VarType type;
+    std::size_t bytes;
+    bool string;
   };
   std::vector<std::pair<std::size_t, Program*>> programs;  // index in TaskRuntime::programs
   std::vector<Copy> copies;
