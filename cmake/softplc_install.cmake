@@ -46,5 +46,7 @@ set(CPACK_DEBIAN_PACKAGE_SECTION devel)
 # and what a cell project needs to build against the headers.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "libboost-dev (>= 1.74), cmake (>= 3.25), g++ (>= 4:12)")
+# The cell template's test uses GoogleTest.
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "libgtest-dev, ninja-build")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 include(CPack)
