@@ -254,17 +254,7 @@ void OnlineChange::finish() {
     FieldVisitor fv(rp.name);
     rp.next->describe(fv);
     std::vector<std::pair<std::size_t, VarInfo>> vars;
-    for (const auto& f : fv.fields) {
-      VarInfo v;
-      v.path = f.path;
-      v.type = f.type;
-      v.ptr = f.ptr;
-      v.task = rp.task;
-      v.read_only = f.access.read_only;
-      v.check = f.access.check;
-      v.retain = f.retain;
-      vars.emplace_back(f.seq, std::move(v));
-    }
+    for (const auto& f : fv.fields) vars.emplace_back(f.seq, plain_var_info(f, rp.task));
     for (const auto& l : fv.located) {
       VarInfo v = *rt_.vars().find(l.path);  // same address (prepare() checked)
       v.read_only = l.access.read_only;

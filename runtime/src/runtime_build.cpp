@@ -237,17 +237,8 @@ void Runtime::build(const CellConfig& cfg) {
 
     // Registered in declaration order (plain and located variables mixed).
     std::vector<std::pair<std::size_t, VarInfo>> program_vars;
-    for (const auto& fld : fv.fields) {
-      VarInfo v;
-      v.path = fld.path;
-      v.type = fld.type;
-      v.ptr = fld.ptr;
-      v.task = static_cast<int>(task.order);
-      v.read_only = fld.access.read_only;
-      v.check = fld.access.check;
-      v.retain = fld.retain;
-      program_vars.emplace_back(fld.seq, std::move(v));
-    }
+    for (const auto& fld : fv.fields)
+      program_vars.emplace_back(fld.seq, plain_var_info(fld, static_cast<int>(task.order)));
     for (const auto& l : fv.located) {
       const Mark m = bind_marks.count(l.path) ? bind_marks[l.path] : pc.mark;
       const std::string addr(l.var->address());

@@ -11,6 +11,18 @@ void VarRegistry::add(VarInfo v) {
   vars_.push_back(std::move(v));
 }
 
+VarInfo plain_var_info(const FieldVisitor::Field& f, int task) {
+  VarInfo v;
+  v.path = f.path;
+  v.type = f.type;
+  v.ptr = f.ptr;
+  v.task = task;
+  v.read_only = f.access.read_only;
+  v.check = f.access.check;
+  v.retain = f.retain;
+  return v;
+}
+
 void VarRegistry::replace_prefix(const std::string& prefix, std::vector<VarInfo> vars) {
   std::vector<VarInfo> next;
   next.reserve(vars_.size() + vars.size());

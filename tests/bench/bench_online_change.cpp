@@ -59,6 +59,20 @@ programs:
   return rt;
 }
 
+// A cell with the version-2 build prepared and committed: the next scan of
+// its task switches.
+struct Committed {
+  std::unique_ptr<plc::Runtime> rt = big_cell();
+  std::unique_ptr<plc::OnlineChange> change;
+  explicit Committed(benchmark::State& state) {
+    install(BENCH_BIG_V2);
+    change = std::make_unique<plc::OnlineChange>(*rt);
+    const auto report = change->prepare("");
+    if (!report.refused.empty()) state.SkipWithError(report.refused.c_str());
+    change->commit();
+  }
+};
+
 double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
 void BM_Scan(benchmark::State& state) {
@@ -86,17 +100,12 @@ BENCHMARK(BM_Prepare)->UseManualTime()->Iterations(30);
 
 void BM_SwitchScan(benchmark::State& state) {
   for (auto _ : state) {
-    auto rt = big_cell();
-    install(BENCH_BIG_V2);
-    plc::OnlineChange change(*rt);
-    const auto report = change.prepare("");
-    if (!report.refused.empty()) state.SkipWithError(report.refused.c_str());
-    change.commit();
+    Committed c(state);
     const auto t0 = Clock::now();
-    rt->step_scan();  // applies the swap at its start
+    c.rt->step_scan();  // applies the swap at its start
     state.SetIterationTime(seconds(Clock::now() - t0));
-    if (!change.switched()) state.SkipWithError("did not switch");
-    change.finish();
+    if (!c.change->switched()) state.SkipWithError("did not switch");
+    c.change->finish();
   }
 }
 BENCHMARK(BM_SwitchScan)->UseManualTime()->Iterations(30);
@@ -105,17 +114,12 @@ BENCHMARK(BM_SwitchScan)->UseManualTime()->Iterations(30);
 // first scan of the new code).
 void BM_SwitchCopy(benchmark::State& state) {
   for (auto _ : state) {
-    auto rt = big_cell();
-    install(BENCH_BIG_V2);
-    plc::OnlineChange change(*rt);
-    const auto report = change.prepare("");
-    if (!report.refused.empty()) state.SkipWithError(report.refused.c_str());
-    change.commit();
-    plc::TaskRuntime& t = *rt->tasks()[0];
+    Committed c(state);
+    plc::TaskRuntime& t = *c.rt->tasks()[0];
     const auto t0 = Clock::now();
     plc::apply_program_swap(t, *t.swap.load());
     state.SetIterationTime(seconds(Clock::now() - t0));
-    change.finish();
+    c.change->finish();
   }
 }
 BENCHMARK(BM_SwitchCopy)->UseManualTime()->Iterations(30);

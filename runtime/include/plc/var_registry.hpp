@@ -11,6 +11,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "plc/field_visitor.hpp"
 #include "plc/io/byte_order.hpp"
 #include "plc/io/iec_address.hpp"
 #include "plc/reflect.hpp"
@@ -35,6 +36,10 @@ struct VarInfo {
   // Kept over restarts (PLC_RETAIN / PLC_PERSISTENT, runtime/…/retain/).
   RetainClass retain = RetainClass::None;
 };
+
+// The registry entry of a plain (not located) field of a program run by
+// task `task`.
+VarInfo plain_var_info(const FieldVisitor::Field& f, int task);
 
 class VarRegistry {
  public:
