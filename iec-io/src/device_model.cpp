@@ -26,6 +26,10 @@ DeviceModelRegistry& DeviceModelRegistry::instance() {
 }
 
 void DeviceModelRegistry::add(const std::string& name, DeviceModelFactory f) {
+  if (capture_) {
+    (*capture_)[name] = std::move(f);
+    return;
+  }
   factories_[name] = std::move(f);
 }
 

@@ -12,6 +12,10 @@ PluginRegistry& PluginRegistry::instance() {
 }
 
 void PluginRegistry::add(const std::string& type, PluginFactory f) {
+  if (capture_) {
+    (*capture_)[type] = std::move(f);
+    return;
+  }
   factories_[type] = std::move(f);
 }
 

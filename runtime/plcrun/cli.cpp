@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "debug_console.hpp"
+#include "new_cell.hpp"
 #include "plc/cell_config.hpp"
 #include "plc/debug/recording.hpp"
 #include "plc/debug/trace.hpp"
@@ -202,6 +203,7 @@ int plcrun_main(int argc, char** argv) {
     ("cold", "cold start: only PERSISTENT variables from the retain file, everything else initial")
     ("reset-retain", "remove the retain file first: every variable at its initial value")
     ("quiet,q", "no live status line")
+    ("new-cell", po::value<std::string>()->value_name("DIR"), "write a new cell project (CMake, one program, cell.yaml, a test) into DIR, then exit")
     ("config", po::value<std::string>()->value_name("FILE"), "the cell config (YAML)");
   // clang-format on
   po::positional_options_description pos;
@@ -216,6 +218,16 @@ int plcrun_main(int argc, char** argv) {
   }
   if (vm.count("help")) {
     std::cout << opts << "\n";
+    return 0;
+  }
+  if (vm.count("new-cell")) {
+    const std::string dir = vm["new-cell"].as<std::string>();
+    const std::string err = write_new_cell(dir);
+    if (!err.empty()) {
+      std::cerr << "plcrun: --new-cell: " << err << "\n";
+      return 2;
+    }
+    std::cout << "plcrun: wrote a cell project into " << dir << " (see its CMakeLists.txt)\n";
     return 0;
   }
   if (!vm.count("config")) {

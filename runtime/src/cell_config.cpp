@@ -3,6 +3,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -124,9 +125,19 @@ class Loader {
     expect_map(root, "the cell config");
     check_keys(root,
                {"cell", "clock", "image", "tasks", "programs", "plugins", "devices", "safe_values",
-                "retain"},
+                "retain", "libraries"},
                "the cell config");
     if (root["cell"]) c.cell = scalar(root["cell"], "cell");
+    each(root, "libraries", [&](const YAML::Node& n) {
+      auto lib = scalar(n, "libraries");
+      if (lib.value.empty()) fail(n, "key 'libraries': an empty path");
+      const std::filesystem::path p(lib.value);
+      if (p.is_relative())
+        lib.value = (std::filesystem::absolute(std::filesystem::path(file_).parent_path()) / p)
+                        .lexically_normal()
+                        .string();
+      c.libraries.push_back(std::move(lib));
+    });
     if (const auto n = root["clock"]) {
       auto s = scalar(n, "clock");
       if (s.value == "virtual")

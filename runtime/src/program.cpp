@@ -8,6 +8,10 @@ ProgramRegistry& ProgramRegistry::instance() {
 }
 
 void ProgramRegistry::add(const std::string& type, ProgramFactory f) {
+  if (capture_) {
+    (*capture_)[type] = std::move(f);
+    return;
+  }
   factories_[type] = std::move(f);
 }
 

@@ -4,6 +4,7 @@
 #include <map>
 #include <numeric>
 
+#include "plc/cell_library.hpp"
 #include "plc/iec_literal.hpp"
 #include "plc/runtime.hpp"
 
@@ -49,6 +50,16 @@ Runtime::~Runtime() {
 void Runtime::build(const CellConfig& cfg) {
   const std::string& file = cfg.file;
   auto fail = [&](Mark m, const std::string& msg) -> void { throw ConfigError(file, m, msg); };
+
+  // Cell libraries first: their programs, models and plugins are then found
+  // by name as the built-in ones are.
+  for (const Item<std::string>& lib : cfg.libraries) {
+    try {
+      libraries_.push_back(use_cell_library(lib.value));
+    } catch (const CellLibraryError& e) {
+      fail(lib.mark, "key 'libraries': " + lib.value + ": " + e.what());
+    }
+  }
 
   cell_name_ = cfg.cell.value.empty() ? "cell" : cfg.cell.value;
   order_ = cfg.byte_order.value;
@@ -226,17 +237,8 @@ void Runtime::build(const CellConfig& cfg) {
 
     // Registered in declaration order (plain and located variables mixed).
     std::vector<std::pair<std::size_t, VarInfo>> program_vars;
-    for (const auto& fld : fv.fields) {
-      VarInfo v;
-      v.path = fld.path;
-      v.type = fld.type;
-      v.ptr = fld.ptr;
-      v.task = static_cast<int>(task.order);
-      v.read_only = fld.access.read_only;
-      v.check = fld.access.check;
-      v.retain = fld.retain;
-      program_vars.emplace_back(fld.seq, std::move(v));
-    }
+    for (const auto& fld : fv.fields)
+      program_vars.emplace_back(fld.seq, plain_var_info(fld, static_cast<int>(task.order)));
     for (const auto& l : fv.located) {
       const Mark m = bind_marks.count(l.path) ? bind_marks[l.path] : pc.mark;
       const std::string addr(l.var->address());
@@ -309,6 +311,9 @@ void Runtime::build(const CellConfig& cfg) {
     }
     task.programs.push_back(prog.get());
     programs_.emplace_back(pc.name.value, std::move(prog));
+    program_types_[pc.name.value] = pc.type.value;
+    for (const auto& [path, target] : pc.bind)
+      program_binds_[pc.name.value][pc.name.value + "." + path.value] = target.value;
 
     for (const auto& [path, value] : pc.init) {
       const std::string full = pc.name.value + "." + path.value;

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <mutex>
 
+#include "plc/online_change.hpp"
 #include "plc/runtime.hpp"
 #include "task_thread.hpp"
 
@@ -36,6 +37,8 @@ struct MaybeLock {
 bool Runtime::scan(TaskRuntime& t, TIME now) { return scan_finish(t, scan_latch(t, now)); }
 
 ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
+  // 0: an online change for this task switches here, between two scans.
+  if (ProgramSwap* s = t.swap.load(std::memory_order_acquire)) apply_program_swap(t, *s);
   const std::int64_t start = steady_ns();
   t.scan_seq.fetch_add(1, std::memory_order_relaxed);
   t.scan_started_ns.store(start, std::memory_order_release);

@@ -11,6 +11,37 @@ void VarRegistry::add(VarInfo v) {
   vars_.push_back(std::move(v));
 }
 
+VarInfo plain_var_info(const FieldVisitor::Field& f, int task) {
+  VarInfo v;
+  v.path = f.path;
+  v.type = f.type;
+  v.ptr = f.ptr;
+  v.task = task;
+  v.read_only = f.access.read_only;
+  v.check = f.access.check;
+  v.retain = f.retain;
+  return v;
+}
+
+void VarRegistry::replace_prefix(const std::string& prefix, std::vector<VarInfo> vars) {
+  std::vector<VarInfo> next;
+  next.reserve(vars_.size() + vars.size());
+  bool placed = false;
+  for (VarInfo& v : vars_) {
+    if (v.path.compare(0, prefix.size(), prefix) != 0) {
+      next.push_back(std::move(v));
+    } else if (!placed) {
+      for (VarInfo& n : vars) next.push_back(std::move(n));
+      placed = true;
+    }
+  }
+  if (!placed)
+    for (VarInfo& n : vars) next.push_back(std::move(n));
+  vars_ = std::move(next);
+  index_.clear();
+  for (std::size_t i = 0; i < vars_.size(); ++i) index_.emplace(vars_[i].path, i);
+}
+
 const VarInfo* VarRegistry::find(std::string_view path) const {
   auto it = index_.find(std::string(path));
   return it == index_.end() ? nullptr : &vars_[it->second];

@@ -116,6 +116,10 @@ struct RetainConfig {
 struct CellConfig {
   std::string file;
   Item<std::string> cell;
+  // Cell libraries to load before anything is resolved by name (key
+  // `libraries:`), as absolute paths: a relative one is taken from the
+  // config file's folder.
+  std::vector<Item<std::string>> libraries;
   Item<io::ClockMode> clock{io::ClockMode::Virtual, {}};
   io::ImageSizes image;
   Item<io::ByteOrder> byte_order{io::ByteOrder::Big, {}};

@@ -52,9 +52,14 @@ class ProgramRegistry {
   void add(const std::string& type, ProgramFactory f);
   [[nodiscard]] const ProgramFactory* find(const std::string& type) const;
   [[nodiscard]] std::vector<std::string> names() const;
+  // While a cell library loads, its registrations are collected here
+  // instead of taking effect (plc/cell_library.hpp): they count only once
+  // its ABI version has been checked. nullptr: add() registers.
+  void set_capture(std::map<std::string, ProgramFactory>* c) { capture_ = c; }
 
  private:
   std::map<std::string, ProgramFactory> factories_;
+  std::map<std::string, ProgramFactory>* capture_ = nullptr;
 };
 
 // Registers a program class under its own name. Put it in a .cpp that is

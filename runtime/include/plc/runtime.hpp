@@ -34,6 +34,7 @@
 #include <atomic>
 #include <chrono>
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -50,7 +51,9 @@
 
 namespace plc {
 
-struct TaskThread;  // a real-time task thread's record (runtime/src/task_thread.hpp)
+class CellLibrary;   // plc/cell_library.hpp
+struct ProgramSwap;  // plc/online_change.hpp
+struct TaskThread;   // a real-time task thread's record (runtime/src/task_thread.hpp)
 
 struct DeviceRuntime {
   std::string name;
@@ -90,6 +93,8 @@ struct TaskRuntime {
   std::atomic<std::int64_t> step_budget{0};  // real time: scans allowed while paused
   std::uint64_t cycle = 0;
   TIME scan_time{};  // ScanContext::now of the scan under way (set before its latch)
+  // Online change: applied by this task's thread at its next scan start.
+  std::atomic<ProgramSwap*> swap{nullptr};
 };
 
 // Called after every scan of every task, in the scan's thread (trace,
@@ -242,6 +247,7 @@ class Runtime {
 
  private:
   void build(const CellConfig& cfg);
+  friend class OnlineChange;  // replaces programs at scan boundaries (plc/online_change.hpp)
   // false: the run left this real-time task thread behind inside a program
   // (TaskThread), and it must return without touching the runtime.
   bool scan(TaskRuntime& t, TIME now);
@@ -257,12 +263,18 @@ class Runtime {
   void start_watchdog();
   void stop_watchdog();
 
+  // First, so destroyed last: the programs, plugins and models below run
+  // code from these libraries.
+  std::vector<std::shared_ptr<CellLibrary>> libraries_;
   std::string cell_name_;
   io::ByteOrder order_ = io::ByteOrder::Big;
   io::ProcessImage global_;
   std::vector<std::uint8_t> safe_q_;
   std::vector<std::pair<std::string, std::unique_ptr<io::Plugin>>> plugins_;
   std::vector<std::pair<std::string, std::unique_ptr<Program>>> programs_;
+  std::map<std::string, std::string> program_types_;  // program name -> type
+  // program name -> (field path -> address or device) from the config's bind:
+  std::map<std::string, std::map<std::string, std::string>> program_binds_;
   std::vector<DeviceRuntime> devices_;
   std::vector<std::unique_ptr<TaskRuntime>> tasks_;
   std::vector<TaskRuntime*> exec_order_;  // by priority, then config order

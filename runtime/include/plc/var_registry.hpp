@@ -11,6 +11,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "plc/field_visitor.hpp"
 #include "plc/io/byte_order.hpp"
 #include "plc/io/iec_address.hpp"
 #include "plc/reflect.hpp"
@@ -36,11 +37,18 @@ struct VarInfo {
   RetainClass retain = RetainClass::None;
 };
 
+// The registry entry of a plain (not located) field of a program run by
+// task `task`.
+VarInfo plain_var_info(const FieldVisitor::Field& f, int task);
+
 class VarRegistry {
  public:
   void add(VarInfo v);
   [[nodiscard]] const VarInfo* find(std::string_view path) const;
   [[nodiscard]] const std::vector<VarInfo>& all() const { return vars_; }
+  // Online change: the variables under `prefix` ("Main.") become `vars`, in
+  // the place the old ones had. Invalidates VarInfo pointers and copies.
+  void replace_prefix(const std::string& prefix, std::vector<VarInfo> vars);
 
   // Copies the value into/out of native storage of size_of(v.type) bytes
   // (for located variables this converts from/to the image byte order).

@@ -1145,6 +1145,9 @@ std::string Debugger::help() const {
   goto SCAN                 go to scan SCAN, also backwards (re-runs from the start)
   restart warm|cold         restart the cell: warm keeps RETAIN and PERSISTENT values,
                             cold only PERSISTENT; the rest (devices too) starts over
+  reload [LIB]              online change: load the new build of a cell library (default:
+                            the cell's only one); its programs switch at a scan boundary,
+                            keeping every field whose path and type did not change
   stats | status            task statistics | where the session is
   help | quit
 conditions: ST syntax, e.g.  Tank.step = 3 AND Tank.level > 16#5000 OR NOT %IX0.1
@@ -1197,6 +1200,7 @@ std::string Debugger::execute(std::string_view line_in) {
   if (c == "record") return cmd_record(a);
   if (c == "goto") return cmd_goto(a);
   if (c == "restart") return cmd_restart(a);
+  if (c == "reload") return cmd_reload(a);
   if (c == "stats") return cmd_stats();
   if (c == "status" || c == "where") return stop_report("status");
   return "unknown command '" + c + "' (help lists them)\n";

@@ -70,9 +70,14 @@ class DeviceModelRegistry {
   void add(const std::string& name, DeviceModelFactory f);
   [[nodiscard]] const DeviceModelFactory* find(const std::string& name) const;
   [[nodiscard]] std::vector<std::string> names() const;
+  // While a cell library loads, its registrations are collected here
+  // instead of taking effect (plc/cell_library.hpp): they count only once
+  // its ABI version has been checked. nullptr: add() registers.
+  void set_capture(std::map<std::string, DeviceModelFactory>* c) { capture_ = c; }
 
  private:
   std::map<std::string, DeviceModelFactory> factories_;
+  std::map<std::string, DeviceModelFactory>* capture_ = nullptr;
 };
 
 // Registers a model class constructible from `const ModelParams&`:

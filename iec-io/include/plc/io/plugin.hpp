@@ -76,9 +76,14 @@ class PluginRegistry {
   void add(const std::string& type, PluginFactory f);
   [[nodiscard]] const PluginFactory* find(const std::string& type) const;
   [[nodiscard]] std::vector<std::string> names() const;
+  // While a cell library loads, its registrations are collected here
+  // instead of taking effect (plc/cell_library.hpp): they count only once
+  // its ABI version has been checked. nullptr: add() registers.
+  void set_capture(std::map<std::string, PluginFactory>* c) { capture_ = c; }
 
  private:
   std::map<std::string, PluginFactory> factories_;
+  std::map<std::string, PluginFactory>* capture_ = nullptr;
 };
 
 #define PLC_REGISTER_PLUGIN(type, Class)                                                       \

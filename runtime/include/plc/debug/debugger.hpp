@@ -138,6 +138,7 @@ class Debugger final : public ScanHooks {
   std::string cmd_record(const std::vector<std::string>& a);
   std::string cmd_goto(const std::vector<std::string>& a);
   std::string cmd_restart(const std::vector<std::string>& a);
+  std::string cmd_reload(const std::vector<std::string>& a);  // online change (reload.cpp)
   std::string cmd_stats();
   std::string cmd_watch(const std::vector<std::string>& a, bool add);
   std::string help() const;

@@ -1,0 +1,21 @@
+// The binary interface between plcrun and the cell libraries it loads
+// (`libraries:` in a cell config). A cell library is C++ compiled against
+// this runtime's headers: it derives from plc::Program, fills a
+// plc::FieldVisitor, calls into the registries and the FB libraries. Any
+// change to those classes' layout or to a signature they use changes the
+// ABI. PLC_ABI_VERSION counts such changes; bump it in the same commit.
+//
+// softplc_add_cell_library() (cmake/softplc_cell_library.cmake) compiles
+// PLC_CELL_LIBRARY_ABI() into every cell library; plcrun reads the symbol
+// before it uses anything the library registered and refuses a library
+// built against another version (plc/cell_library.hpp).
+#pragma once
+
+#define PLC_ABI_VERSION 1
+
+// The exported symbol's name, for dlsym.
+#define PLC_CELL_ABI_SYMBOL "softplc_cell_abi_version"
+
+#define PLC_CELL_LIBRARY_ABI(version)                     \
+  extern "C" __attribute__((visibility("default"), used)) \
+  const unsigned softplc_cell_abi_version = (version);

@@ -1,0 +1,109 @@
+// Online change: a new build of a cell library replaces the programs it
+// provides while the cell runs, each task switching at its own scan
+// boundary; other tasks, plugins and devices never stop.
+//
+//   OnlineChange oc(rt);
+//   ChangeReport r = oc.prepare("/abs/path/build/libmycell.so");  // loads, compares
+//   if (r.refused.empty()) { oc.commit(); ...scans run...; if (oc.switched()) oc.finish(); }
+//
+// prepare() loads the new build beside the old one (plc/cell_library.hpp),
+// constructs the new programs and compares them field by field through the
+// reflection (FieldVisitor), by path and type:
+// - unchanged path and type: the value moves over, FB internal state
+//   included (a running TON's start time, a counter, a batch's step);
+// - new fields keep the initial value the new constructor gave them;
+// - removed and type-changed fields are listed (the report comes before
+//   the switch; their values are lost).
+// Refused, with the reason, old code running on: a program type missing
+// from the new build, a constructor that throws, a located variable added,
+// removed or moved to another address, a device port added or removed
+// (the task layout and the devices come from the cell config, which an
+// online change does not re-read), a library that registers device models
+// or plugins (those run inside plugin threads), a task that is stopped, a
+// load that fails (missing file, dlopen error, ABI version).
+//
+// commit() hands each task concerned its ProgramSwap; the task applies it
+// at the start of its next scan (Runtime::scan_latch): the copies, then the
+// new program pointers, in its own thread, so no scan ever sees half a
+// change. Only fields in PLC_REFLECT move over: state a block keeps outside
+// its reflection starts fresh. finish(), once switched() (every task has
+// applied its swap, so none can be inside the old code), updates the
+// variable registry, destroys the old programs and unloads the old library.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plc/program.hpp"
+#include "plc/types.hpp"
+
+namespace plc {
+
+class Runtime;
+class CellLibrary;
+struct TaskRuntime;
+
+struct ChangeReport {
+  std::string library;
+  std::vector<std::string> programs;  // "Main (MainProgram)"
+  std::size_t kept = 0;               // fields whose value moves over
+  std::vector<std::string> added;     // "Main.x: DINT"
+  std::vector<std::string> removed;   // "Main.y: INT"
+  std::vector<std::string> retyped;   // "Main.z: INT -> DINT"
+  std::string refused;                // why not ("" = can be applied)
+  [[nodiscard]] std::string text() const;
+};
+
+// One task's part of a change, applied by the task's thread.
+struct ProgramSwap {
+  // Field values to move; runs of fields adjacent in both the old and the
+  // new object are merged into one copy (a whole FB, usually). STRING is
+  // assigned (its own copy), everything else copied bytewise.
+  struct Copy {
+    void* dst;
+    const void* src;
+    std::size_t bytes;
+    bool string;
+  };
+  std::vector<std::pair<std::size_t, Program*>> programs;  // index in TaskRuntime::programs
+  std::vector<Copy> copies;
+  std::atomic<bool> applied{false};
+};
+// At a scan boundary of `t`, in its thread (Runtime::scan_latch).
+void apply_program_swap(TaskRuntime& t, ProgramSwap& s);
+
+class OnlineChange {
+ public:
+  explicit OnlineChange(Runtime& rt);
+  ~OnlineChange();
+  OnlineChange(const OnlineChange&) = delete;
+  OnlineChange& operator=(const OnlineChange&) = delete;
+
+  // `library`: a path the cell config's `libraries:` named (absolute, as
+  // CellConfig holds it), or "" when the cell has exactly one.
+  ChangeReport prepare(const std::string& library);
+  void commit();
+  [[nodiscard]] bool switched() const;
+  void finish();
+  // Recording (plc/debug/recording.hpp) and other observers: the report of
+  // the last finished change.
+  [[nodiscard]] const ChangeReport& report() const { return report_; }
+
+ private:
+  struct Replaced {
+    std::string name;
+    int task = -1;
+    std::unique_ptr<Program> next;
+  };
+  Runtime& rt_;
+  ChangeReport report_;
+  std::shared_ptr<CellLibrary> old_lib_, new_lib_;
+  std::vector<Replaced> replaced_;
+  std::vector<std::pair<TaskRuntime*, std::unique_ptr<ProgramSwap>>> swaps_;
+  bool committed_ = false;
+  bool finished_ = false;
+};
+
+}  // namespace plc

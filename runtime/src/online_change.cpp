@@ -1,0 +1,286 @@
+#include "plc/online_change.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <map>
+
+#include "plc/cell_library.hpp"
+#include "plc/runtime.hpp"
+
+namespace plc {
+namespace {
+
+std::string type_text(VarType t) { return std::string(to_string(t)); }
+
+// Merges copies whose fields lie back to back in both objects (no gap:
+// a gap may hold a member outside the reflection, which must not move).
+std::vector<ProgramSwap::Copy> merged(std::vector<ProgramSwap::Copy> c) {
+  std::sort(c.begin(), c.end(),
+            [](const auto& a, const auto& b) { return std::less<const void*>()(a.dst, b.dst); });
+  std::vector<ProgramSwap::Copy> out;
+  for (const auto& x : c) {
+    if (!out.empty() && !x.string && !out.back().string &&
+        static_cast<char*>(out.back().dst) + out.back().bytes == x.dst &&
+        static_cast<const char*>(out.back().src) + out.back().bytes == x.src)
+      out.back().bytes += x.bytes;
+    else
+      out.push_back(x);
+  }
+  return out;
+}
+
+std::string same_path(const std::string& a) {
+  return std::filesystem::path(a).lexically_normal().string();
+}
+
+}  // namespace
+
+std::string ChangeReport::text() const {
+  std::string s;
+  if (!refused.empty()) return "online change refused: " + refused + "; the old code runs on\n";
+  s += "online change of " + library + ":\n";
+  for (const auto& p : programs) s += "  program " + p + "\n";
+  s += "  " + std::to_string(kept) + " fields keep their values\n";
+  for (const auto& a : added) s += "  added (initial value): " + a + "\n";
+  for (const auto& r : removed) s += "  removed (value dropped): " + r + "\n";
+  for (const auto& r : retyped) s += "  type changed (initial value): " + r + "\n";
+  return s;
+}
+
+void apply_program_swap(TaskRuntime& t, ProgramSwap& s) {
+  // No allocation: STRING is a fixed-capacity value type.
+  for (const ProgramSwap::Copy& c : s.copies) {
+    if (c.string)
+      *static_cast<STRING*>(c.dst) = *static_cast<const STRING*>(c.src);
+    else
+      std::memcpy(c.dst, c.src, c.bytes);
+  }
+  for (const auto& [index, p] : s.programs) t.programs[index] = p;
+  t.swap.store(nullptr, std::memory_order_relaxed);
+  s.applied.store(true, std::memory_order_release);
+}
+
+OnlineChange::OnlineChange(Runtime& rt) : rt_(rt) {}
+
+OnlineChange::~OnlineChange() {
+  // A change handed to the tasks must be seen through (finish()); one that
+  // was only prepared is dropped here, with the new library.
+  if (committed_ && !finished_) {
+    for (auto& [t, s] : swaps_) {
+      ProgramSwap* expect = s.get();
+      t->swap.compare_exchange_strong(expect, nullptr);
+    }
+    // A task that applied the swap already runs the new programs: they and
+    // their library must live as long as the runtime.
+    if (switched()) finish();
+  }
+}
+
+ChangeReport OnlineChange::prepare(const std::string& library) {
+  ChangeReport r;
+  auto refuse = [&](std::string why) {
+    r.refused = std::move(why);
+    // The new library stays loaded until this object goes: the programs
+    // constructed from it (locals of prepare()) are destroyed after this.
+    replaced_.clear();
+    swaps_.clear();
+    return r;
+  };
+  if (committed_) return refuse("a change is already under way");
+  // Which of the cell's libraries.
+  if (rt_.libraries_.empty()) return refuse("the cell loads no libraries (key 'libraries:')");
+  std::string names;
+  for (const auto& l : rt_.libraries_) {
+    names += (names.empty() ? "" : ", ") + l->path();
+    if ((library.empty() && rt_.libraries_.size() == 1) ||
+        same_path(l->path()) == same_path(library))
+      old_lib_ = l;
+  }
+  if (!old_lib_)
+    return refuse(library.empty()
+                      ? "the cell loads several libraries (" + names + "): name one"
+                      : library + " is not one of the cell's libraries (" + names + ")");
+  r.library = old_lib_->path();
+  try {
+    new_lib_ = CellLibrary::open(old_lib_->path());
+  } catch (const CellLibraryError& e) {
+    return refuse("cannot load " + old_lib_->path() + ": " + e.what());
+  }
+  if (!old_lib_->models().empty() || !old_lib_->plugins().empty() || !new_lib_->models().empty() ||
+      !new_lib_->plugins().empty())
+    return refuse(
+        "the library registers device models or plugins, which run in plugin threads: "
+        "online change replaces programs only (restart the cell)");
+  for (const auto& [type, _] : old_lib_->programs())
+    if (!new_lib_->programs().count(type))
+      return refuse("program type '" + type + "' is no longer in the library (restart the cell)");
+
+  std::map<TaskRuntime*, std::unique_ptr<ProgramSwap>> swaps;
+  for (const auto& [name, type] : rt_.program_types_) {
+    if (!old_lib_->programs().count(type)) continue;
+    TaskRuntime* task = nullptr;
+    for (const auto& t : rt_.tasks_)
+      if (std::find(t->program_names.begin(), t->program_names.end(), name) !=
+          t->program_names.end())
+        task = t.get();
+    if (!task) continue;
+    if (task->stopped.load())
+      return refuse("task '" + task->name + "' (program '" + name +
+                    "') is stopped: it would never reach a scan boundary to switch at");
+    Program* old = rt_.program(name);
+    std::unique_ptr<Program> next;
+    try {
+      next = new_lib_->programs().at(type)();
+    } catch (const std::exception& e) {
+      return refuse("program '" + name + "': the constructor of " + type + " threw: " + e.what());
+    } catch (...) {
+      return refuse("program '" + name + "': the constructor of " + type + " threw");
+    }
+    FieldVisitor before(name), after(name);
+    old->describe(before);
+    next->describe(after);
+    const auto& binds = rt_.program_binds_[name];
+
+    // Located variables and device ports: the I/O layout must not move.
+    for (auto& l : after.located) {
+      if (auto b = binds.find(l.path); b != binds.end()) l.var->set_address(b->second);
+      auto o = std::find_if(before.located.begin(), before.located.end(),
+                            [&](const auto& x) { return x.path == l.path; });
+      if (o == before.located.end())
+        return refuse("located variable " + l.path + " (" + std::string(l.var->address()) +
+                      ") is new: the I/O layout cannot change online (restart the cell)");
+      if (o->var->address() != l.var->address() || o->type != l.type)
+        return refuse("located variable " + l.path + " moved from " +
+                      std::string(o->var->address()) + " " + type_text(o->type) + " to " +
+                      std::string(l.var->address()) + " " + type_text(l.type) +
+                      ": the I/O layout cannot change online (restart the cell)");
+    }
+    for (const auto& o : before.located)
+      if (std::none_of(after.located.begin(), after.located.end(),
+                       [&](const auto& x) { return x.path == o.path; }))
+        return refuse("located variable " + o.path + " (" + std::string(o.var->address()) +
+                      ") was removed: the I/O layout cannot change online (restart the cell)");
+    for (auto& p : after.ports) {
+      if (auto b = binds.find(p.path); b != binds.end()) p.port->set_device_name(b->second);
+      auto o = std::find_if(before.ports.begin(), before.ports.end(),
+                            [&](const auto& x) { return x.path == p.path; });
+      if (o == before.ports.end() || o->port->device_name() != p.port->device_name())
+        return refuse("device port " + p.path +
+                      " is new or names another device: devices "
+                      "cannot be added or removed online (restart the cell)");
+    }
+    if (before.ports.size() != after.ports.size())
+      return refuse("a device port of program '" + name +
+                    "' was removed: devices cannot be added or removed online (restart the cell)");
+    for (const auto& f : before.fields)
+      if (f.retain != RetainClass::None)
+        return refuse(f.path + " is " + std::string(to_string(f.retain)) +
+                      ": the retain file's layout is fixed while the cell runs (restart the cell)");
+    for (const auto& f : after.fields)
+      if (f.retain != RetainClass::None)
+        return refuse(f.path + " is " + std::string(to_string(f.retain)) +
+                      ": the retain file's layout is fixed while the cell runs (restart the cell)");
+
+    // Bind the new program where the old one is bound.
+    for (auto& l : after.located) {
+      const VarInfo* v = rt_.vars().find(l.path);
+      l.var->bind(v->image_ptr, v->address->bit, rt_.order_);
+    }
+    for (auto& p : after.ports) {
+      for (auto& d : rt_.devices_)
+        if (d.name == p.port->device_name()) {
+          auto in = task->image.area(io::Area::Input).subspan(d.in.byte, d.sizes.input_bytes);
+          auto out = task->image.area(io::Area::Output).subspan(d.out.byte, d.sizes.output_bytes);
+          p.port->bind(in, out, &d.plugin->link(d.index));
+        }
+    }
+
+    // Values by path and type.
+    auto& swap = swaps[task];
+    if (!swap) swap = std::make_unique<ProgramSwap>();
+    std::map<std::string, const FieldVisitor::Field*> old_fields;
+    for (const auto& f : before.fields) old_fields[f.path] = &f;
+    for (const auto& f : after.fields) {
+      auto o = old_fields.find(f.path);
+      if (o == old_fields.end()) {
+        r.added.push_back(f.path + ": " + type_text(f.type));
+      } else if (o->second->type != f.type) {
+        r.retyped.push_back(f.path + ": " + type_text(o->second->type) + " -> " +
+                            type_text(f.type));
+        old_fields.erase(o);
+      } else {
+        swap->copies.push_back({f.ptr, o->second->ptr, size_of(f.type), f.type == VarType::STRING});
+        ++r.kept;
+        old_fields.erase(o);
+      }
+    }
+    for (const auto& f : before.fields)
+      if (old_fields.count(f.path)) r.removed.push_back(f.path + ": " + type_text(f.type));
+    for (std::size_t i = 0; i < task->programs.size(); ++i)
+      if (task->programs[i] == old) swap->programs.emplace_back(i, next.get());
+    r.programs.push_back(name + " (" + type + ")");
+    replaced_.push_back({name, static_cast<int>(task->order), std::move(next)});
+  }
+  if (replaced_.empty())
+    return refuse("no program of the cell uses a type from " + old_lib_->path());
+  for (auto& [t, s] : swaps) {
+    s->copies = merged(std::move(s->copies));
+    swaps_.emplace_back(t, std::move(s));
+  }
+  report_ = r;
+  return r;
+}
+
+void OnlineChange::commit() {
+  if (committed_ || swaps_.empty()) return;
+  committed_ = true;
+  for (auto& [t, s] : swaps_) t->swap.store(s.get(), std::memory_order_release);
+}
+
+bool OnlineChange::switched() const {
+  if (!committed_) return false;
+  return std::all_of(swaps_.begin(), swaps_.end(), [](const auto& ts) {
+    return ts.second->applied.load(std::memory_order_acquire);
+  });
+}
+
+void OnlineChange::finish() {
+  if (finished_ || !switched()) return;
+  finished_ = true;
+  std::vector<std::unique_ptr<Program>> retired;
+  for (Replaced& rp : replaced_) {
+    // The registry entries of the program, rebuilt from the new object.
+    FieldVisitor fv(rp.name);
+    rp.next->describe(fv);
+    std::vector<std::pair<std::size_t, VarInfo>> vars;
+    for (const auto& f : fv.fields) vars.emplace_back(f.seq, plain_var_info(f, rp.task));
+    for (const auto& l : fv.located) {
+      VarInfo v = *rt_.vars().find(l.path);  // same address (prepare() checked)
+      v.read_only = l.access.read_only;
+      v.check = l.access.check;
+      vars.emplace_back(l.seq, std::move(v));
+    }
+    std::sort(vars.begin(), vars.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<VarInfo> list;
+    for (auto& [_, v] : vars) list.push_back(std::move(v));
+    rt_.vars_.replace_prefix(rp.name + ".", std::move(list));
+    for (auto& [n, p] : rt_.programs_)
+      if (n == rp.name) {
+        retired.push_back(std::move(p));
+        p = std::move(rp.next);
+      }
+  }
+  // No task can be inside the old code any more (each has started a scan
+  // with the new programs): destroy the old programs, then let the old
+  // library go (unloaded when the last holder drops it).
+  retired.clear();
+  for (auto& l : rt_.libraries_)
+    if (l == old_lib_) l = new_lib_;
+  make_current(new_lib_);
+  old_lib_.reset();
+  new_lib_.reset();
+}
+
+}  // namespace plc

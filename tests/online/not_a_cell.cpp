@@ -1,0 +1,1 @@
+extern "C" int softplc_test_not_a_cell() { return 1; }
