@@ -3,7 +3,7 @@
 # Its programs, device models and plugins register themselves as the
 # built-in ones do (PLC_REGISTER_PROGRAM, ...). Links softplc::runtime and
 # the IEC blocks (softplc::fb_iec); add others with target_link_libraries
-# (softplc::fb_drive, softplc::fb_weighing, softplc::fb_safety).
+# (softplc::fb_drive, softplc::fb_weighing, softplc::fb_safety, softplc::fb_acdrive).
 #
 # Used by this build (tests) and, installed in lib/cmake/softplc/, by cell
 # projects outside it (find_package(softplc)).
