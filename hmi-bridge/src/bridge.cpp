@@ -248,6 +248,7 @@ int Bridge::publish_values(bool full) {
     m.cell = l->cell;
     m.scan = static_cast<std::int64_t>(snap.scan());
     m.plc_time_ns = snap.plc_time().count();
+    m.scan_utime = snap.copy_utime();
     m.task = l->task_names[std::size_t(snap.task())];
     m.full = full;
     tr.plc_time_ns = m.plc_time_ns;
@@ -255,7 +256,10 @@ int Bridge::publish_values(bool full) {
     tr.task = m.task;
     for (std::size_t i = 0; i < snap.items().size(); ++i) {
       const auto& it = snap.items()[i];
-      const unsigned char* p = buf + it.offset;
+      // Values of a run are packed, not aligned: an aligned copy first.
+      alignas(8) unsigned char p[sizeof(STRING)];
+      std::memcpy(p, buf + it.offset,
+                  it.var.type == VarType::STRING ? sizeof(STRING) : size_of(it.var.type));
       std::string text = format_value(it.var.type, p);
       tr.index.push_back(it.index);
       tr.value.push_back(to_double(it.var.type, p));

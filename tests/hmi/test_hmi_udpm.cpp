@@ -90,7 +90,7 @@ for i in $(seq 1 40); do
 done
 [ $up = 1 ] || { kill $PLC $LOGGER; exit 91; }
 )" + bin +
-      R"(/plcctl watch Tank.level --count 30 > watch.txt; echo "watch=$?"
+      R"(/plcctl watch Tank.level --count 30 --for 5s > watch.txt; echo "watch=$?"
 )" + bin +
       R"(/plcctl write Tank.high_level 900; echo "write=$?"
 )" + bin +

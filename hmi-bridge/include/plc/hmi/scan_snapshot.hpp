@@ -32,21 +32,35 @@ class ScanSnapshot {
   }
   [[nodiscard]] std::uint64_t scan() const { return scan_; }
   [[nodiscard]] TIME plc_time() const { return time_; }
+  // CLOCK_REALTIME at the copy, microseconds (latency to the client).
+  [[nodiscard]] std::int64_t copy_utime() const { return utime_; }
 
   // The scan thread, at the end of every scan of the task: one atomic load
   // when nothing is asked.
   void on_scan_end(const TaskRuntime& t, const ScanContext& ctx);
 
   [[nodiscard]] int task() const { return task_; }
+  // How many memcpy runs and single reads one copy takes.
+  [[nodiscard]] std::size_t runs() const { return runs_.size() + one_by_one_.size(); }
   [[nodiscard]] const std::vector<Item>& items() const { return items_; }
 
  private:
   static constexpr int kIdle = 0, kRequested = 1, kFilled = 2;
+  // Program variables lying next to each other in memory (arrays, a
+  // block's fields) are copied as one run; located variables and STRINGs
+  // one by one through VarRegistry::read (bits, byte order).
+  struct Run {
+    const unsigned char* src;
+    std::size_t dst, len;
+  };
   int task_;
   std::vector<Item> items_;
+  std::vector<Run> runs_;
+  std::vector<std::size_t> one_by_one_;  // indices into items_
   std::vector<unsigned char> buf_;
   std::uint64_t scan_ = 0;
   TIME time_{};
+  std::int64_t utime_ = 0;
   std::atomic<int> state_{kIdle};
 };
 
