@@ -7,7 +7,8 @@
 //   bridge can encode and publish per second (memq://, no network);
 // - hmi_latency_*: from the scan that copied the values to their arrival
 //   at a client (real time, 1 ms task, bridge rate 1000/s), median and p99,
-//   over udpm:// when this host has a multicast route, else memq://.
+//   over udpm:// when this host has a multicast route, else memq:// (the
+//   unit says which).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -225,10 +226,12 @@ int main(int argc, char** argv) {
   auto [transport, d] = latency_run();
   if (d.size() >= 10) {
     std::sort(d.begin(), d.end());
-    std::printf("hmi_latency_%s_median: %lld us\n", transport.c_str(),
-                static_cast<long long>(d[d.size() / 2]));
-    std::printf("hmi_latency_%s_p99: %lld us\n", transport.c_str(),
-                static_cast<long long>(d[d.size() * 99 / 100]));
+    std::fprintf(stderr, "bench_hmi: latency over %s, %zu updates\n", transport.c_str(),
+                 d.size());
+    std::printf("hmi_latency_median: %lld us (%s)\n", static_cast<long long>(d[d.size() / 2]),
+                transport.c_str());
+    std::printf("hmi_latency_p99: %lld us (%s)\n",
+                static_cast<long long>(d[d.size() * 99 / 100]), transport.c_str());
   } else {
     std::fprintf(stderr, "bench_hmi: only %zu updates arrived over %s: no latency figure\n",
                  d.size(), transport.c_str());
