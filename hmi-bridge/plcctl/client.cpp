@@ -59,10 +59,15 @@ std::optional<softplc_hmi::cell_description_t> Client::describe(std::string& err
     }
   } c{&got};
   auto* s = lcm_.subscribe(ch_.desc, &Catch::on, &c);
-  auto r = command("describe", {}, err);
-  if (r) wait([&] { return got.has_value(); });
+  // Asked for; a bridge also sends it every second, and a replayed log
+  // (lcm-logplayer) has those, so the reply is not needed.
+  std::string ignored;
+  command("describe", {}, ignored);
+  wait([&] { return got.has_value(); });
   lcm_.unsubscribe(s);
-  if (r && !got) err = "no cell description on " + ch_.desc;
+  if (!got)
+    err = "no cell description on " + ch_.desc + " within " + std::to_string(timeout_.count()) +
+          " ms (is the cell running with an hmi: section, on this url and prefix?)";
   return got;
 }
 

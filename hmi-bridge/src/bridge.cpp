@@ -402,6 +402,7 @@ void Bridge::run() {
     if (now >= next_slow) {
       publish_stats();
       publish_diagnostics();
+      publish_description();  // also for clients of a replayed log
       next_slow = now + std::chrono::seconds(1);
     }
   }
