@@ -302,30 +302,34 @@ void Bridge::publish_description() {
   lcm_.publish(ch_.desc, &l->desc);
 }
 
+template <class F>
+void Bridge::with_runtime(F f) {
+  if (!dbg_) return;
+  // The runtime may be rebuilt (goto): read it only between commands, and
+  // skip this round when the console is running one.
+  std::unique_lock<std::recursive_timed_mutex> session(dbg_->session_mutex(), std::try_to_lock);
+  if (session.owns_lock()) f(dbg_->runtime());
+}
+
 void Bridge::publish_stats() {
   softplc_hmi::stats_t m;
   m.utime = utime_now();
-  if (dbg_) {
-    // The runtime may be rebuilt (goto): read it only between commands.
-    std::unique_lock<std::recursive_timed_mutex> session(dbg_->session_mutex(), std::try_to_lock);
-    if (session.owns_lock()) {
-      Runtime& rt = dbg_->runtime();
-      m.cell = rt.cell_name();
-      for (const auto& t : rt.tasks()) {
-        const TaskStats s = t->stats.snapshot();
-        softplc_hmi::task_stat_t ts;
-        ts.name = t->name;
-        ts.period_ns = t->period.count();
-        ts.scans = std::int64_t(s.scans);
-        ts.overruns = std::int64_t(s.overruns);
-        ts.scan_ns_min = std::int64_t(s.scan_ns.min());
-        ts.scan_ns_avg = std::int64_t(s.scan_ns.mean());
-        ts.scan_ns_max = std::int64_t(s.scan_ns.max());
-        ts.stop_reason = s.stop_reason;
-        m.tasks.push_back(ts);
-      }
+  with_runtime([&m](Runtime& rt) {
+    m.cell = rt.cell_name();
+    for (const auto& t : rt.tasks()) {
+      const TaskStats s = t->stats.snapshot();
+      softplc_hmi::task_stat_t ts;
+      ts.name = t->name;
+      ts.period_ns = t->period.count();
+      ts.scans = std::int64_t(s.scans);
+      ts.overruns = std::int64_t(s.overruns);
+      ts.scan_ns_min = std::int64_t(s.scan_ns.min());
+      ts.scan_ns_avg = std::int64_t(s.scan_ns.mean());
+      ts.scan_ns_max = std::int64_t(s.scan_ns.max());
+      ts.stop_reason = s.stop_reason;
+      m.tasks.push_back(ts);
     }
-  }
+  });
   m.n = int(m.tasks.size());
   const BridgeCounters c = counters();
   m.published = std::int64_t(c.published);
@@ -341,28 +345,24 @@ void Bridge::publish_stats() {
 void Bridge::publish_diagnostics() {
   softplc_hmi::diagnostics_t m;
   m.utime = utime_now();
-  if (dbg_) {
-    std::unique_lock<std::recursive_timed_mutex> session(dbg_->session_mutex(), std::try_to_lock);
-    if (session.owns_lock()) {
-      Runtime& rt = dbg_->runtime();
-      m.cell = rt.cell_name();
-      for (const DeviceRuntime& d : rt.devices()) {
-        softplc_hmi::device_t dv;
-        dv.name = d.name;
-        dv.plugin = d.plugin_name;
-        dv.task = d.task >= 0 ? rt.tasks()[std::size_t(d.task)]->name : "";
-        dv.input = d.in.to_string();
-        dv.output = d.out.to_string();
-        dv.in_bytes = int(d.sizes.input_bytes);
-        dv.out_bytes = int(d.sizes.output_bytes);
-        m.devices.push_back(dv);
-      }
-      for (const auto& t : rt.tasks()) {
-        const TaskStats s = t->stats.snapshot();
-        if (!s.stop_reason.empty()) m.alarms.push_back({"task " + t->name, s.stop_reason});
-      }
+  with_runtime([&m](Runtime& rt) {
+    m.cell = rt.cell_name();
+    for (const DeviceRuntime& d : rt.devices()) {
+      softplc_hmi::device_t dv;
+      dv.name = d.name;
+      dv.plugin = d.plugin_name;
+      dv.task = d.task >= 0 ? rt.tasks()[std::size_t(d.task)]->name : "";
+      dv.input = d.in.to_string();
+      dv.output = d.out.to_string();
+      dv.in_bytes = int(d.sizes.input_bytes);
+      dv.out_bytes = int(d.sizes.output_bytes);
+      m.devices.push_back(dv);
     }
-  }
+    for (const auto& t : rt.tasks()) {
+      const TaskStats s = t->stats.snapshot();
+      if (!s.stop_reason.empty()) m.alarms.push_back({"task " + t->name, s.stop_reason});
+    }
+  });
   m.n_devices = int(m.devices.size());
   m.n_alarms = int(m.alarms.size());
   lcm_.publish(ch_.diag, &m);

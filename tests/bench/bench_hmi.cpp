@@ -65,6 +65,14 @@ std::int64_t utime_now() {
       .count();
 }
 
+// The snapshot of P's 1,000 variables, as the bridge builds it.
+hmi::ScanSnapshot thousand_vars(Runtime& rt) {
+  std::vector<hmi::ScanSnapshot::Item> items;
+  for (const VarInfo& v : rt.vars().all())
+    if (v.path.rfind("P.vals", 0) == 0) items.push_back({v, 0, int(items.size())});
+  return hmi::ScanSnapshot(0, std::move(items));
+}
+
 void BM_ScanNoBridge(benchmark::State& state) {
   Runtime rt(parse_cell_config(kCell, "bench.yaml"));
   rt.start(io::ClockMode::Virtual);
@@ -91,11 +99,8 @@ BENCHMARK(BM_ScanBridgeIdle)->MinTime(1.0);
 // that only the scan is timed).
 void BM_ScanBridgeCopy1000(benchmark::State& state) {
   Runtime rt(parse_cell_config(kCell, "bench.yaml"));
-  std::vector<hmi::ScanSnapshot::Item> items;
-  for (const VarInfo& v : rt.vars().all())
-    if (v.path.rfind("P.vals", 0) == 0) items.push_back({v, 0, int(items.size())});
-  if (items.size() != 1000) state.SkipWithError("expected 1000 variables");
-  hmi::ScanSnapshot snap(0, std::move(items));
+  hmi::ScanSnapshot snap = thousand_vars(rt);
+  if (snap.items().size() != 1000) state.SkipWithError("expected 1000 variables");
   state.counters["copy_runs"] = double(snap.runs());
   rt.add_scan_observer(
       [&snap](const TaskRuntime& t, const ScanContext& ctx) { snap.on_scan_end(t, ctx); });
@@ -112,10 +117,7 @@ BENCHMARK(BM_ScanBridgeCopy1000)->MinTime(1.0);
 // the bridge adds to that scan.
 void BM_SnapshotCopy1000(benchmark::State& state) {
   Runtime rt(parse_cell_config(kCell, "bench.yaml"));
-  std::vector<hmi::ScanSnapshot::Item> items;
-  for (const VarInfo& v : rt.vars().all())
-    if (v.path.rfind("P.vals", 0) == 0) items.push_back({v, 0, int(items.size())});
-  hmi::ScanSnapshot snap(0, std::move(items));
+  hmi::ScanSnapshot snap = thousand_vars(rt);
   rt.start(io::ClockMode::Virtual);
   rt.step_scan();
   const TaskRuntime& t = *rt.tasks().front();
@@ -226,12 +228,11 @@ int main(int argc, char** argv) {
   auto [transport, d] = latency_run();
   if (d.size() >= 10) {
     std::sort(d.begin(), d.end());
-    std::fprintf(stderr, "bench_hmi: latency over %s, %zu updates\n", transport.c_str(),
-                 d.size());
+    std::fprintf(stderr, "bench_hmi: latency over %s, %zu updates\n", transport.c_str(), d.size());
     std::printf("hmi_latency_median: %lld us (%s)\n", static_cast<long long>(d[d.size() / 2]),
                 transport.c_str());
-    std::printf("hmi_latency_p99: %lld us (%s)\n",
-                static_cast<long long>(d[d.size() * 99 / 100]), transport.c_str());
+    std::printf("hmi_latency_p99: %lld us (%s)\n", static_cast<long long>(d[d.size() * 99 / 100]),
+                transport.c_str());
   } else {
     std::fprintf(stderr, "bench_hmi: only %zu updates arrived over %s: no latency figure\n",
                  d.size(), transport.c_str());

@@ -87,6 +87,8 @@ class Bridge {
  private:
   struct Layout;  // what attach() resolved for one runtime
   void run();
+  template <class F>
+  void with_runtime(F f);  // f(runtime) between the debugger's commands, or not at all
   int publish_values(bool full);
   softplc_hmi::reply_t serve(const softplc_hmi::command_t& c);
   std::string refusal(const softplc_hmi::command_t& c) const;
