@@ -128,10 +128,21 @@ TEST(HmiBridge, MalformedCommandsAreCountedAndIgnored) {
   std::vector<std::uint8_t> buf(std::size_t(c.getEncodedSize()));
   c.encode(buf.data(), 0, int(buf.size()));
   h.bridge->lcm().publish(h.bridge->channels().cmd, buf.data(), unsigned(buf.size() - 3));
+  // An argument count of -1 and of 2^31-1 with no arguments behind it:
+  // lcm-gen's decoder would resize its vector to that count first
+  // (std::length_error, or gigabytes).
+  for (std::uint32_t n : {0xFFFFFFFFU, 0x7FFFFFFFU}) {
+    auto bad = command(2, "read", {});
+    std::vector<std::uint8_t> b(std::size_t(bad.getEncodedSize()));
+    bad.encode(b.data(), 0, int(b.size()));
+    const std::size_t at = b.size() - 8 - 32 - 4;  // n_args before counter and tag
+    for (int k = 0; k < 4; ++k) b[at + std::size_t(k)] = std::uint8_t(n >> (24 - 8 * k));
+    h.bridge->lcm().publish(h.bridge->channels().cmd, b.data(), unsigned(b.size()));
+  }
   h.replies.clear();
   h.bridge->service();
   EXPECT_TRUE(h.replies.empty());
-  EXPECT_EQ(h.bridge->counters().malformed, 2U);
+  EXPECT_EQ(h.bridge->counters().malformed, 4U);
   h.dbg->step(1);
   EXPECT_NE(value_of(h, "Tank.high_level"), "99");
 }
