@@ -434,6 +434,7 @@ int plcrun_main(int argc, char** argv) {
       return recording_failed ? 1 : 0;
     }
     // Ended by a signal: like a run, every output safe, then the summary.
+    if (bridge) bridge->stop();  // no command may reach the cell while it stops
     dbg->stop_cell();
     std::fflush(stdout);
     print_summary(dbg->runtime());
