@@ -106,7 +106,11 @@ Bridge::Bridge(const HmiConfig& cfg, std::string cell_file)
   sub_ = lcm_.subscribeFunction(
       ch_.cmd,
       +[](const lcm::ReceiveBuffer* rb, const std::string&, Bridge* self) {
+        // Replies are published after the handler returns: publishing from
+        // inside LCM's dispatch re-enters it (memq).
+        self->in_handler_ = true;
         self->on_command_bytes(rb->data, rb->data_size);
+        self->in_handler_ = false;
       },
       this);
 }
@@ -282,8 +286,11 @@ int Bridge::publish_values(bool full) {
 
 int Bridge::service(int wait_ms) {
   // Bounded: at most 1000 waiting messages per round.
-  for (int i = 0; i < 1000; ++i)
-    if (lcm_.handleTimeout(i == 0 ? wait_ms : 0) <= 0) break;
+  for (int i = 0; i < 1000; ++i) {
+    const int n = lcm_.handleTimeout(i == 0 ? wait_ms : 0);
+    flush_replies();
+    if (n <= 0) break;
+  }
   const auto now = std::chrono::steady_clock::now();
   const bool full = now - last_full_ >= std::chrono::seconds(1);
   const int sent = publish_values(full);
@@ -389,6 +396,7 @@ void Bridge::run() {
     if (now < next) {
       const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(next - now).count();
       lcm_.handleTimeout(int(std::max<std::int64_t>(1, std::min<std::int64_t>(ms, 100))));
+      flush_replies();
       continue;
     }
     // Late by whole periods: those ticks are dropped and counted, never caught up.
@@ -456,7 +464,16 @@ void Bridge::on_command_bytes(const void* data, std::size_t size) {
   r.request_id = c.request_id;
   r.client = c.client;
   r.n = int(r.values.size());
-  lcm_.publish(ch_.reply, &r);
+  if (in_handler_ && pending_.size() < 1000)
+    pending_.push_back(std::move(r));
+  else if (!in_handler_)
+    lcm_.publish(ch_.reply, &r);
+}
+
+void Bridge::flush_replies() {
+  std::vector<softplc_hmi::reply_t> out;
+  out.swap(pending_);
+  for (const auto& r : out) lcm_.publish(ch_.reply, &r);
 }
 
 softplc_hmi::reply_t Bridge::serve(const softplc_hmi::command_t& c) {

@@ -87,6 +87,7 @@ class Bridge {
  private:
   struct Layout;  // what attach() resolved for one runtime
   void run();
+  void flush_replies();
   template <class F>
   void with_runtime(F f);  // f(runtime) between the debugger's commands, or not at all
   int publish_values(bool full);
@@ -105,6 +106,8 @@ class Bridge {
   std::mutex layout_mu_;            // attach() against the bridge's thread
   std::shared_ptr<Layout> layout_;  // observers keep theirs alive
   std::thread thread_;
+  bool in_handler_ = false;                    // inside LCM's dispatch (the bridge's thread)
+  std::vector<softplc_hmi::reply_t> pending_;  // replies to publish after it
   std::atomic<bool> stop_{false};
   mutable std::mutex counters_mu_;
   BridgeCounters counters_;
