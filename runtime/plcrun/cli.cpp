@@ -13,12 +13,14 @@
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <thread>
 
 #include "debug_console.hpp"
 #include "new_cell.hpp"
 #include "plc/cell_config.hpp"
 #include "plc/debug/recording.hpp"
 #include "plc/debug/trace.hpp"
+#include "plc/hmi/bridge.hpp"
 #include "plc/iec_literal.hpp"
 #include "plc/retain/retain_manager.hpp"
 #include "plc/runtime.hpp"
@@ -322,11 +324,16 @@ int plcrun_main(int argc, char** argv) {
     std::cerr << "plcrun: --warm/--cold/--reset-retain: the config has no 'retain:' section\n";
     return 2;
   }
-  if (start_mode_given && (vm.count("replay") || vm.count("debug") || vm.count("commands"))) {
+  // A cell with an `hmi:` section runs as a debugger session (the bridge's
+  // commands are served by the debugger core), without a console unless
+  // --debug asks for one.
+  const bool hmi = cfg.hmi.present;
+  if (start_mode_given &&
+      (vm.count("replay") || vm.count("debug") || vm.count("commands") || hmi)) {
     // A replay and a debugger session (goto re-runs from the start) need the
     // initial values; they neither load nor save retain data.
     std::cerr << "plcrun: --warm/--cold/--reset-retain apply to a plain run, not to --replay, "
-                 "--debug or --commands\n";
+                 "--debug, --commands or a cell with an hmi: section\n";
     return 2;
   }
 
@@ -339,7 +346,16 @@ int plcrun_main(int argc, char** argv) {
     return 2;
   }
 
-  if (vm.count("debug") || vm.count("commands")) {
+  if (vm.count("debug") || vm.count("commands") || hmi) {
+    std::unique_ptr<hmi::Bridge> bridge;
+    if (hmi) {
+      try {
+        bridge = std::make_unique<hmi::Bridge>(cfg.hmi, cfg.file);
+      } catch (const std::exception& e) {
+        std::cerr << e.what() << "\n";
+        return 2;
+      }
+    }
     if (cfg.retain.present)
       std::fprintf(stderr,
                    "plcrun: retain: not loaded or saved in a debugger session (every variable "
@@ -350,6 +366,7 @@ int plcrun_main(int argc, char** argv) {
     o.span = span;
     if (vm.count("replay")) o.replay_file = vm["replay"].as<std::string>();
     if (vm.count("record")) o.record_file = vm["record"].as<std::string>();
+    if (bridge) o.on_build = [b = bridge.get()](Runtime& r) { b->attach(r); };
     std::unique_ptr<debug::Debugger> dbg;
     try {
       dbg = std::make_unique<debug::Debugger>([&cfg] { return std::make_unique<Runtime>(cfg); }, o);
@@ -362,6 +379,19 @@ int plcrun_main(int argc, char** argv) {
     }
     if (vm.count("record"))
       std::cout << "recording every scan's inputs into " << vm["record"].as<std::string>() << "\n";
+    // Stopped before the debugger goes (declared after it).
+    struct StopBridge {
+      hmi::Bridge* b;
+      ~StopBridge() {
+        if (b) b->stop();
+      }
+    } stop_bridge{bridge.get()};
+    if (bridge) {
+      bridge->set_debugger(dbg.get());
+      bridge->start();
+      std::fprintf(stderr, "plcrun: hmi: bridge on %s, channels %s_*\n", cfg.hmi.url.value.c_str(),
+                   cfg.hmi.prefix.value.c_str());
+    }
     g_debugger = dbg.get();
     g_console = vm.count("debug") != 0;
     struct sigaction sa {};
@@ -370,7 +400,34 @@ int plcrun_main(int argc, char** argv) {
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
     const std::string file = vm.count("commands") ? vm["commands"].as<std::string>() : "";
-    if (!run_debug_session(*dbg, file, g_console)) {
+    if (!vm.count("debug") && !vm.count("commands")) {
+      // The HMI only: run the cell, as a plain run would, until the span
+      // ends or a signal (real time: the bridge may pause and step it).
+      std::fprintf(stderr, "plcrun: running cell '%s' in %s time%s\n", cfg.cell.value.c_str(),
+                   mode == io::ClockMode::Virtual ? "virtual" : "real",
+                   mode == io::ClockMode::RealTime ? " (Ctrl-C stops, outputs go safe)" : "");
+      std::fflush(stderr);
+      // --trace through the debugger's trace (the cell's own record of its scans).
+      if (vm.count("trace")) {
+        for (const auto& v : split_csv(vm["trace-vars"].as<std::string>()))
+          std::cout << dbg->execute("trace add " + v);
+        const std::string out = dbg->execute("trace start " + vm["trace"].as<std::string>());
+        std::cout << out;
+        if (out.rfind("trace start:", 0) == 0) return 2;
+      }
+      std::cout << dbg->continue_running().text;
+      const auto end = std::chrono::steady_clock::now() + span;
+      while (mode == io::ClockMode::RealTime && !dbg->end_requested() &&
+             std::chrono::steady_clock::now() < end)
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      if (vm.count("trace")) std::cout << dbg->execute("trace stop");
+      if (g_end_signal.load() == 0) {
+        if (bridge) bridge->stop();  // no command may restart the cell now
+        dbg->stop_cell();
+        std::fflush(stdout);
+        print_summary(dbg->runtime());
+      }
+    } else if (!run_debug_session(*dbg, file, g_console)) {
       std::cerr << "plcrun: cannot read command file '" << file << "'\n";
       g_debugger = nullptr;
       return 2;
@@ -389,6 +446,7 @@ int plcrun_main(int argc, char** argv) {
       return recording_failed ? 1 : 0;
     }
     // Ended by a signal: like a run, every output safe, then the summary.
+    if (bridge) bridge->stop();  // no command may reach the cell while it stops
     dbg->stop_cell();
     std::fflush(stdout);
     print_summary(dbg->runtime());

@@ -125,7 +125,7 @@ class Loader {
     expect_map(root, "the cell config");
     check_keys(root,
                {"cell", "clock", "image", "tasks", "programs", "plugins", "devices", "safe_values",
-                "retain", "libraries"},
+                "retain", "libraries", "hmi"},
                "the cell config");
     if (root["cell"]) c.cell = scalar(root["cell"], "cell");
     each(root, "libraries", [&](const YAML::Node& n) {
@@ -174,6 +174,7 @@ class Loader {
       for (auto& [a, v] : string_map(n, "safe_values")) c.safe_values.push_back({a, v});
     }
     if (const auto n = root["retain"]) c.retain = retain(n, c.image);
+    if (const auto n = root["hmi"]) c.hmi = hmi(n);
     if (c.tasks.empty()) fail(root, "the cell config declares no tasks (key 'tasks')");
     cross_check(c);
     return c;
@@ -246,6 +247,65 @@ class Loader {
       for (const auto& item : m) r.memory.push_back(memory_range(item, image));
     }
     return r;
+  }
+
+  HmiConfig hmi(const YAML::Node& n) const {
+    HmiConfig h;
+    h.present = true;
+    h.mark = mark_of(n);
+    expect_map(n, "hmi");
+    check_keys(
+        n,
+        {"url", "prefix", "rate", "publish", "writable", "forceable", "stop_commands", "key_file"},
+        "hmi");
+    h.url.mark = h.prefix.mark = h.rate.mark = h.stop_commands.mark = h.mark;
+    if (n["url"]) {
+      h.url = scalar(n["url"], "url");
+      const std::string& u = h.url.value;
+      if (u.rfind("udpm://", 0) != 0 && u.rfind("memq://", 0) != 0 && u.rfind("tcpq://", 0) != 0)
+        fail(n["url"], "key 'url': '" + u + "' is not an LCM url (udpm://, memq:// or tcpq://)");
+    }
+    if (n["prefix"]) {
+      h.prefix = scalar(n["prefix"], "prefix");
+      // LCM channel names: at most 63 characters; ours add up to 7 ("_VALUES").
+      const std::string& p = h.prefix.value;
+      if (p.empty() || p.size() > 40 ||
+          p.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_") !=
+              std::string::npos)
+        fail(n["prefix"], "key 'prefix': '" + p + "' is not 1 to 40 letters, digits or '_'");
+    }
+    if (n["rate"]) {
+      auto r = integer(n["rate"], "rate", 1, kMaxHmiRate);
+      h.rate = {int(r.value), r.mark};
+    }
+    auto patterns = [&](const char* key, std::vector<Item<std::string>>& out) {
+      const YAML::Node l = n[key];
+      if (!l) return;
+      if (!l.IsSequence())
+        fail(l, std::string("key '") + key + "' must be a list of patterns (e.g. [\"Cell.*\"])");
+      for (const auto& p : l) {
+        out.push_back(scalar(p, key));
+        if (out.back().value.empty()) fail(p, std::string("key '") + key + "': an empty pattern");
+      }
+    };
+    patterns("publish", h.publish);
+    patterns("writable", h.writable);
+    patterns("forceable", h.forceable);
+    if (const auto b = n["stop_commands"]) {
+      auto s = scalar(b, "stop_commands");
+      if (s.value != "true" && s.value != "false")
+        fail(b, "key 'stop_commands': '" + s.value + "' is not true or false");
+      h.stop_commands = {s.value == "true", s.mark};
+    }
+    if (n["key_file"]) {
+      h.key_file = scalar(n["key_file"], "key_file");
+      if (h.key_file.value.empty()) fail(n["key_file"], "key 'key_file': names no file");
+      h.key_path = h.key_file.value;
+      const auto slash = file_.rfind('/');
+      if (h.key_path[0] != '/' && slash != std::string::npos)
+        h.key_path = file_.substr(0, slash + 1) + h.key_path;
+    }
+    return h;
   }
 
   // "%MW10" (its bytes) or "%MB0..%MB15" (inclusive), inside the %M image.

@@ -113,6 +113,23 @@ struct RetainConfig {
   Mark mark;
 };
 
+// The `hmi:` section (docs/config.md): the LCM bridge to HMIs and plcctl
+// (hmi-bridge/). Patterns are shell-style (`Cell.dose.*`, `%QW0`).
+inline constexpr const char* kDefaultHmiUrl = "udpm://239.255.76.67:7667?ttl=0";
+inline constexpr int kMaxHmiRate = 1000;  // snapshots per second
+
+struct HmiConfig {
+  bool present = false;
+  Item<std::string> url{kDefaultHmiUrl, {}};
+  Item<std::string> prefix{"PLC", {}};  // channel names: PREFIX_VALUES, PREFIX_CMD, ...
+  Item<int> rate{10, {}};               // full snapshots per second
+  std::vector<Item<std::string>> publish, writable, forceable;
+  Item<bool> stop_commands{false, {}};  // pause, step, continue, break allowed
+  Item<std::string> key_file;           // as written
+  std::string key_path;                 // resolved against the config's folder ("" = no key)
+  Mark mark;
+};
+
 struct CellConfig {
   std::string file;
   Item<std::string> cell;
@@ -129,6 +146,7 @@ struct CellConfig {
   std::vector<DeviceConfig> devices;
   std::vector<SafeValueConfig> safe_values;
   RetainConfig retain;
+  HmiConfig hmi;
   Mark image_mark;
 };
 

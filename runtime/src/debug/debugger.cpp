@@ -96,6 +96,7 @@ void Debugger::build(const std::function<void(Runtime&)>& before_start) {
   detach();
   rt_ = factory_();
   if (before_start) before_start(*rt_);
+  if (opt_.on_build) opt_.on_build(*rt_);
   if (!opt_.replay_file.empty()) replayer_ = std::make_unique<Replayer>(*rt_, opt_.replay_file);
   rt_->add_hooks(this);
   rt_->add_scan_observer(
@@ -481,10 +482,16 @@ std::string Debugger::cmd_step(const std::vector<std::string>& a) {
     if (!c) return "step: '" + a[i] + "' is not a positive count\n";
     n = *c;
   }
+  return step(n, task_name).text;
+}
+
+Debugger::Reply Debugger::step(std::uint64_t n, const std::string& task_name) {
+  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  if (n < 1) return {false, "step: the count must be positive\n"};
   const TaskRuntime* target = nullptr;
   if (!task_name.empty()) {
     target = rt_->task(task_name);
-    if (!target) return "step: unknown task '" + task_name + "'\n";
+    if (!target) return {false, "step: unknown task '" + task_name + "'\n"};
   }
   if (opt_.mode == io::ClockMode::RealTime) {
     // Settled first, so the goal counts only the scans this step lets through.
@@ -504,8 +511,8 @@ std::string Debugger::cmd_step(const std::vector<std::string>& a) {
       if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
     const std::string note = pause_and_settle();
-    return stop_report("stepped " + std::to_string(n) + " scan(s) of " +
-                       (target ? "task '" + task_name + "'" : "each task") + note);
+    return {true, stop_report("stepped " + std::to_string(n) + " scan(s) of " +
+                              (target ? "task '" + task_name + "'" : "each task") + note)};
   }
   // Virtual time: stepping ignores breakpoints (as TwinCAT's single cycle),
   // not Ctrl-C.
@@ -526,48 +533,69 @@ std::string Debugger::cmd_step(const std::vector<std::string>& a) {
     if (quit_) break;
   }
   stop_hit_ = false;
-  return stop_report("stepped " + std::to_string(done) + " scan(s)" +
-                     (target ? " of task '" + task_name + "'" : "") + why);
+  return {true, stop_report("stepped " + std::to_string(done) + " scan(s)" +
+                            (target ? " of task '" + task_name + "'" : "") + why)};
 }
 
 std::string Debugger::cmd_continue(const std::vector<std::string>& a, bool until) {
-  std::optional<TIME> for_time;
-  int temp_id = 0;
   if (until) {
     if (a.size() < 3) return "usage: run until CONDITION\n";
-    std::string err;
-    auto cond = Condition::compile(rest_after(joined_line_, 2), rt_->vars(), rt_->image(),
-                                   rt_->byte_order(), err);
-    if (!cond) return "run until: " + err + "\n";
-    if (err = realtime_condition_error(*cond); !err.empty()) return "run until: " + err + "\n";
-    Breakpoint b;
-    b.id = temp_id = -1;
-    b.text = cond->text();
-    b.task = cond->task();
-    b.cond = std::move(cond);
-    b.temporary = true;
-    std::lock_guard<std::mutex> lock(mu_);
-    breaks_.push_back(std::move(b));
-    note_scan_end_reads();
-  } else if (a.size() >= 2 && a[1] == "for") {
+    return run_until(rest_after(joined_line_, 2)).text;
+  }
+  std::optional<TIME> for_time;
+  if (a.size() >= 2 && a[1] == "for") {
     if (a.size() != 3) return "usage: continue for DURATION (e.g. continue for 5s)\n";
     for_time = parse_iec_time(a[2]);
     if (!for_time) return "continue for: " + iec_time_error(a[2]) + "\n";
-    if (for_time->count() <= 0)
-      return "continue for: the duration must be positive, got " + format_iec_time(*for_time) +
-             "\n";
-    if (*for_time > TIME::max() - rt_->now())
-      return "continue for: " + format_iec_time(*for_time) +
-             " from now lies beyond the end of TIME (" + format_iec_time(TIME::max()) + ")\n";
   } else if (a.size() > 1) {
     return "usage: continue [for DURATION]\n";
   }
+  return continue_running(for_time).text;
+}
+
+Debugger::Reply Debugger::run_until(std::string_view text) {
+  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  std::string err;
+  auto cond =
+      Condition::compile(std::string(text), rt_->vars(), rt_->image(), rt_->byte_order(), err);
+  if (!cond) return {false, "run until: " + err + "\n"};
+  if (err = realtime_condition_error(*cond); !err.empty())
+    return {false, "run until: " + err + "\n"};
+  Breakpoint b;
+  b.id = -1;
+  b.text = cond->text();
+  b.task = cond->task();
+  b.cond = std::move(cond);
+  b.temporary = true;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    breaks_.push_back(std::move(b));
+    note_scan_end_reads();
+  }
+  return run_and_report(std::nullopt, true);
+}
+
+Debugger::Reply Debugger::continue_running(std::optional<TIME> for_time) {
+  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  if (for_time) {
+    if (for_time->count() <= 0)
+      return {false, "continue for: the duration must be positive, got " +
+                         format_iec_time(*for_time) + "\n"};
+    if (*for_time > TIME::max() - rt_->now())
+      return {false, "continue for: " + format_iec_time(*for_time) +
+                         " from now lies beyond the end of TIME (" + format_iec_time(TIME::max()) +
+                         ")\n"};
+  }
+  return run_and_report(for_time, false);
+}
+
+Debugger::Reply Debugger::run_and_report(std::optional<TIME> for_time, bool until) {
   stop_hit_ = false;
   interrupted_ = false;
   std::string why;
   if (opt_.mode == io::ClockMode::RealTime) {
     rt_->set_paused(false);
-    if (!until && !for_time) return "running (pause, or a breakpoint, stops it)\n";
+    if (!until && !for_time) return {true, "running (pause, or a breakpoint, stops it)\n"};
     why = realtime_wait_until_paused(for_time);
   } else {
     const TIME end = for_time ? rt_->now() + *for_time : opt_.span;
@@ -596,26 +624,22 @@ std::string Debugger::cmd_continue(const std::vector<std::string>& a, bool until
       }
     }
   }
-  if (temp_id) {
+  if (until) {
     std::lock_guard<std::mutex> lock(mu_);
     std::erase_if(breaks_, [](const Breakpoint& b) { return b.temporary; });
     note_scan_end_reads();
   }
   stop_hit_ = false;
-  return stop_report("stopped: " + why);
+  return {true, stop_report("stopped: " + why)};
 }
 
 std::string Debugger::cmd_break(const std::vector<std::string>& a) {
   if (a.size() < 2) return breaks_list();
-  Breakpoint b;
-  std::string cond_text;
+  std::string before_program, cond_text;
+  std::uint64_t hit_target = 1;
   if (a[1] == "before") {
     if (a.size() < 3) return "usage: break before PROGRAM [if CONDITION] [hits N]\n";
-    bool found = false;
-    for (const auto& t : rt_->tasks())
-      for (const auto& p : t->program_names) found |= p == a[2];
-    if (!found) return "break: no task runs a program named '" + a[2] + "'\n";
-    b.before_program = a[2];
+    before_program = a[2];
     if (a.size() > 3 && a[3] == "if") {
       cond_text = rest_after(joined_line_, 4);
     } else if (a.size() > 3) {
@@ -624,7 +648,7 @@ std::string Debugger::cmd_break(const std::vector<std::string>& a) {
         return "usage: break before PROGRAM [if CONDITION] [hits N]\n";
       auto c = count_arg(a[4]);
       if (!c) return "break: 'hits' needs a positive count\n";
-      b.hit_target = *c;
+      hit_target = *c;
     }
   } else {
     cond_text = rest_after(joined_line_, 1);
@@ -634,37 +658,82 @@ std::string Debugger::cmd_break(const std::vector<std::string>& a) {
   if (ww.size() >= 2 && ww[ww.size() - 2] == "hits") {
     auto c = count_arg(ww.back());
     if (!c) return "break: 'hits' needs a positive count\n";
-    b.hit_target = *c;
+    hit_target = *c;
     cond_text.resize(cond_text.rfind("hits"));
     while (!cond_text.empty() && std::isspace(static_cast<unsigned char>(cond_text.back())))
       cond_text.pop_back();
-  } else if (b.before_program.empty() && a.size() > 2 && a[a.size() - 2] == "hits") {
+  } else if (before_program.empty() && a.size() > 2 && a[a.size() - 2] == "hits") {
     auto c = count_arg(a.back());
     if (!c) return "break: 'hits' needs a positive count\n";
-    b.hit_target = *c;
+    hit_target = *c;
+  }
+  if (cond_text.empty() && before_program.empty())
+    return "usage: break CONDITION [hits N] | break before PROGRAM [if CONDITION] [hits N]\n";
+  return add_breakpoint(cond_text, hit_target, before_program).text;
+}
+
+Debugger::Reply Debugger::add_breakpoint(std::string_view condition, std::uint64_t hits,
+                                         const std::string& before_program) {
+  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  const std::string cond_text(condition);
+  if (hits < 1) return {false, "break: 'hits' needs a positive count\n"};
+  if (cond_text.empty() && before_program.empty())
+    return {false, "break: a condition or a program is needed\n"};
+  Breakpoint b;
+  b.hit_target = hits;
+  if (!before_program.empty()) {
+    bool found = false;
+    for (const auto& t : rt_->tasks())
+      for (const auto& p : t->program_names) found |= p == before_program;
+    if (!found) return {false, "break: no task runs a program named '" + before_program + "'\n"};
+    b.before_program = before_program;
   }
   if (!cond_text.empty()) {
     std::string err;
     b.cond = Condition::compile(cond_text, rt_->vars(), rt_->image(), rt_->byte_order(), err);
-    if (!b.cond) return "break: " + err + "\n";
-    if (err = realtime_condition_error(*b.cond); !err.empty()) return "break: " + err + "\n";
+    if (!b.cond) return {false, "break: " + err + "\n"};
+    if (err = realtime_condition_error(*b.cond); !err.empty())
+      return {false, "break: " + err + "\n"};
     b.task = b.cond->task();
-  } else if (b.before_program.empty()) {
-    return "usage: break CONDITION [hits N] | break before PROGRAM [if CONDITION] [hits N]\n";
   }
+  if (!b.before_program.empty() && opt_.mode == io::ClockMode::RealTime)
+    return {false,
+            "break before: freeze points need virtual time (they would stall a real-time task)\n"};
   b.id = next_break_id_++;
   b.text = b.before_program.empty()
                ? cond_text
                : "before " + b.before_program + (cond_text.empty() ? "" : " if " + cond_text);
-  if (!b.before_program.empty() && opt_.mode == io::ClockMode::RealTime)
-    return "break before: freeze points need virtual time (they would stall a real-time task)\n";
   std::string out = "breakpoint " + std::to_string(b.id) + ": " + b.text +
                     (b.hit_target > 1 ? " (every " + std::to_string(b.hit_target) + " hits)" : "") +
                     "\n";
   std::lock_guard<std::mutex> lock(mu_);
   breaks_.push_back(std::move(b));
   note_scan_end_reads();
-  return out;
+  return {true, out};
+}
+
+Debugger::Reply Debugger::delete_breakpoint(const std::string& id) {
+  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  std::lock_guard<std::mutex> lock(mu_);
+  const std::size_t before = breaks_.size();
+  if (id == "all")
+    breaks_.clear();
+  else
+    std::erase_if(breaks_, [&](const Breakpoint& b) { return std::to_string(b.id) == id; });
+  note_scan_end_reads();
+  return before == breaks_.size()
+             ? Reply{false, "delete: no breakpoint " + id + "\n"}
+             : Reply{true,
+                     "deleted " + std::to_string(before - breaks_.size()) + " breakpoint(s)\n"};
+}
+
+Debugger::Reply Debugger::pause() {
+  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  if (opt_.mode == io::ClockMode::Virtual)
+    return {true, "paused (in virtual time the cell is paused between commands)\n"};
+  const std::string note = pause_and_settle();
+  return {true, "paused: the logic is held at its next release; the fieldbus keeps exchanging" +
+                    note + "\n"};
 }
 
 std::string Debugger::breaks_list() {
@@ -686,6 +755,21 @@ std::string Debugger::breaks_list() {
 std::string Debugger::describe_value(const std::string& name) { return describe_values({name}); }
 
 std::string Debugger::describe_values(const std::vector<std::string>& names) {
+  std::string out;
+  for (const Value& v : read(names)) {
+    if (!v.error.empty()) {
+      out += v.name + ": " + v.error + "\n";
+      continue;
+    }
+    out += v.name + " = " + v.text + "  (" + to_string(v.type) +
+           (v.address ? " " + v.address->to_string() : "") +
+           (v.image.empty() ? "" : ", image: " + v.image) + (v.forced ? ", forced" : "") + ")\n";
+  }
+  return out;
+}
+
+std::vector<Debugger::Value> Debugger::read(const std::vector<std::string>& names) {
+  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
   // Resolve everything first, then read all values at one point.
   struct Line {
     std::string name, error;
@@ -709,23 +793,20 @@ std::string Debugger::describe_values(const std::vector<std::string>& names) {
     if (l.compare) reads.push_back(l.global);
   }
   const std::vector<std::string> values = read_values(reads);
-  std::string out;
-  for (const Line& l : lines) {
-    if (!l.error.empty()) {
-      out += l.name + ": " + l.error + "\n";
-      continue;
-    }
-    std::string extra;
-    if (l.compare && values[l.at + 1] != values[l.at]) extra += ", image: " + values[l.at + 1];
-    bool forced = false;
-    {
-      std::lock_guard<std::mutex> lock(mu_);
-      for (const Force& f : forces_)
-        forced |= f.name == l.name || (f.image && l.image && f.var.address == l.global.address);
-    }
-    out += l.name + " = " + values[l.at] + "  (" + to_string(l.global.type) +
-           (l.global.address ? " " + l.global.address->to_string() : "") + extra +
-           (forced ? ", forced" : "") + ")\n";
+  std::vector<Value> out(lines.size());
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const Line& l = lines[i];
+    Value& v = out[i];
+    v.name = l.name;
+    v.error = l.error;
+    if (!l.error.empty()) continue;
+    v.type = l.global.type;
+    v.address = l.global.address;
+    v.text = values[l.at];
+    if (l.compare && values[l.at + 1] != values[l.at]) v.image = values[l.at + 1];
+    std::lock_guard<std::mutex> lock(mu_);
+    for (const Force& f : forces_)
+      v.forced |= f.name == l.name || (f.image && l.image && f.var.address == l.global.address);
   }
   return out;
 }
@@ -822,26 +903,42 @@ std::string Debugger::cmd_print(const std::vector<std::string>& a) {
 std::string Debugger::cmd_write(const std::vector<std::string>& a, bool force) {
   const char* what = force ? "force" : "write";
   if (a.size() < 3) return std::string("usage: ") + what + " PATH|ADDRESS VALUE\n";
+  return write_or_force(a[1], rest_after(joined_line_, 2), force).text;
+}
+
+Debugger::Reply Debugger::write(const std::string& name, std::string_view value) {
+  return write_or_force(name, value, false);
+}
+
+Debugger::Reply Debugger::force(const std::string& name, std::string_view value) {
+  return write_or_force(name, value, true);
+}
+
+Debugger::Reply Debugger::write_or_force(const std::string& name, std::string_view text,
+                                         bool force) {
+  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  const char* what = force ? "force" : "write";
   bool image = false;
   std::string err;
-  auto v = resolve(a[1], image, err);
-  if (!v) return std::string(what) + ": " + err + "\n";
+  auto v = resolve(name, image, err);
+  if (!v) return {false, std::string(what) + ": " + err + "\n"};
   if (v->type == VarType::STRING)
-    return std::string(what) + ": STRING variables cannot be written from the debugger\n";
+    return {false, std::string(what) + ": STRING variables cannot be written from the debugger\n"};
   // The write policy (reflect.hpp): internal state is refused whatever the
   // value; a block's write check sees the value.
   if (v->read_only)
-    return std::string(what) + " " + a[1] + ": refused, " + VarRegistry::check_write(*v, nullptr) +
-           "\n";
+    return {false, std::string(what) + " " + name + ": refused, " +
+                       VarRegistry::check_write(*v, nullptr) + "\n"};
   std::uint64_t value = 0;
-  const std::string value_text = rest_after(joined_line_, 2);
+  const std::string value_text(text);
   err = parse_value(v->type, value_text, &value);
   if (err.empty()) err = VarRegistry::check_write(*v, &value);
-  if (!err.empty()) return std::string(what) + " " + a[1] + ": " + err + "\n";
+  if (!err.empty()) return {false, std::string(what) + " " + name + ": " + err + "\n"};
   std::uint64_t original = 0;  // the value before a force (read consistently)
   if (force) {
     const RawValue now = read_raw({*v}).front();
-    if (!now.error.empty()) return std::string(what) + " " + a[1] + ": " + now.error + "\n";
+    if (!now.error.empty())
+      return {false, std::string(what) + " " + name + ": " + now.error + "\n"};
     std::memcpy(&original, now.bytes, sizeof original);
   }
   std::lock_guard<std::mutex> lock(mu_);
@@ -849,32 +946,38 @@ std::string Debugger::cmd_write(const std::vector<std::string>& a, bool force) {
     if (in_freeze_) {
       // Inside a freeze point the scan is under way: write straight into the
       // task's view (program variable, or located variable's task image).
-      const VarInfo* reg = rt_->vars().find(a[1]);
+      const VarInfo* reg = rt_->vars().find(name);
       apply_write(*frozen_task_, reg ? *reg : *v, &value);
       if (image) apply_write(*frozen_task_, *v, &value);
-      return "wrote " + a[1] + " := " + format_value(v->type, &value) + " (now, inside the scan)\n";
+      return {true, "wrote " + name + " := " + format_value(v->type, &value) +
+                        " (now, inside the scan)\n"};
     }
-    writes_.push_back({a[1], *v, image, value, image ? -1 : v->task});
+    writes_.push_back({name, *v, image, value, image ? -1 : v->task});
     if (image) image_writes_pending_.store(true, std::memory_order_release);
-    return "will write " + a[1] + " := " + format_value(v->type, &value) +
-           " at the start of the next scan\n";
+    return {true, "will write " + name + " := " + format_value(v->type, &value) +
+                      " at the start of the next scan\n"};
   }
   for (Force& f : forces_)
-    if (f.name == a[1]) {
+    if (f.name == name) {
       f.value = value;
-      return "force " + a[1] + " := " + format_value(v->type, &value) + " (changed)\n";
+      return {true, "force " + name + " := " + format_value(v->type, &value) + " (changed)\n"};
     }
-  forces_.push_back({a[1], *v, image, value, original});
-  return "force " + a[1] + " := " + format_value(v->type, &value) + " (every scan until unforce)\n";
+  forces_.push_back({name, *v, image, value, original});
+  return {true, "force " + name + " := " + format_value(v->type, &value) +
+                    " (every scan until unforce)\n"};
 }
 
 std::string Debugger::cmd_unforce(const std::vector<std::string>& a) {
   if (a.size() < 2) return "usage: unforce PATH|ADDRESS|all [restore]\n";
-  const bool restore = a.size() > 2 && a[2] == "restore";
+  return unforce(a[1], a.size() > 2 && a[2] == "restore").text;
+}
+
+Debugger::Reply Debugger::unforce(const std::string& name, bool restore) {
+  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
   std::lock_guard<std::mutex> lock(mu_);
   std::string s;
   for (auto it = forces_.begin(); it != forces_.end();) {
-    if (a[1] == "all" || it->name == a[1]) {
+    if (name == "all" || it->name == name) {
       if (restore) {
         writes_.push_back(
             {it->name, it->var, it->image, it->original, it->image ? -1 : it->var.task});
@@ -889,7 +992,7 @@ std::string Debugger::cmd_unforce(const std::vector<std::string>& a) {
       ++it;
     }
   }
-  return s.empty() ? "unforce: '" + a[1] + "' is not forced\n" : s;
+  return s.empty() ? Reply{false, "unforce: '" + name + "' is not forced\n"} : Reply{true, s};
 }
 
 std::string Debugger::forces_list() {
@@ -1155,6 +1258,7 @@ conditions: ST syntax, e.g.  Tank.step = 3 AND Tank.level > 16#5000 OR NOT %IX0.
 }
 
 std::string Debugger::execute(std::string_view line_in) {
+  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
   joined_line_ = std::string(line_in);
   const auto a = words(line_in);
   if (a.empty() || a[0][0] == '#') return {};
@@ -1167,27 +1271,12 @@ std::string Debugger::execute(std::string_view line_in) {
   if (c == "step" || c == "s") return cmd_step(a);
   if (c == "continue" || c == "c") return cmd_continue(a, false);
   if (c == "run" && a.size() > 1 && a[1] == "until") return cmd_continue(a, true);
-  if (c == "pause") {
-    if (opt_.mode == io::ClockMode::Virtual)
-      return "paused (in virtual time the cell is paused between commands)\n";
-    const std::string note = pause_and_settle();
-    return "paused: the logic is held at its next release; the fieldbus keeps exchanging" + note +
-           "\n";
-  }
+  if (c == "pause") return pause().text;
   if (c == "break" || c == "b") return cmd_break(a);
   if (c == "breaks") return breaks_list();
   if (c == "delete" || c == "d") {
     if (a.size() < 2) return "usage: delete ID|all\n";
-    std::lock_guard<std::mutex> lock(mu_);
-    const std::size_t before = breaks_.size();
-    if (a[1] == "all")
-      breaks_.clear();
-    else
-      std::erase_if(breaks_, [&](const Breakpoint& b) { return std::to_string(b.id) == a[1]; });
-    note_scan_end_reads();
-    return before == breaks_.size()
-               ? "delete: no breakpoint " + a[1] + "\n"
-               : "deleted " + std::to_string(before - breaks_.size()) + " breakpoint(s)\n";
+    return delete_breakpoint(a[1]).text;
   }
   if (c == "print" || c == "p") return cmd_print(a);
   if (c == "watch") return cmd_watch(a, true);

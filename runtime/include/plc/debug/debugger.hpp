@@ -1,7 +1,9 @@
 // The debugger's command layer: run control, breakpoints, watch, write and
-// force, trace, record/replay and goto, as text commands in and text out.
-// The console (plcrun --debug), command files (--commands) and the HMI
-// bridge all drive this one class.
+// force, trace, record/replay and goto. The typed API (read, write, force,
+// unforce, pause, step, continue_running, run_until, add_breakpoint,
+// delete_breakpoint) holds each command's semantics; execute() is the text
+// front end over it, used by the console (plcrun --debug) and command files
+// (--commands); the HMI bridge (hmi-bridge/) is another front end.
 //
 // Virtual time: the debugger drives the scans itself; the cell starts paused
 // before its first scan, and the simulated devices stop with the clock.
@@ -50,6 +52,10 @@ class Debugger final : public ScanHooks {
     // before the cell starts, which a `record` command cannot be in real
     // time. Throws std::runtime_error if the file cannot be written.
     std::string record_file;
+    // Called with every runtime the debugger builds (also on goto and
+    // restart), before its first scan: where a front end such as the HMI
+    // bridge adds its scan observers.
+    std::function<void(Runtime&)> on_build;
   };
 
   // `factory` builds a fresh runtime of the cell (goto rebuilds with it).
@@ -59,6 +65,47 @@ class Debugger final : public ScanHooks {
 
   // Runs one command line and returns what it prints.
   std::string execute(std::string_view line);
+
+  // ---- The typed API. Every call (and execute) holds session_mutex(), so
+  // front ends on different threads (console, HMI bridge) take turns.
+  struct Reply {
+    bool ok = true;    // false: refused or failed, nothing changed
+    std::string text;  // what the console prints for it
+  };
+  // A variable's value as its program saw it in its last scan (read
+  // consistently, see read_values); `image` is the global image's value of a
+  // located variable when it differs (a force or another task changed it).
+  struct Value {
+    std::string name, error;  // error set: no value
+    VarType type = VarType::BOOL;
+    std::optional<io::IecAddress> address;
+    std::string text, image;  // IEC notation
+    bool forced = false;
+  };
+  std::vector<Value> read(const std::vector<std::string>& names);
+  // Once, at the start of the next scan of the variable's task.
+  Reply write(const std::string& name, std::string_view value);
+  // Every scan until unforce.
+  Reply force(const std::string& name, std::string_view value);
+  // name "all": every force; restore: write back the value from before it.
+  Reply unforce(const std::string& name, bool restore);
+  Reply pause();
+  // n scans of each task, or of `task` only.
+  Reply step(std::uint64_t n = 1, const std::string& task = "");
+  // Real time: returns at once (running); virtual time: runs until a
+  // breakpoint, the end of the span, or `for_time`.
+  Reply continue_running(std::optional<TIME> for_time = std::nullopt);
+  Reply run_until(std::string_view condition);
+  // A scan-end breakpoint on `condition`, or a freeze point before program
+  // `before_program` (optionally filtered by `condition`); stops on every
+  // `hits`-th hit.
+  Reply add_breakpoint(std::string_view condition, std::uint64_t hits = 1,
+                       const std::string& before_program = "");
+  Reply delete_breakpoint(const std::string& id_or_all);
+  // Held by every call above; a front end on another thread may try_lock_for
+  // it to answer "busy" instead of waiting behind a long `run until`.
+  std::recursive_timed_mutex& session_mutex() { return session_mu_; }
+
   [[nodiscard]] bool quit_requested() const { return quit_; }
   [[nodiscard]] std::string prompt() const;
   // Async-signal-safe: interrupts a running `continue`, `run until`, `step`
@@ -142,6 +189,8 @@ class Debugger final : public ScanHooks {
   std::string cmd_stats();
   std::string cmd_watch(const std::vector<std::string>& a, bool add);
   std::string help() const;
+  Reply run_and_report(std::optional<TIME> for_time, bool until);
+  Reply write_or_force(const std::string& name, std::string_view text, bool force);
   std::string stop_report(const std::string& why);
   std::string watch_lines();
   std::string forces_list();
@@ -176,6 +225,7 @@ class Debugger final : public ScanHooks {
 
   Factory factory_;
   Options opt_;
+  std::recursive_timed_mutex session_mu_;
   std::unique_ptr<Runtime> rt_;
   std::unique_ptr<Replayer> replayer_;
   std::unique_ptr<Recorder> recorder_;

@@ -1,0 +1,64 @@
+// Fuzz target: the HMI bridge's command decoding and serving
+// (Bridge::on_command_bytes) on the filling cell in virtual time, over
+// memq://. The first byte picks the bridge: one with a shared key (nothing
+// the fuzzer sends can carry a right HMAC tag, so no command may ever be
+// applied: traps if one is) or one without (writes and forces only where the
+// patterns allow; stopping commands refused). The rest, at most 64 kB (one
+// LCM datagram), is the message. Every input is counted as malformed,
+// refused or applied, never a crash.
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "fuzz_cell.hpp"
+#include "plc/debug/debugger.hpp"
+#include "plc/hmi/bridge.hpp"
+
+namespace {
+
+struct Session {
+  plc::CellConfig cfg;
+  std::unique_ptr<plc::hmi::Bridge> bridge;
+  std::unique_ptr<plc::debug::Debugger> dbg;
+  explicit Session(bool keyed) {
+    cfg = plc::fuzz::filling_cell();
+    cfg.hmi.present = true;
+    cfg.hmi.url.value = "memq://";
+    cfg.hmi.publish = {{"Cell.*", {}}};
+    cfg.hmi.writable = {{"Cell.target_kg", {}}, {"Cell.pitch", {}}};
+    cfg.hmi.forceable = {{"Cell.run", {}}};
+    if (keyed) {
+      cfg.hmi.key_path = "/tmp/plc_fuzz_hmi_" + std::to_string(::getpid()) + ".key";
+      std::ofstream(cfg.hmi.key_path)
+          << "5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a\n";
+    }
+    bridge = std::make_unique<plc::hmi::Bridge>(cfg.hmi, cfg.file);
+    plc::debug::Debugger::Options o;
+    o.span = std::chrono::seconds(1);
+    o.on_build = [this](plc::Runtime& rt) { bridge->attach(rt); };
+    dbg = std::make_unique<plc::debug::Debugger>(
+        [this] { return std::make_unique<plc::Runtime>(cfg); }, o);
+    bridge->set_debugger(dbg.get());
+  }
+};
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size < 1 || size > 65536 + 1) return 0;
+  static Session open(false), keyed(true);
+  Session& s = (data[0] & 1) ? keyed : open;
+  const auto before = s.bridge->counters();
+  s.bridge->on_command_bytes(data + 1, size - 1);
+  const auto after = s.bridge->counters();
+  const std::uint64_t counted =
+      (after.malformed - before.malformed) + (after.refused - before.refused) +
+      (after.bad_tag - before.bad_tag) + (after.replayed - before.replayed) +
+      (after.commands - before.commands);
+  // "describe" is answered without being counted; everything else once.
+  if (counted > 1) __builtin_trap();
+  if (&s == &keyed && after.commands != 0) __builtin_trap();
+  return 0;
+}

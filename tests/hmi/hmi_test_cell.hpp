@@ -1,0 +1,69 @@
+// The demo cell with an `hmi:` section, a debugger over it and a bridge on
+// memq:// (in-process, deterministic): what the bridge tests share.
+#pragma once
+
+#include <fstream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "plc/cell_config.hpp"
+#include "plc/debug/debugger.hpp"
+#include "plc/hmi/bridge.hpp"
+#include "plc_test_paths.hpp"
+#include "softplc_hmi/reply_t.hpp"
+#include "softplc_hmi/values_t.hpp"
+
+namespace plctest {
+
+inline std::string demo_yaml() {
+  std::ifstream f(source_path("programs/demo/cell.yaml"));
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+inline const char* kHmiSection = R"(
+hmi:
+  url: memq://
+  rate: 100
+  publish: ["Tank.*", "Supervisor.enable", "%QW0"]
+  writable: ["Tank.high_level", "Tank.low_level", "%QW0"]
+  forceable: ["Tank.enable"]
+)";
+
+// A virtual-time debugger session of the demo cell with its bridge.
+struct HmiCell {
+  plc::CellConfig cfg;
+  std::unique_ptr<plc::hmi::Bridge> bridge;
+  std::unique_ptr<plc::debug::Debugger> dbg;
+  std::map<int, std::string> seen;   // index -> last value text received
+  std::map<std::string, int> index;  // path -> index
+  std::vector<softplc_hmi::reply_t> replies;
+
+  explicit HmiCell(const std::string& hmi = kHmiSection, const std::string& key_file = "") {
+    std::string text = demo_yaml() + hmi;
+    if (!key_file.empty()) text += "  key_file: " + key_file + "\n";
+    cfg = plc::parse_cell_config(text, "hmi_test.yaml");
+    bridge = std::make_unique<plc::hmi::Bridge>(cfg.hmi, cfg.file);
+    plc::debug::Debugger::Options o;
+    o.span = std::chrono::minutes(10);
+    o.on_build = [this](plc::Runtime& rt) { bridge->attach(rt); };
+    dbg = std::make_unique<plc::debug::Debugger>(
+        [this] { return std::make_unique<plc::Runtime>(cfg); }, o);
+    bridge->set_debugger(dbg.get());
+    bridge->lcm().subscribe(bridge->channels().values, &HmiCell::on_values, this);
+    bridge->lcm().subscribe(bridge->channels().reply, &HmiCell::on_reply, this);
+  }
+  ~HmiCell() { bridge->stop(); }
+
+  void on_values(const lcm::ReceiveBuffer*, const std::string&, const softplc_hmi::values_t* m) {
+    for (const auto& v : m->values) seen[v.index] = v.text;
+  }
+  void on_reply(const lcm::ReceiveBuffer*, const std::string&, const softplc_hmi::reply_t* r) {
+    replies.push_back(*r);
+  }
+};
+
+}  // namespace plctest
