@@ -8,6 +8,12 @@ get_property(PLC_SDK_INCLUDE_DIRS GLOBAL PROPERTY PLC_SDK_INCLUDE_DIRS)
 set(PLC_CMAKE_PACKAGE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/softplc)
 
 install(TARGETS plcrun RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
+# The other tools: the HMI client and the simulated DeviceNet slaves.
+foreach(tool plcctl dnslave)
+  if(TARGET ${tool})
+    install(TARGETS ${tool} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
+  endif()
+endforeach()
 install(TARGETS ${PLC_SDK_TARGETS} EXPORT softplcTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT runtime
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
