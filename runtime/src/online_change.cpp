@@ -77,7 +77,7 @@ OnlineChange::~OnlineChange() {
   }
 }
 
-ChangeReport OnlineChange::prepare(const std::string& library) {
+ChangeReport OnlineChange::prepare(const std::string& library, const std::string& file) {
   ChangeReport r;
   auto refuse = [&](std::string why) {
     r.refused = std::move(why);
@@ -103,7 +103,7 @@ ChangeReport OnlineChange::prepare(const std::string& library) {
                       : library + " is not one of the cell's libraries (" + names + ")");
   r.library = old_lib_->path();
   try {
-    new_lib_ = CellLibrary::open(old_lib_->path());
+    new_lib_ = CellLibrary::open(old_lib_->path(), file);
   } catch (const CellLibraryError& e) {
     return refuse("cannot load " + old_lib_->path() + ": " + e.what());
   }
@@ -230,6 +230,18 @@ ChangeReport OnlineChange::prepare(const std::string& library) {
   }
   report_ = r;
   return r;
+}
+
+std::vector<std::size_t> OnlineChange::tasks() const {
+  std::vector<std::size_t> out;
+  for (const auto& [t, _] : swaps_) out.push_back(t->order);
+  return out;
+}
+
+void OnlineChange::switch_all_now() {
+  commit();
+  for (auto& [t, s] : swaps_)
+    if (t->swap.load() == s.get()) apply_program_swap(*t, *s);
 }
 
 void OnlineChange::commit() {

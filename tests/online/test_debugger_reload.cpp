@@ -44,7 +44,7 @@ TEST(DebuggerReload, SwitchesBetweenScansAndKeepsBreakpoints) {
   EXPECT_TRUE(has(d->execute("print Main.step"), "= 3")) << stop;
 }
 
-TEST(DebuggerReload, RefusedWhileRecordingAndForAFailedLoad) {
+TEST(DebuggerReload, RefusedBeforeARecordingStartsAndForAFailedLoad) {
   CellFolder folder;
   folder.install(PLC_TEST_FILLER_V1);
   auto d = debugger(folder);
@@ -58,10 +58,15 @@ TEST(DebuggerReload, RefusedWhileRecordingAndForAFailedLoad) {
   const std::string rec =
       (fs::temp_directory_path() / ("softplc-reload-" + std::to_string(getpid()) + ".rec"))
           .string();
+  // A recording begins at the next latch, with a snapshot of the build
+  // then running: a change before that is refused (recording.hpp).
   d->execute("record " + rec);
   folder.install(PLC_TEST_FILLER_V2);
-  EXPECT_TRUE(has(d->execute("reload"), "stop it first (record stop)"));
+  EXPECT_TRUE(has(d->execute("reload"), "step a scan first"));
+  d->execute("step 1");
+  EXPECT_TRUE(has(d->execute("reload"), "switched"));
   d->execute("record stop");
+  fs::remove_all(rec + ".libs");
   fs::remove(rec);
 }
 

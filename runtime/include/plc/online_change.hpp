@@ -82,8 +82,16 @@ class OnlineChange {
   OnlineChange& operator=(const OnlineChange&) = delete;
 
   // `library`: a path the cell config's `libraries:` named (absolute, as
-  // CellConfig holds it), or "" when the cell has exactly one.
-  ChangeReport prepare(const std::string& library);
+  // CellConfig holds it), or "" when the cell has exactly one. `file`, when
+  // given, is where the new build's bytes come from (a replay's kept copy).
+  ChangeReport prepare(const std::string& library, const std::string& file = "");
+  // After prepare(): the new build, and the tasks (TaskRuntime::order) that
+  // switch to it.
+  [[nodiscard]] const std::shared_ptr<CellLibrary>& next_library() const { return new_lib_; }
+  [[nodiscard]] std::vector<std::size_t> tasks() const;
+  // Switches every task at once: only when no task is inside a scan
+  // (virtual time, a paused cell, a cell not yet started).
+  void switch_all_now();
   void commit();
   [[nodiscard]] bool switched() const;
   void finish();

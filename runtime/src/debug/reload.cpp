@@ -9,11 +9,19 @@
 //
 // What the debugger holds that points into the old programs is re-resolved
 // afterwards by path: breakpoint conditions, forces and the trace's
-// variable list (watches are kept by name). Refused while a trace file or a
-// recording is being written (a replay runs one build of the library: stop
-// them first), during a replay, while frozen inside a scan, and in real time
-// while the logic runs with conditions, forces or a trace set up (the task
-// threads use those while the command would replace them).
+// variable list (watches are kept by name). A recording being written
+// notes the change at the latch where each task switches, and keeps a copy
+// of the new build, so that its replay makes the same change at the same
+// scan (plc/debug/recording.hpp). Refused while a trace file is being
+// written (stop it first), during a replay (the replay makes the recorded
+// changes itself), while frozen inside a scan, and in real time while the
+// logic runs with conditions, forces or a trace set up (the task threads use
+// those while the command would replace them).
+//
+// After a change, `goto` to an earlier scan is refused: it re-runs the
+// session from the start, and the old build, gone from the library's path,
+// could not run the scans before the change (a recording's replay can: it
+// keeps the builds). `restart` runs the new build, as a real restart would.
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
@@ -26,11 +34,9 @@ namespace plc::debug {
 
 std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
   if (a.size() > 2) return "usage: reload [LIBRARY]\n";
-  if (replayer_) return "reload: not during a replay (a replay runs one build of the library)\n";
+  if (replayer_)
+    return "reload: not during a replay (the replay makes the recorded online changes itself)\n";
   if (in_freeze_) return "reload: frozen inside a scan; step to the end of the scan first (step)\n";
-  if (recorder_)
-    return "reload: a recording is being written; stop it first (record stop): a replay runs "
-           "one build of the library\n";
   if (trace_ && trace_->running())
     return "reload: a trace file is being written; stop it first (trace stop)\n";
   const bool realtime_running = opt_.mode == io::ClockMode::RealTime && !rt_->paused();
@@ -48,6 +54,11 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
   OnlineChange change(*rt_);
   const ChangeReport report = change.prepare(lib);
   if (!report.refused.empty()) return report.text();
+  if (recorder_) {
+    // Before the commit: the tasks' next latches write the change records.
+    if (std::string why = recorder_->note_change(change, report.text()); !why.empty())
+      return "reload: " + why + "\n";
+  }
   change.commit();
   if (at_boundary) {
     for (const auto& t : rt_->tasks())
@@ -67,6 +78,7 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
              "scan\n";
   }
   change.finish();
+  reloaded_ = "the library changed at scan " + std::to_string(scan_count());
 
   // Re-resolve what pointed into the old programs.
   std::string err;

@@ -245,6 +245,7 @@ class Debugger final : public ScanHooks {
   std::atomic<bool> end_requested_{false};
   bool quit_ = false;
   bool in_freeze_ = false;
+  std::string reloaded_;                // an online change was made in this session (reload.cpp)
   TaskRuntime* frozen_task_ = nullptr;  // the task whose scan a freeze point holds
   int freeze_action_ = 0;               // 0 continue, 1 step (pause at scan end), 2 quit
   Reader reader_;
