@@ -38,6 +38,7 @@
 
 #include "plc/program.hpp"
 #include "plc/types.hpp"
+#include "plc/var_registry.hpp"
 
 namespace plc {
 
@@ -94,6 +95,14 @@ class OnlineChange {
   void switch_all_now();
   void commit();
   [[nodiscard]] bool switched() const;
+  // Whether task `task` (TaskRuntime::order) runs the new build already.
+  [[nodiscard]] bool switched(std::size_t task) const;
+  // Takes the change back from the tasks that have not switched yet (they
+  // run the old build on); after it, switched(task) no longer changes.
+  void withdraw();
+  // After prepare(): the variable registry as finish() will make it (the
+  // debugger re-resolves what it holds against it before the switch).
+  [[nodiscard]] VarRegistry next_vars() const;
   void finish();
   // Recording (plc/debug/recording.hpp) and other observers: the report of
   // the last finished change.
@@ -105,6 +114,8 @@ class OnlineChange {
     int task = -1;
     std::unique_ptr<Program> next;
   };
+  std::vector<VarInfo> program_vars(const Replaced& rp) const;
+
   Runtime& rt_;
   ChangeReport report_;
   std::shared_ptr<CellLibrary> old_lib_, new_lib_;

@@ -198,6 +198,7 @@ void Debugger::apply_write(TaskRuntime& t, const VarInfo& v, const void* value) 
 
 void Debugger::after_latch(TaskRuntime& t, io::ProcessImage& global) {
   std::lock_guard<std::mutex> lock(mu_);
+  if (carry_) carry_over(t);  // an online change switched t at this latch (reload.cpp)
   for (const Force& f : forces_)
     if (f.image && f.var.address->area == io::Area::Input) apply_write(t, f.var, &f.value);
   if (recorder_) recorder_->after_latch(t, global);
