@@ -70,5 +70,30 @@ TEST(DebuggerReload, RefusedBeforeARecordingStartsAndForAFailedLoad) {
   fs::remove(rec);
 }
 
+// A force on a field the new build removed (note) or retyped (flow: REAL ->
+// LREAL) is dropped and listed: its value no longer has a place to go (it
+// used to keep pointing into the destroyed old program). The force on a
+// field kept by path and type goes on in the new build.
+TEST(DebuggerReload, ForcesOnRemovedOrRetypedFieldsAreDropped) {
+  CellFolder folder;
+  folder.install(PLC_TEST_FILLER_V1);
+  auto d = debugger(folder);
+  d->execute("step 5");
+  d->execute("force Main.note 5");
+  d->execute("force Main.flow 0.25");
+  d->execute("force Main.target 7.5");
+  folder.install(PLC_TEST_FILLER_V2);
+  const std::string out = d->execute("reload");
+  EXPECT_TRUE(has(out, "force on Main.note dropped: the new build has no such variable")) << out;
+  EXPECT_TRUE(has(out, "force on Main.flow dropped: its type changed")) << out;
+  d->execute("step 5");
+  const std::string forces = d->execute("forces");
+  EXPECT_FALSE(has(forces, "Main.note")) << forces;
+  EXPECT_FALSE(has(forces, "Main.flow")) << forces;
+  EXPECT_TRUE(has(forces, "Main.target")) << forces;
+  EXPECT_TRUE(has(d->execute("print Main.target"), "= 7.5"));
+  EXPECT_TRUE(has(d->execute("print Main.flow"), "= 0.125"));
+}
+
 }  // namespace
 }  // namespace plc::test

@@ -107,16 +107,17 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
         v = *n;
       else if (std::any_of(carry->tasks.begin(), carry->tasks.end(),
                            [&](const Carry::Task& t) { return int(t.order) == f.var.task; }))
-        dropped += "  force on " + f.name + " dropped: " +
-                   (n ? "its type changed" : "the new build has no such variable") + "\n";
+        dropped += "  force on " + f.name +
+                   " dropped: " + (n ? "its type changed" : "the new build has no such variable") +
+                   "\n";
     }
     carry->forces.push_back(std::move(v));
   }
   std::string err;
   for (std::size_t i = 0; i < breaks_.size(); ++i)
     if (breaks_[i].cond && breaks_[i].task >= 0)
-      carry->conds.emplace_back(
-          i, Condition::compile(breaks_[i].cond->text(), next, rt_->image(), rt_->byte_order(), err));
+      carry->conds.emplace_back(i, Condition::compile(breaks_[i].cond->text(), next, rt_->image(),
+                                                      rt_->byte_order(), err));
   if (!trace_spec_.empty()) {
     int fastest = 0;
     for (const auto& t : rt_->tasks())

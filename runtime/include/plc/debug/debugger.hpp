@@ -245,7 +245,7 @@ class Debugger final : public ScanHooks {
   std::atomic<bool> end_requested_{false};
   bool quit_ = false;
   bool in_freeze_ = false;
-  std::string reloaded_;                // an online change was made in this session (reload.cpp)
+  std::string reloaded_;  // an online change was made in this session (reload.cpp)
   // What the debugger holds that points into programs a reload replaces,
   // re-resolved against the new build; each task takes its part at its
   // switch point (after_latch, under mu_). reload.cpp.
