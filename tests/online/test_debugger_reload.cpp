@@ -73,7 +73,8 @@ TEST(DebuggerReload, RefusedBeforeARecordingStartsAndForAFailedLoad) {
 // A force on a field the new build removed (note) or retyped (flow: REAL ->
 // LREAL) is dropped and listed: its value no longer has a place to go (it
 // used to keep pointing into the destroyed old program). The force on a
-// field kept by path and type goes on in the new build.
+// field kept by path and type goes on in the new build. So does a
+// breakpoint whose condition reads a removed field (it is deleted).
 TEST(DebuggerReload, ForcesOnRemovedOrRetypedFieldsAreDropped) {
   CellFolder folder;
   folder.install(PLC_TEST_FILLER_V1);
@@ -82,8 +83,10 @@ TEST(DebuggerReload, ForcesOnRemovedOrRetypedFieldsAreDropped) {
   d->execute("force Main.note 5");
   d->execute("force Main.flow 0.25");
   d->execute("force Main.target 7.5");
+  d->execute("break Main.note = 99");
   folder.install(PLC_TEST_FILLER_V2);
   const std::string out = d->execute("reload");
+  EXPECT_TRUE(has(out, "(Main.note = 99) deleted: its condition does not compile")) << out;
   EXPECT_TRUE(has(out, "force on Main.note dropped: the new build has no such variable")) << out;
   EXPECT_TRUE(has(out, "force on Main.flow dropped: its type changed")) << out;
   d->execute("step 5");

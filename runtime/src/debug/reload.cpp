@@ -47,9 +47,12 @@ struct Debugger::Carry {
   std::vector<std::optional<VarInfo>> forces;
   // Per breakpoint (index in breaks_) with a condition on a task's variables.
   std::vector<std::pair<std::size_t, std::optional<Condition>>> conds;
+  // The new trace resolved against `vars`; declared after it, so destroyed
+  // first (a replaced trace and its registry go the same way, swapped in).
+  std::shared_ptr<const VarRegistry> vars;
   std::unique_ptr<Trace> trace;
   int trace_task = -1;
-  std::shared_ptr<const VarRegistry> vars;
+  std::vector<int> dead_breaks;  // ids of breakpoints whose condition is gone
 };
 
 // Under mu_: t's part of the change, once t runs the new build.
@@ -69,10 +72,13 @@ void Debugger::carry_over(const TaskRuntime& t) {
       f.var.task = -2;  // dropped: no task applies it; removed when the change ends
   }
   for (auto& [i, cond] : c.conds)
-    if (breaks_[i].task == order) breaks_[i].cond = std::move(cond);
+    if (breaks_[i].task == order) {
+      breaks_[i].cond = std::move(cond);
+      cond.reset();
+    }
   if (c.trace && c.trace_task == order) {
     trace_.swap(c.trace);
-    trace_vars_ = c.vars;
+    std::swap(trace_vars_, c.vars);
   }
 }
 
@@ -115,9 +121,17 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
   }
   std::string err;
   for (std::size_t i = 0; i < breaks_.size(); ++i)
-    if (breaks_[i].cond && breaks_[i].task >= 0)
-      carry->conds.emplace_back(i, Condition::compile(breaks_[i].cond->text(), next, rt_->image(),
-                                                      rt_->byte_order(), err));
+    if (breaks_[i].cond) {
+      auto cond =
+          Condition::compile(breaks_[i].cond->text(), next, rt_->image(), rt_->byte_order(), err);
+      if (!cond) {
+        dropped += "  breakpoint " + std::to_string(breaks_[i].id) + " (" + breaks_[i].text +
+                   ") deleted: its condition does not compile against the new build (" + err +
+                   ")\n";
+        carry->dead_breaks.push_back(breaks_[i].id);
+      }
+      carry->conds.emplace_back(i, std::move(cond));
+    }
   if (!trace_spec_.empty()) {
     int fastest = 0;
     for (const auto& t : rt_->tasks())
@@ -158,6 +172,12 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
     std::lock_guard<std::mutex> lock(mu_);
     change.withdraw();  // from here on no task switches any more
     for (const auto& t : rt_->tasks()) carry_over(*t);
+    // Conditions of no one task (virtual time; the image only): now.
+    if (change.switched())
+      for (auto& [i, cond] : carry_->conds)
+        if (breaks_[i].task < 0) breaks_[i].cond = std::move(cond);
+    for (int id : carry_->dead_breaks)
+      std::erase_if(breaks_, [&](const Breakpoint& b) { return b.id == id; });
     carry_.reset();
     std::erase_if(forces_, [](const Force& f) { return !f.image && f.var.task == -2; });
     writes_.clear();
