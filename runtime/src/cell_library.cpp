@@ -3,10 +3,12 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <boost/crc.hpp>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
 
 #include "plc/abi.hpp"
@@ -63,13 +65,34 @@ std::map<std::string, std::shared_ptr<CellLibrary>>& current_libraries() {
 
 }  // namespace
 
-std::shared_ptr<CellLibrary> CellLibrary::open(const std::string& path) {
+std::optional<FileCrc> file_crc32(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return std::nullopt;
+  boost::crc_32_type crc;
+  FileCrc r;
+  char buf[64 << 10];
+  while (in.read(buf, sizeof buf) || in.gcount() > 0) {
+    crc.process_bytes(buf, static_cast<std::size_t>(in.gcount()));
+    r.size += static_cast<std::uint64_t>(in.gcount());
+  }
+  if (in.bad()) return std::nullopt;
+  r.crc32 = crc.checksum();
+  return r;
+}
+
+std::shared_ptr<CellLibrary> CellLibrary::open(const std::string& path, const std::string& file) {
+  const std::string& from = file.empty() ? path : file;
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
+  if (!fs::is_regular_file(from, ec))
     throw CellLibraryError("no such file (build the cell library first, e.g. cmake --build build)");
-  const std::string copy = private_copy(path);
+  const std::string copy = private_copy(from);
   std::shared_ptr<CellLibrary> lib(new CellLibrary);
   lib->path_ = path;
+  // The build's identity: of the copy, the bytes that are really loaded.
+  if (auto c = file_crc32(copy)) {
+    lib->crc32_ = c->crc32;
+    lib->size_ = c->size;
+  }
   Capture cap;
   cap.during([&] { lib->handle_ = dlopen(copy.c_str(), RTLD_NOW | RTLD_LOCAL); });
   fs::remove(copy, ec);
@@ -78,7 +101,7 @@ std::shared_ptr<CellLibrary> CellLibrary::open(const std::string& path) {
     std::string msg = why ? why : "dlopen failed";
     // dlerror names the temporary copy; name the user's file instead.
     for (auto p = msg.find(copy); p != std::string::npos; p = msg.find(copy))
-      msg.replace(p, copy.size(), path);
+      msg.replace(p, copy.size(), from);
     throw CellLibraryError("cannot load: " + msg);
   }
   const auto* abi = static_cast<const unsigned*>(dlsym(lib->handle_, PLC_CELL_ABI_SYMBOL));

@@ -77,7 +77,7 @@ OnlineChange::~OnlineChange() {
   }
 }
 
-ChangeReport OnlineChange::prepare(const std::string& library) {
+ChangeReport OnlineChange::prepare(const std::string& library, const std::string& file) {
   ChangeReport r;
   auto refuse = [&](std::string why) {
     r.refused = std::move(why);
@@ -103,7 +103,7 @@ ChangeReport OnlineChange::prepare(const std::string& library) {
                       : library + " is not one of the cell's libraries (" + names + ")");
   r.library = old_lib_->path();
   try {
-    new_lib_ = CellLibrary::open(old_lib_->path());
+    new_lib_ = CellLibrary::open(old_lib_->path(), file);
   } catch (const CellLibraryError& e) {
     return refuse("cannot load " + old_lib_->path() + ": " + e.what());
   }
@@ -232,6 +232,18 @@ ChangeReport OnlineChange::prepare(const std::string& library) {
   return r;
 }
 
+std::vector<std::size_t> OnlineChange::tasks() const {
+  std::vector<std::size_t> out;
+  for (const auto& [t, _] : swaps_) out.push_back(t->order);
+  return out;
+}
+
+void OnlineChange::switch_all_now() {
+  commit();
+  for (auto& [t, s] : swaps_)
+    if (t->swap.load() == s.get()) apply_program_swap(*t, *s);
+}
+
 void OnlineChange::commit() {
   if (committed_ || swaps_.empty()) return;
   committed_ = true;
@@ -245,27 +257,50 @@ bool OnlineChange::switched() const {
   });
 }
 
+bool OnlineChange::switched(std::size_t task) const {
+  return std::any_of(swaps_.begin(), swaps_.end(), [&](const auto& ts) {
+    return ts.first->order == task && ts.second->applied.load(std::memory_order_acquire);
+  });
+}
+
+void OnlineChange::withdraw() {
+  for (auto& [t, s] : swaps_) {
+    ProgramSwap* expect = s.get();
+    t->swap.compare_exchange_strong(expect, nullptr);
+  }
+}
+
+VarRegistry OnlineChange::next_vars() const {
+  VarRegistry next = rt_.vars_;
+  for (const Replaced& rp : replaced_) next.replace_prefix(rp.name + ".", program_vars(rp));
+  return next;
+}
+
+// The registry entries of a replaced program, built from the new object.
+std::vector<VarInfo> OnlineChange::program_vars(const Replaced& rp) const {
+  FieldVisitor fv(rp.name);
+  rp.next->describe(fv);
+  std::vector<std::pair<std::size_t, VarInfo>> vars;
+  for (const auto& f : fv.fields) vars.emplace_back(f.seq, plain_var_info(f, rp.task));
+  for (const auto& l : fv.located) {
+    VarInfo v = *rt_.vars().find(l.path);  // same address (prepare() checked)
+    v.read_only = l.access.read_only;
+    v.check = l.access.check;
+    vars.emplace_back(l.seq, std::move(v));
+  }
+  std::sort(vars.begin(), vars.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<VarInfo> list;
+  for (auto& [_, v] : vars) list.push_back(std::move(v));
+  return list;
+}
+
 void OnlineChange::finish() {
   if (finished_ || !switched()) return;
   finished_ = true;
   std::vector<std::unique_ptr<Program>> retired;
   for (Replaced& rp : replaced_) {
-    // The registry entries of the program, rebuilt from the new object.
-    FieldVisitor fv(rp.name);
-    rp.next->describe(fv);
-    std::vector<std::pair<std::size_t, VarInfo>> vars;
-    for (const auto& f : fv.fields) vars.emplace_back(f.seq, plain_var_info(f, rp.task));
-    for (const auto& l : fv.located) {
-      VarInfo v = *rt_.vars().find(l.path);  // same address (prepare() checked)
-      v.read_only = l.access.read_only;
-      v.check = l.access.check;
-      vars.emplace_back(l.seq, std::move(v));
-    }
-    std::sort(vars.begin(), vars.end(),
-              [](const auto& a, const auto& b) { return a.first < b.first; });
-    std::vector<VarInfo> list;
-    for (auto& [_, v] : vars) list.push_back(std::move(v));
-    rt_.vars_.replace_prefix(rp.name + ".", std::move(list));
+    rt_.vars_.replace_prefix(rp.name + ".", program_vars(rp));
     for (auto& [n, p] : rt_.programs_)
       if (n == rp.name) {
         retired.push_back(std::move(p));

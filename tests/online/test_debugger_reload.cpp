@@ -44,7 +44,7 @@ TEST(DebuggerReload, SwitchesBetweenScansAndKeepsBreakpoints) {
   EXPECT_TRUE(has(d->execute("print Main.step"), "= 3")) << stop;
 }
 
-TEST(DebuggerReload, RefusedWhileRecordingAndForAFailedLoad) {
+TEST(DebuggerReload, RefusedBeforeARecordingStartsAndForAFailedLoad) {
   CellFolder folder;
   folder.install(PLC_TEST_FILLER_V1);
   auto d = debugger(folder);
@@ -58,11 +58,44 @@ TEST(DebuggerReload, RefusedWhileRecordingAndForAFailedLoad) {
   const std::string rec =
       (fs::temp_directory_path() / ("softplc-reload-" + std::to_string(getpid()) + ".rec"))
           .string();
+  // A recording begins at the next latch, with a snapshot of the build
+  // then running: a change before that is refused (recording.hpp).
   d->execute("record " + rec);
   folder.install(PLC_TEST_FILLER_V2);
-  EXPECT_TRUE(has(d->execute("reload"), "stop it first (record stop)"));
+  EXPECT_TRUE(has(d->execute("reload"), "step a scan first"));
+  d->execute("step 1");
+  EXPECT_TRUE(has(d->execute("reload"), "switched"));
   d->execute("record stop");
+  fs::remove_all(rec + ".libs");
   fs::remove(rec);
+}
+
+// A force on a field the new build removed (note) or retyped (flow: REAL ->
+// LREAL) is dropped and listed: its value no longer has a place to go (it
+// used to keep pointing into the destroyed old program). The force on a
+// field kept by path and type goes on in the new build. So does a
+// breakpoint whose condition reads a removed field (it is deleted).
+TEST(DebuggerReload, ForcesOnRemovedOrRetypedFieldsAreDropped) {
+  CellFolder folder;
+  folder.install(PLC_TEST_FILLER_V1);
+  auto d = debugger(folder);
+  d->execute("step 5");
+  d->execute("force Main.note 5");
+  d->execute("force Main.flow 0.25");
+  d->execute("force Main.target 7.5");
+  d->execute("break Main.note = 99");
+  folder.install(PLC_TEST_FILLER_V2);
+  const std::string out = d->execute("reload");
+  EXPECT_TRUE(has(out, "(Main.note = 99) deleted: its condition does not compile")) << out;
+  EXPECT_TRUE(has(out, "force on Main.note dropped: the new build has no such variable")) << out;
+  EXPECT_TRUE(has(out, "force on Main.flow dropped: its type changed")) << out;
+  d->execute("step 5");
+  const std::string forces = d->execute("forces");
+  EXPECT_FALSE(has(forces, "Main.note")) << forces;
+  EXPECT_FALSE(has(forces, "Main.flow")) << forces;
+  EXPECT_TRUE(has(forces, "Main.target")) << forces;
+  EXPECT_TRUE(has(d->execute("print Main.target"), "= 7.5"));
+  EXPECT_TRUE(has(d->execute("print Main.flow"), "= 0.125"));
 }
 
 }  // namespace

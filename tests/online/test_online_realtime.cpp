@@ -5,10 +5,15 @@
 #include <thread>
 
 #include "online_fixture.hpp"
+#include "plc/debug/debugger.hpp"
 #include "plc/online_change.hpp"
 
 namespace plc::test {
 namespace {
+
+bool has(const std::string& out, const std::string& what) {
+  return out.find(what) != std::string::npos;
+}
 
 TEST(OnlineChangeRealTime, TasksSwitchWhileRunning) {
   CellFolder folder;
@@ -27,7 +32,8 @@ TEST(OnlineChangeRealTime, TasksSwitchWhileRunning) {
     const ChangeReport report = change.prepare("");
     ASSERT_EQ(report.refused, "");
     change.commit();
-    while (!change.switched() && std::chrono::steady_clock::now() < limit + std::chrono::seconds(10))
+    while (!change.switched() &&
+           std::chrono::steady_clock::now() < limit + std::chrono::seconds(10))
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     ASSERT_TRUE(change.switched());
     change.finish();
@@ -42,6 +48,49 @@ TEST(OnlineChangeRealTime, TasksSwitchWhileRunning) {
   EXPECT_EQ(value(rt, "Other.build"), "2");
   EXPECT_EQ(value(rt, "Main.alarms"), "7");
   for (const auto& t : rt.tasks()) EXPECT_EQ(t->stats.snapshot().stop_reason, "") << t->name;
+}
+
+// The debugger's `reload` while the logic runs in real time, with a force,
+// a conditional breakpoint and a trace set up: each task takes them over at
+// its own switch point (reload.cpp); the force on a variable the new build
+// lacks is dropped and listed.
+TEST(OnlineChangeRealTime, ForcesConditionsAndTraceCarryAcrossTheSwitch) {
+  CellFolder folder;
+  folder.install(PLC_TEST_FILLER_V1);
+  static CellConfig cfg;
+  cfg = folder.config();
+  debug::Debugger::Options o;
+  o.mode = io::ClockMode::RealTime;
+  o.span = std::chrono::seconds(60);
+  debug::Debugger d([] { return std::make_unique<Runtime>(cfg); }, o);
+  auto scans = [&] { return d.runtime().tasks()[0]->stats.snapshot().scans; };
+  const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  auto wait_scans = [&](std::uint64_t n) {  // bounded: 20 s in all
+    while (scans() < n && std::chrono::steady_clock::now() < limit)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  };
+  wait_scans(3);
+  EXPECT_TRUE(has(d.execute("force Main.weight 3.5"), "3.5")) << d.execute("forces");
+  d.execute("force Main.note 5");
+  d.execute("break Main.step = 99");
+  d.execute("trace add Main.weight");
+  wait_scans(scans() + 3);
+
+  folder.install(PLC_TEST_FILLER_V2);
+  const std::string out = d.execute("reload");
+  EXPECT_TRUE(has(out, "switched")) << out;
+  EXPECT_TRUE(has(out, "force on Main.note dropped")) << out;
+  wait_scans(scans() + 5);
+  // The force holds in the new build: the program adds flow each scan, the
+  // force puts 3.5 back after the programs.
+  EXPECT_TRUE(has(d.execute("print Main.weight"), "= 3.5")) << d.execute("print Main.weight");
+  EXPECT_TRUE(has(d.execute("print Main.build"), "2"));
+  const std::string forces = d.execute("forces");
+  EXPECT_TRUE(has(forces, "Main.weight")) << forces;
+  EXPECT_FALSE(has(forces, "Main.note")) << forces;
+  EXPECT_TRUE(has(d.execute("trace"), "Main.weight")) << d.execute("trace");
+  EXPECT_TRUE(has(d.execute("break"), "Main.step = 99")) << d.execute("break");
+  d.execute("quit");
 }
 
 }  // namespace

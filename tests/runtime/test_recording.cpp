@@ -451,7 +451,7 @@ TEST(RecordingFormat, EveryRecordCarriesTheRunningZlibCrc32) {
   ASSERT_EQ(zlib_crc32(check, 9), 0xCBF43926U);                            // CRC-32 check value
   ASSERT_EQ(zlib_crc32(check + 3, 6, zlib_crc32(check, 3)), 0xCBF43926U);  // continued
   const auto b = record_demo(plctest::temp_path("crc.rec"), std::chrono::milliseconds(50));
-  ASSERT_EQ(std::string(b.begin(), b.begin() + 8), "PLCREC04");
+  ASSERT_EQ(std::string(b.begin(), b.begin() + 8), "PLCREC05");
   const auto fs = frames(b);
   ASSERT_GT(fs.size(), 100u);
   EXPECT_EQ(fs.front().type, 'H');
@@ -581,10 +581,10 @@ TEST(RecordingDamage, LengthsTimesAndStatesAreCheckedBeforeUse) {
 }
 
 TEST(RecordingDamage, AnOldFormatIsRefusedWithItsVersion) {
-  std::vector<std::uint8_t> old = {'P', 'L', 'C', 'R', 'E', 'C', '0', '3'};
+  std::vector<std::uint8_t> old = {'P', 'L', 'C', 'R', 'E', 'C', '0', '4'};
   old.resize(64, 0);
   const std::string err = replay_error(old);
-  EXPECT_TRUE(has(err, "PLCREC03 is not supported")) << err;
+  EXPECT_TRUE(has(err, "PLCREC04 is not supported: this plcrun reads PLCREC05")) << err;
   EXPECT_TRUE(has(replay_error({'x', 'y'}), "not a recording"));
 }
 

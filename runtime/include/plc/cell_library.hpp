@@ -14,8 +14,10 @@
 // ABI) is unloaded again and changes nothing.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -33,13 +35,19 @@ class CellLibraryError : public std::runtime_error {
 class CellLibrary {
  public:
   // Loads the library at `path` (captured registrations, checked ABI).
-  // Throws CellLibraryError saying what failed.
-  static std::shared_ptr<CellLibrary> open(const std::string& path);
+  // Throws CellLibraryError saying what failed. `file`, when given, is
+  // where the bytes come from (a replay's kept copy of an older build,
+  // plc/debug/recording.hpp); the library is still the one named `path`.
+  static std::shared_ptr<CellLibrary> open(const std::string& path, const std::string& file = "");
   ~CellLibrary();
   CellLibrary(const CellLibrary&) = delete;
   CellLibrary& operator=(const CellLibrary&) = delete;
 
   [[nodiscard]] const std::string& path() const { return path_; }
+  // Which build this is: CRC-32 (IEEE 802.3) and size of the loaded bytes.
+  // A recording notes it; a replay loads the same build again.
+  [[nodiscard]] std::uint32_t crc32() const { return crc32_; }
+  [[nodiscard]] std::uint64_t size() const { return size_; }
   // What the library registered (its own factories).
   [[nodiscard]] const std::map<std::string, ProgramFactory>& programs() const { return programs_; }
   [[nodiscard]] const std::map<std::string, io::DeviceModelFactory>& models() const {
@@ -53,11 +61,22 @@ class CellLibrary {
  private:
   CellLibrary() = default;
   std::string path_;
+  std::uint32_t crc32_ = 0;
+  std::uint64_t size_ = 0;
   void* handle_ = nullptr;
   std::map<std::string, ProgramFactory> programs_;
   std::map<std::string, io::DeviceModelFactory> models_;
   std::map<std::string, io::PluginFactory> plugins_;
 };
+
+// CRC-32 (IEEE 802.3) and size of a file's bytes; nullopt if it cannot be
+// read.
+struct FileCrc {
+  std::uint32_t crc32 = 0;
+  std::uint64_t size = 0;
+  friend bool operator==(const FileCrc&, const FileCrc&) = default;
+};
+std::optional<FileCrc> file_crc32(const std::string& file);
 
 // The process's current build of each library, by absolute path: loaded
 // (and committed) at the first use, shared by every Runtime of the process

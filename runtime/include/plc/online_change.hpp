@@ -38,6 +38,7 @@
 
 #include "plc/program.hpp"
 #include "plc/types.hpp"
+#include "plc/var_registry.hpp"
 
 namespace plc {
 
@@ -82,10 +83,26 @@ class OnlineChange {
   OnlineChange& operator=(const OnlineChange&) = delete;
 
   // `library`: a path the cell config's `libraries:` named (absolute, as
-  // CellConfig holds it), or "" when the cell has exactly one.
-  ChangeReport prepare(const std::string& library);
+  // CellConfig holds it), or "" when the cell has exactly one. `file`, when
+  // given, is where the new build's bytes come from (a replay's kept copy).
+  ChangeReport prepare(const std::string& library, const std::string& file = "");
+  // After prepare(): the new build, and the tasks (TaskRuntime::order) that
+  // switch to it.
+  [[nodiscard]] const std::shared_ptr<CellLibrary>& next_library() const { return new_lib_; }
+  [[nodiscard]] std::vector<std::size_t> tasks() const;
+  // Switches every task at once: only when no task is inside a scan
+  // (virtual time, a paused cell, a cell not yet started).
+  void switch_all_now();
   void commit();
   [[nodiscard]] bool switched() const;
+  // Whether task `task` (TaskRuntime::order) runs the new build already.
+  [[nodiscard]] bool switched(std::size_t task) const;
+  // Takes the change back from the tasks that have not switched yet (they
+  // run the old build on); after it, switched(task) no longer changes.
+  void withdraw();
+  // After prepare(): the variable registry as finish() will make it (the
+  // debugger re-resolves what it holds against it before the switch).
+  [[nodiscard]] VarRegistry next_vars() const;
   void finish();
   // Recording (plc/debug/recording.hpp) and other observers: the report of
   // the last finished change.
@@ -97,6 +114,8 @@ class OnlineChange {
     int task = -1;
     std::unique_ptr<Program> next;
   };
+  std::vector<VarInfo> program_vars(const Replaced& rp) const;
+
   Runtime& rt_;
   ChangeReport report_;
   std::shared_ptr<CellLibrary> old_lib_, new_lib_;

@@ -227,6 +227,10 @@ class Runtime {
   io::Plugin* plugin(const std::string& name);
   Program* program(const std::string& name);
   [[nodiscard]] const std::vector<DeviceRuntime>& devices() const { return devices_; }
+  // The cell libraries (`libraries:`), in their current builds.
+  [[nodiscard]] const std::vector<std::shared_ptr<CellLibrary>>& libraries() const {
+    return libraries_;
+  }
   [[nodiscard]] const std::string& cell_name() const { return cell_name_; }
 
   void add_scan_observer(ScanObserver o) { observers_.push_back(std::move(o)); }

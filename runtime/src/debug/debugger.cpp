@@ -199,6 +199,7 @@ void Debugger::apply_write(TaskRuntime& t, const VarInfo& v, const void* value) 
 
 void Debugger::after_latch(TaskRuntime& t, io::ProcessImage& global) {
   std::lock_guard<std::mutex> lock(mu_);
+  if (carry_) carry_over(t);  // an online change switched t at this latch (reload.cpp)
   for (const Force& f : forces_)
     if (f.image && f.var.address->area == io::Area::Input) apply_write(t, f.var, &f.value);
   if (recorder_) recorder_->after_latch(t, global);
@@ -1130,6 +1131,10 @@ std::string Debugger::cmd_goto(const std::vector<std::string>& a) {
   auto n = parse_iec_unsigned(a[1]);
   if (!n) return "goto: '" + a[1] + "' is not a scan number\n";
   std::string note;
+  if (*n < scan_count() && !reloaded_.empty())
+    return "goto: " + reloaded_ +
+           " (reload): going back re-runs the session from the start, which needs the old build "
+           "(gone from the library's path); a recording's replay can go back across a change\n";
   if (*n < scan_count()) {
     // Backwards: rebuild the cell and run forward from the start (the
     // simulation, or the recording, reproduces the same scans exactly).

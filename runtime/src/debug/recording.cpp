@@ -12,6 +12,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "plc/cell_library.hpp"
 #include "plc/io/device_link.hpp"
 #include "recording_writer.hpp"
 
@@ -72,6 +73,12 @@ Recorder::Recorder(Runtime& rt, const std::string& file, Attach attach)
   }
   shared_.end();
   commit(shared_, true);
+  // The builds of the cell libraries the recording begins with.
+  for (const auto& lib : rt.libraries()) {
+    keep_copy(*lib);
+    put_change(shared_, kNoTask, 0, *lib, "");
+    commit(shared_, true);
+  }
   if (attached_) {
     arm();
     rt_.add_hooks(this);
@@ -159,6 +166,11 @@ void Recorder::after_latch(TaskRuntime& t, io::ProcessImage& global) {
   }
   if (ts.pending.overflow() || answers_.overflow())
     fail("a latch's answers or debugger writes did not fit the recording's buffer");
+  // An online change switched this task at this latch (Runtime::scan_latch).
+  if (ts.change_due.load(std::memory_order_acquire)) {
+    commit(ts.change, rt_.mode() == io::ClockMode::Virtual);
+    ts.change_due.store(false, std::memory_order_release);
+  }
   Buf& b = shared_;
   b.begin(kLatch);
   b.le(static_cast<std::uint16_t>(t.order));

@@ -163,6 +163,9 @@ bool RecordingReader::next(Record& r) {
     case kStop:
       parse_stop(in, r);
       break;
+    case kChange:
+      parse_change(in, r);
+      break;
     case kEnd:
       parse_end(in);
       break;
@@ -317,6 +320,34 @@ void RecordingReader::parse_stop(In& in, Record& r) {
   r.reason = {reinterpret_cast<const char*>(text.data()), text.size()};
   tasks_[r.task].stopped = true;
   tasks_[r.task].open = false;
+}
+
+// A change record: the start builds before the first latch (task kNoTask,
+// number 0); a change's records between the scans of the tasks concerned,
+// numbered 1, 2, ... in order, one per task and change.
+void RecordingReader::parse_change(In& in, Record& r) {
+  std::uint16_t len = 0;
+  std::uint32_t report_len = 0;
+  std::span<const std::uint8_t> path, report;
+  if (!in.le(r.task) || !in.le(r.change) || !in.le(len) || len == 0 || len > kMaxPathBytes ||
+      !in.take(len, path) || !in.le(r.crc32) || !in.le(r.size) || !in.le(report_len) ||
+      report_len > kMaxReportBytes || !in.take(report_len, report))
+    damaged("bad change record");
+  r.library = {reinterpret_cast<const char*>(path.data()), path.size()};
+  r.report = {reinterpret_cast<const char*>(report.data()), report.size()};
+  if (r.task == kNoTask) {
+    if (had_latch_ || r.change != 0) damaged("a start build after the first latch");
+    return;
+  }
+  if (r.task >= tasks_.size()) damaged("change of an unknown task");
+  if (!had_latch_) damaged("a change before the first latch");
+  TaskState& ts = tasks_[r.task];
+  if (ts.open || ts.stopped) damaged("a change inside a scan or of a stopped task");
+  if (r.change == 0 || r.change < last_change_ || r.change > last_change_ + 1 ||
+      r.change <= ts.change)
+    damaged("change number " + std::to_string(r.change) + " out of order");
+  last_change_ = r.change;
+  ts.change = r.change;
 }
 
 void RecordingReader::parse_end(In& in) {

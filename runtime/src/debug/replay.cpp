@@ -1,9 +1,12 @@
 // The replayer: runs a recording's records in file order against the cell
 // without its devices (format and guarantees: recording.hpp).
+#include <algorithm>
 #include <cstring>
 #include <new>
 
+#include "plc/cell_library.hpp"
 #include "plc/debug/recording.hpp"
+#include "plc/online_change.hpp"
 
 namespace plc::debug {
 
@@ -16,10 +19,26 @@ Replayer::Replayer(Runtime& rt, const std::string& file) : rt_(rt) {
                          "' was recorded on a different cell layout (tasks, programs, devices or "
                          "image sizes differ)");
   {
-    // The whole file first: a damaged recording is refused before a scan.
+    // The whole file first: a damaged recording, or one whose library
+    // builds are not at hand, is refused before a scan.
     RecordingReader check(file);
     Record r;
     while (check.next(r)) {
+      if (r.type != kChange ||
+          (!builds_.empty() && builds_.back().number == r.change && r.change != 0))
+        continue;
+      const std::string lib(r.library);
+      builds_.push_back({r.change, lib, find_library_build(file, lib, r.crc32, r.size)});
+      if (r.change != 0) continue;
+      const auto& libs = rt.libraries();
+      auto it =
+          std::find_if(libs.begin(), libs.end(), [&](const auto& l) { return l->path() == lib; });
+      if (it == libs.end())
+        throw RecordingError("'" + file + "' was recorded on a cell that loads the library " + lib +
+                             "; this cell does not");
+      // The cell runs another build than the recording began with: switch
+      // to that one before the first scan.
+      if ((*it)->crc32() != r.crc32 || (*it)->size() != r.size) switch_build(builds_.back(), true);
     }
     total_scans_ = check.scans();
   }
@@ -28,7 +47,26 @@ Replayer::Replayer(Runtime& rt, const std::string& file) : rt_(rt) {
   rt.add_hooks(this);
 }
 
-Replayer::~Replayer() { rt_.remove_hooks(this); }
+Replayer::~Replayer() {
+  change_.reset();  // a change still under way is taken back (or finished)
+  rt_.remove_hooks(this);
+}
+
+// The online change the recording made, from the same build.
+void Replayer::switch_build(const Build& b, bool now) {
+  auto change = std::make_unique<OnlineChange>(rt_);
+  const ChangeReport r = change->prepare(b.library, b.file);
+  if (!r.refused.empty())
+    throw RecordingError("the replay cannot switch to the recorded build of " + b.library + " (" +
+                         b.file + "): " + r.refused);
+  if (now) {
+    change->switch_all_now();
+    change->finish();
+  } else {
+    change->commit();
+    change_ = std::move(change);
+  }
+}
 
 void Replayer::diverged(const std::string& what) {
   if (error_.empty()) error_ = "replay diverged at scan " + std::to_string(scans_) + ": " + what;
@@ -38,7 +76,32 @@ bool Replayer::step() {
   if (end_) return false;
   try {
     while (reader_->next(rec_)) {
+      // The start builds: switched to in the constructor.
+      if (rec_.type == kChange && rec_.task == kNoTask) continue;
       TaskRuntime& t = *rt_.tasks()[rec_.task];
+      if (rec_.type == kChange) {
+        if (rec_.change != change_number_) {
+          change_number_ = rec_.change;
+          if (change_) {
+            diverged("the previous online change had not reached every task");
+            break;
+          }
+          auto b = std::find_if(builds_.begin(), builds_.end(),
+                                [&](const Build& x) { return x.number == rec_.change; });
+          if (b == builds_.end()) {
+            diverged("the recording changed to a build it did not note first");
+            break;
+          }
+          switch_build(*b, false);
+        }
+        // The task switches at its next latch (Runtime::scan_latch), as recorded.
+        if (!t.swap.load()) {
+          diverged("the recording switched task '" + t.name +
+                   "' to a new build here, the replay's change does not concern it");
+          break;
+        }
+        continue;
+      }
       if (rec_.type == kStop) {
         rt_.stop_task(t, "stopped in the recording (" + std::string(rec_.reason) + ")");
         continue;
@@ -52,6 +115,10 @@ bool Replayer::step() {
         pending_[rec_.task] = rt_.latch_scan(t, TIME(rec_.time_ns));
       } else if (rec_.type == kMerge) {
         rt_.finish_scan(t, pending_[rec_.task]);
+        if (change_ && change_->switched()) {
+          change_->finish();
+          change_.reset();
+        }
         return true;
       }
     }

@@ -295,6 +295,14 @@ class Debugger final : public ScanHooks {
   std::atomic<bool> end_requested_{false};
   bool quit_ = false;
   bool in_freeze_ = false;
+  std::string reloaded_;  // an online change was made in this session (reload.cpp)
+  // What the debugger holds that points into programs a reload replaces,
+  // re-resolved against the new build; each task takes its part at its
+  // switch point (after_latch, under mu_). reload.cpp.
+  struct Carry;
+  std::shared_ptr<Carry> carry_;
+  std::shared_ptr<const VarRegistry> trace_vars_;  // the registry the trace resolved against
+  void carry_over(const TaskRuntime& t);
   TaskRuntime* frozen_task_ = nullptr;  // the task whose scan a freeze point holds
   int freeze_action_ = 0;               // 0 continue, 1 step (pause at scan end), 2 quit
   Reader reader_;

@@ -33,8 +33,19 @@
 // %Q and %M with the recorded one; the first difference is reported with
 // its scan number.
 //
-// File format PLCREC04, all integers little-endian:
-//   "PLCREC04", then records: u8 type, u32 payload length, payload, u32 CRC.
+// Online change (plc/online_change.hpp) during a recording: a change record
+// notes, per cell library, the build in use at the start (after the
+// header), and for every change, per task concerned, the build it switched
+// to, right before that task's first latch with the new code, with the
+// change's report. The recorder keeps a copy of every build it notes beside
+// the recording (FILE.libs/NAME.CRC8HEX), since a rebuild replaces the file
+// at the library's path. The replayer runs each build again: from the
+// library's path if the file there is that build (same CRC-32 and size),
+// else from the kept copy; if neither is, the replay is refused before its
+// first scan, naming the file and both CRCs.
+//
+// File format PLCREC05, all integers little-endian:
+//   "PLCREC05", then records: u8 type, u32 payload length, payload, u32 CRC.
 //   CRC: CRC-32 (IEEE 802.3, zlib's crc32) over the type, length and payload
 //   of every record from the first up to this one (a running CRC, so a lost,
 //   repeated or reordered record is caught as well as a flipped bit).
@@ -49,6 +60,10 @@
 //             u32 size + bytes; per device u32 last request number
 //   M merge   u16 task, debugger writes, u64 hash of global %Q and %M
 //   T stop    u16 task, u16 length + reason
+//   C change  u16 task (0xFFFF: the build at the start, before the first
+//             latch), u32 change number (0 at the start, then 1, 2, ...),
+//             u16 length + library path, u32 CRC-32 and u64 size of the
+//             build's bytes, u32 length + the change's report text
 //   E end     u64 scans (merge records), u64 records before it; the last
 //             bytes of the file
 // A file without its end record is incomplete (cut off, or the recorder
@@ -66,7 +81,20 @@
 #include "plc/debug/recording_reader.hpp"
 #include "plc/runtime.hpp"
 
+namespace plc {
+class CellLibrary;
+class OnlineChange;
+}  // namespace plc
+
 namespace plc::debug {
+
+// Where a recording keeps its copy of a library build (see above).
+std::string library_copy_path(const std::string& recording, const std::string& library,
+                              std::uint32_t crc32);
+// The file holding that build: `library` itself if it is that build, else
+// the kept copy; throws RecordingError naming both when neither is.
+std::string find_library_build(const std::string& recording, const std::string& library,
+                               std::uint32_t crc32, std::uint64_t size);
 
 class RecordingWriter;
 
@@ -104,6 +132,13 @@ class Recorder final : public ScanHooks {
   // point whose recorder hook comes next for t.
   void note_write(TaskRuntime& t, const VarInfo& v, const void* value);
 
+  // An online change, prepared and not yet committed: each task concerned
+  // gets its change record at its next latch (where the swap applies).
+  // Keeps a copy of the new build. "" or why the recording cannot note it
+  // (it has not started yet: its snapshot would be of the new build).
+  std::string note_change(const OnlineChange& change, const std::string& report);
+  [[nodiscard]] bool started() const { return active_; }
+
   // Ends the recording (end record, file closed); "" or what went wrong
   // (a write error, a full disk, lost records): then the file is not a
   // complete recording.
@@ -119,7 +154,12 @@ class Recorder final : public ScanHooks {
     std::uint16_t merge_groups = 0;
     recfmt::Buf pending;  // debugger writes not yet given their hook point
     std::uint16_t pending_count = 0;
+    recfmt::Buf change;  // a change record due at the next latch
+    std::atomic<bool> change_due{false};
   };
+  void put_change(recfmt::Buf& b, std::uint16_t task, std::uint32_t number, const CellLibrary& lib,
+                  const std::string& report);
+  void keep_copy(const CellLibrary& lib);
   void commit(const recfmt::Buf& b, bool wait);
   void fail(const std::string& why);
   bool try_start(const TaskRuntime& t);
@@ -138,6 +178,7 @@ class Recorder final : public ScanHooks {
   std::uint16_t answer_count_ = 0;
   bool active_ = false;  // the first latch (with the snapshot) is written
   std::uint64_t records_ = 0;
+  std::uint32_t changes_ = 0;
   std::atomic<std::uint64_t> scans_{0};
   std::atomic<bool> dead_{false};  // failed: nothing more is recorded
   std::mutex error_mu_;
@@ -171,6 +212,12 @@ class Replayer final : public ScanHooks {
   void before_publish(TaskRuntime& t, io::ProcessImage& global) override;
 
  private:
+  // The builds the recording ran (change number -> the file to load).
+  struct Build {
+    std::uint32_t number = 0;
+    std::string library, file;
+  };
+  void switch_build(const Build& b, bool now);
   void restore_snapshot(std::span<const std::uint8_t> s);
   void apply_events(TaskRuntime& t, recfmt::Point point, std::size_t index);
   void diverged(const std::string& what);
@@ -179,6 +226,9 @@ class Replayer final : public ScanHooks {
   std::unique_ptr<RecordingReader> reader_;
   Record rec_;                        // the record being replayed
   std::vector<ScanContext> pending_;  // per task: its latched scan
+  std::vector<Build> builds_;
+  std::unique_ptr<OnlineChange> change_;  // committed, not all tasks switched yet
+  std::uint32_t change_number_ = 0;
   std::uint64_t scans_ = 0, total_scans_ = 0, mismatches_ = 0;
   std::int64_t first_mismatch_ = -1;
   bool end_ = false;

@@ -1,4 +1,4 @@
-// The recording format PLCREC04 (layout: plc/debug/recording.hpp):
+// The recording format PLCREC05 (layout: plc/debug/recording.hpp):
 // constants, explicit little-endian encoding into fixed-capacity buffers,
 // a bounds-checked cursor for reading, and the value and hash encodings
 // that the recorder, the reader and the replayer share.
@@ -17,11 +17,22 @@
 
 namespace plc::debug::recfmt {
 
-inline constexpr char kMagic[8] = {'P', 'L', 'C', 'R', 'E', 'C', '0', '4'};
+inline constexpr char kMagic[8] = {'P', 'L', 'C', 'R', 'E', 'C', '0', '5'};
 inline constexpr std::size_t kHead = 5;  // u8 type, u32 payload length
 inline constexpr std::size_t kTail = 4;  // u32 running CRC
 
-enum Type : std::uint8_t { kHeader = 'H', kLatch = 'L', kMerge = 'M', kStop = 'T', kEnd = 'E' };
+enum Type : std::uint8_t {
+  kHeader = 'H',
+  kLatch = 'L',
+  kMerge = 'M',
+  kStop = 'T',
+  kChange = 'C',
+  kEnd = 'E'
+};
+// A change record's task for "the build in use when the recording starts".
+inline constexpr std::uint16_t kNoTask = 0xFFFF;
+// Room for a change record's report text.
+inline constexpr std::uint32_t kMaxReportBytes = 1u << 20;
 
 // Where in a scan a debugger write was made (and is made again in a replay).
 enum Point : std::uint8_t {

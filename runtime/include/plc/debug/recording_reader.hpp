@@ -75,12 +75,17 @@ struct Record {
   std::uint64_t hash = 0;
   // Stop: why the task stopped.
   std::string_view reason;
+  // Change: its number, the library, the build (CRC-32, size), the report.
+  std::uint32_t change = 0;
+  std::string_view library, report;
+  std::uint32_t crc32 = 0;
+  std::uint64_t size = 0;
 };
 
 class RecordingReader {
  public:
   // Throws std::runtime_error if the file cannot be opened, RecordingError
-  // if it is not a PLCREC04 recording.
+  // if it is not a PLCREC05 recording.
   explicit RecordingReader(const std::string& path);
   explicit RecordingReader(std::span<const std::uint8_t> bytes);
   ~RecordingReader();
@@ -88,7 +93,7 @@ class RecordingReader {
   RecordingReader& operator=(const RecordingReader&) = delete;
 
   [[nodiscard]] const RecordingLayout& layout() const { return layout_; }
-  // The next record (latch, merge or stop), checked; false after the end
+  // The next record (latch, merge, stop or change), checked; false after the end
   // record. Throws RecordingError for any damage.
   bool next(Record& r);
   [[nodiscard]] std::uint64_t scans() const { return scans_; }
@@ -102,6 +107,7 @@ class RecordingReader {
   void parse_latch(recfmt::In& in, Record& r);
   void parse_merge(recfmt::In& in, Record& r);
   void parse_stop(recfmt::In& in, Record& r);
+  void parse_change(recfmt::In& in, Record& r);
   void parse_end(recfmt::In& in);
   void check_events(recfmt::In& in, const Record& r, bool latch, std::uint16_t& groups,
                     std::span<const std::uint8_t>& out);
@@ -115,9 +121,11 @@ class RecordingReader {
   recfmt::RunningCrc crc_;
   RecordingLayout layout_;
   std::uint64_t record_offset_ = 0, records_ = 0, scans_ = 0;
+  std::uint32_t last_change_ = 0;
   bool ended_ = false, had_latch_ = false;
   struct TaskState {
     bool open = false, stopped = false, seen = false;
+    std::uint32_t change = 0;  // the last change it switched to
     std::uint64_t cycle = 0;
     std::int64_t time_ns = 0;
   };
