@@ -110,9 +110,16 @@ TEST(DeviceNetCell, BatchWeighingOverDeviceNetSurvivesASlaveKillAndRestart) {
   const auto at = plc.all.find("no valid poll response for ");
   ASSERT_NE(at, std::string::npos);
   const int silent_ms = std::stoi(plc.all.substr(at + 27));
+  // Not before the timeout. After it, the bus thread declares the loss at
+  // its next wake-up: 200-220 ms on an idle machine; a loaded CI machine
+  // delays wake-ups, so the upper bound here only catches a scanner that
+  // misses the timeout (the exact 4 x EPR rule is checked in virtual time
+  // in test_devicenet_scanner). The figure is printed.
+  std::printf("devicenet cell: scale declared lost after %d ms of silence (timeout 200 ms)\n",
+              silent_ms);
   EXPECT_GE(silent_ms, 200);
-  EXPECT_LE(silent_ms, 200 + 20)
-      << "declared lost within the 4 x EPR timeout (+ 2 bus-thread wake-ups)";
+  EXPECT_LE(silent_ms, 200 + 300) << "declared lost at the first bus-thread wake-up after the "
+                                     "4 x EPR timeout";
 
   const auto rows = read_trace(trace);
   ASSERT_GT(rows.size(), 1000u);
