@@ -35,11 +35,11 @@ std::optional<softplc_hmi::reply_t> Client::command(const std::string& verb,
     std::optional<softplc_hmi::reply_t>* out;
     std::int64_t id;
     std::string client;
-    void on(const lcm::ReceiveBuffer*, const std::string&, const softplc_hmi::reply_t* r) {
-      if (r->request_id == id && r->client == client) *out = *r;
+    void on(const softplc_hmi::reply_t& r) {
+      if (r.request_id == id && r.client == client) *out = r;
     }
   } m{&got, c.request_id, client_};
-  auto* s = lcm_.subscribe(ch_.reply, &Match::on, &m);
+  auto* s = subscribe_checked<softplc_hmi::reply_t>(lcm_, ch_.reply, &m);
   lcm_.publish(ch_.cmd, &c);
   wait([&] { return got.has_value(); });
   lcm_.unsubscribe(s);
@@ -51,14 +51,8 @@ std::optional<softplc_hmi::reply_t> Client::command(const std::string& verb,
 
 std::optional<softplc_hmi::cell_description_t> Client::describe(std::string& err) {
   std::optional<softplc_hmi::cell_description_t> got;
-  struct Catch {
-    std::optional<softplc_hmi::cell_description_t>* out;
-    void on(const lcm::ReceiveBuffer*, const std::string&,
-            const softplc_hmi::cell_description_t* m) {
-      if (!*out) *out = *m;
-    }
-  } c{&got};
-  auto* s = lcm_.subscribe(ch_.desc, &Catch::on, &c);
+  Catch<softplc_hmi::cell_description_t> c{&got};
+  auto* s = subscribe_checked<softplc_hmi::cell_description_t>(lcm_, ch_.desc, &c);
   // Asked for; a bridge also sends it every second, and a replayed log
   // (lcm-logplayer) has those, so the reply is not needed.
   std::string ignored;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "plc/hmi/channels.hpp"
+#include "plc/hmi/checked_decode.hpp"
 #include "plc/hmi/command_auth.hpp"
 #include "softplc_hmi/cell_description_t.hpp"
 #include "softplc_hmi/reply_t.hpp"
@@ -32,7 +33,7 @@ class Client {
   std::optional<T> next(const std::string& channel) {
     std::optional<T> got;
     Catch<T> c{&got};
-    auto* s = lcm_.subscribe(channel, &Catch<T>::on, &c);
+    auto* s = subscribe_checked<T>(lcm_, channel, &c);
     wait([&] { return got.has_value(); });
     lcm_.unsubscribe(s);
     return got;
@@ -57,8 +58,8 @@ class Client {
   template <class T>
   struct Catch {
     std::optional<T>* out;
-    void on(const lcm::ReceiveBuffer*, const std::string&, const T* m) {
-      if (!*out) *out = *m;
+    void on(const T& m) {
+      if (!*out) *out = m;
     }
   };
   lcm::LCM lcm_;

@@ -106,7 +106,8 @@ int cmd_watch(Client& c, const std::vector<std::string>& patterns, const Span& s
     bool tty;
     std::uint64_t* seen;
     bool* drawn;
-    void on(const lcm::ReceiveBuffer*, const std::string&, const softplc_hmi::values_t* m) {
+    void on(const softplc_hmi::values_t& msg) {
+      const softplc_hmi::values_t* m = &msg;
       bool any = false;
       for (const auto& v : m->values) {
         auto it = wanted->find(v.index);
@@ -133,7 +134,7 @@ int cmd_watch(Client& c, const std::vector<std::string>& patterns, const Span& s
       std::fflush(stdout);
     }
   } ctx{&wanted, &shown, tty, &seen, &drawn};
-  auto* s = c.lcm().subscribe(c.channels().values, &Ctx::on, &ctx);
+  auto* s = subscribe_checked<softplc_hmi::values_t>(c.lcm(), c.channels().values, &ctx);
   // Bounded by --for/--count; Ctrl-C ends it. Each wait is at most 100 ms.
   while (!span.over(seen)) c.lcm().handleTimeout(100);
   c.lcm().unsubscribe(s);
@@ -150,7 +151,10 @@ int cmd_log(Client& c, const std::string& file, const Span& span) {
   struct Ctx {
     lcm::LogFile* log;
     std::int64_t n = 0;
-    void on(const lcm::ReceiveBuffer* rb, const std::string& channel) {
+    static void on(const lcm::ReceiveBuffer* rb, const std::string& channel, Ctx* self) {
+      self->write(rb, channel);
+    }
+    void write(const lcm::ReceiveBuffer* rb, const std::string& channel) {
       lcm::LogEvent e{};
       e.eventnum = n++;
       e.timestamp = rb->recv_utime;
@@ -160,8 +164,10 @@ int cmd_log(Client& c, const std::string& file, const Span& span) {
       log->writeEvent(&e);
     }
   } ctx{&log};
-  auto* s = c.lcm().subscribe(c.channels().values.substr(0, c.channels().values.size() - 6) + ".*",
-                              &Ctx::on, &ctx);
+  // Raw bytes, not decoded (lcm-logger's behaviour): a plain-function
+  // subscription, as subscribe_checked explains.
+  auto* s = c.lcm().subscribeFunction(
+      c.channels().values.substr(0, c.channels().values.size() - 6) + ".*", &Ctx::on, &ctx);
   while (!span.over(std::uint64_t(ctx.n))) c.lcm().handleTimeout(100);
   c.lcm().unsubscribe(s);
   std::fprintf(stderr, "plcctl: log: %lld events into %s\n", static_cast<long long>(ctx.n),
@@ -192,7 +198,8 @@ int cmd_trend(Client& c, const std::vector<std::string>& patterns, const std::st
   struct Ctx {
     Trend* tr;
     std::map<int, std::size_t>* col;
-    void on(const lcm::ReceiveBuffer*, const std::string&, const softplc_hmi::trace_sample_t* m) {
+    void on(const softplc_hmi::trace_sample_t& msg) {
+      const softplc_hmi::trace_sample_t* m = &msg;
       std::vector<double> row(tr->names.size(), std::nan(""));
       bool any = false;
       for (int k = 0; k < m->n; ++k) {
@@ -206,7 +213,7 @@ int cmd_trend(Client& c, const std::vector<std::string>& patterns, const std::st
       for (std::size_t j = 0; j < row.size(); ++j) tr->value[j].push_back(row[j]);
     }
   } ctx{&tr, &col};
-  auto* s = c.lcm().subscribe(c.channels().trace, &Ctx::on, &ctx);
+  auto* s = subscribe_checked<softplc_hmi::trace_sample_t>(c.lcm(), c.channels().trace, &ctx);
   while (!span.over(tr.t.size())) c.lcm().handleTimeout(100);
   c.lcm().unsubscribe(s);
   if (!csv.empty()) err = write_trend_csv(tr, csv);

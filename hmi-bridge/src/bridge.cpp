@@ -6,6 +6,7 @@
 #include <cstring>
 #include <new>
 
+#include "plc/hmi/checked_decode.hpp"
 #include "plc/iec_literal.hpp"
 #include "softplc_hmi/diagnostics_t.hpp"
 #include "softplc_hmi/stats_t.hpp"
@@ -418,44 +419,9 @@ void Bridge::run() {
 
 // ------------------------------------------------------------- commands
 
-namespace {
-
-// Whether the argument count of an encoded command_t lies in [0, 256]
-// before lcm-gen's decoder sees it: that decoder resizes its vector to the
-// count as sent (a negative count becomes a huge size_t, a large one an
-// allocation of gigabytes) before it looks at how many bytes follow.
-// Layout (LCM encoding, big-endian): fingerprint (8), request_id (8),
-// client and verb (each an int32 length with the NUL, then the bytes), n_args.
-bool plausible_command(const void* data, std::size_t size) {
-  const auto* p = static_cast<const std::uint8_t*>(data);
-  std::size_t at = 16;
-  auto int32 = [&](std::int32_t& v) {
-    if (at + 4 > size) return false;
-    v = std::int32_t(std::uint32_t(p[at]) << 24 | std::uint32_t(p[at + 1]) << 16 |
-                     std::uint32_t(p[at + 2]) << 8 | std::uint32_t(p[at + 3]));
-    at += 4;
-    return true;
-  };
-  for (int k = 0; k < 2; ++k) {
-    std::int32_t len = 0;
-    if (!int32(len) || len < 1 || std::size_t(len) > size - at) return false;
-    at += std::size_t(len);
-  }
-  std::int32_t n = 0;
-  return int32(n) && n >= 0 && n <= 256;
-}
-
-}  // namespace
-
 void Bridge::on_command_bytes(const void* data, std::size_t size) {
   softplc_hmi::command_t c;
-  bool ok = size <= 65536 && plausible_command(data, size);
-  try {
-    ok = ok && c.decode(data, 0, int(size)) >= 0;
-  } catch (const std::exception&) {  // std::bad_alloc, std::length_error
-    ok = false;
-  }
-  if (!ok) {
+  if (size > 65536 || !checked_decode(data, size, c)) {
     std::lock_guard<std::mutex> lock(counters_mu_);
     ++counters_.malformed;
     return;

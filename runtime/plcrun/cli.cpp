@@ -176,6 +176,23 @@ void print_summary(const Runtime& rt) {
   }
 }
 
+// A controlled stop saves the last state (the scans are over) and says
+// what the writer did. False when the final save failed.
+bool report_retain_stop(retain::Manager& retained) {
+  const std::string err = retained.stop();
+  const retain::WriterStats st = retained.stats();
+  std::fprintf(
+      stderr,
+      "plcrun: retain: %llu saves (last sequence %llu), %llu unchanged, %llu skipped "
+      "(writer busy), %llu failed\n",
+      static_cast<unsigned long long>(st.written), static_cast<unsigned long long>(st.sequence),
+      static_cast<unsigned long long>(st.unchanged), static_cast<unsigned long long>(st.skipped),
+      static_cast<unsigned long long>(st.failed));
+  if (err.empty()) return true;
+  std::fprintf(stderr, "plcrun: retain: the final save FAILED: %s\n", err.c_str());
+  return false;
+}
+
 }  // namespace
 
 int plcrun_main(int argc, char** argv) {
@@ -328,14 +345,21 @@ int plcrun_main(int argc, char** argv) {
   // commands are served by the debugger core), without a console unless
   // --debug asks for one.
   const bool hmi = cfg.hmi.present;
-  if (start_mode_given &&
-      (vm.count("replay") || vm.count("debug") || vm.count("commands") || hmi)) {
-    // A replay and a debugger session (goto re-runs from the start) need the
-    // initial values; they neither load nor save retain data.
-    std::cerr << "plcrun: --warm/--cold/--reset-retain apply to a plain run, not to --replay, "
-                 "--debug, --commands or a cell with an hmi: section\n";
+  const bool console = vm.count("debug") || vm.count("commands");
+  if (start_mode_given && (vm.count("replay") || console)) {
+    // A replay and a console session (goto and restart re-run from the
+    // start) need the initial values; they neither load nor save retain data.
+    std::cerr << "plcrun: --warm/--cold/--reset-retain apply to a plain run or a cell with an "
+                 "hmi: section, not to --replay, --debug or --commands\n";
     return 2;
   }
+  // An HMI alone (no console) never rebuilds the runtime (the bridge has no
+  // goto or restart): retain is loaded and saved exactly as in a plain run.
+  const bool hmi_retain = hmi && !console && cfg.retain.present && !vm.count("replay");
+  const retain::StartMode start_mode = vm.count("warm")           ? retain::StartMode::Warm
+                                       : vm.count("cold")         ? retain::StartMode::Cold
+                                       : vm.count("reset-retain") ? retain::StartMode::Reset
+                                                                  : retain::StartMode::Auto;
 
   if (vm.count("replay") && mode == io::ClockMode::RealTime) {
     std::cerr << "plcrun: --replay runs in virtual time\n";
@@ -346,8 +370,11 @@ int plcrun_main(int argc, char** argv) {
     return 2;
   }
 
-  if (vm.count("debug") || vm.count("commands") || hmi) {
+  if (console || hmi) {
     std::unique_ptr<hmi::Bridge> bridge;
+    // Declared before the debugger, whose first build creates it; reset
+    // (hooks removed) before the debugger's runtime goes, by ResetRetain.
+    std::unique_ptr<retain::Manager> retained;
     if (hmi) {
       try {
         bridge = std::make_unique<hmi::Bridge>(cfg.hmi, cfg.file);
@@ -356,7 +383,7 @@ int plcrun_main(int argc, char** argv) {
         return 2;
       }
     }
-    if (cfg.retain.present)
+    if (cfg.retain.present && !hmi_retain)
       std::fprintf(stderr,
                    "plcrun: retain: not loaded or saved in a debugger session (every variable "
                    "starts at its initial value; goto re-runs from them)\n");
@@ -366,7 +393,14 @@ int plcrun_main(int argc, char** argv) {
     o.span = span;
     if (vm.count("replay")) o.replay_file = vm["replay"].as<std::string>();
     if (vm.count("record")) o.record_file = vm["record"].as<std::string>();
-    if (bridge) o.on_build = [b = bridge.get()](Runtime& r) { b->attach(r); };
+    o.on_build = [&, b = bridge.get()](Runtime& r) {
+      if (b) b->attach(r);
+      if (hmi_retain && !retained) {  // the first (and only) build: before its first scan
+        retained = std::make_unique<retain::Manager>(r, cfg.retain);
+        for (const auto& line : retained->start(start_mode).lines())
+          std::fprintf(stderr, "plcrun: retain: %s\n", line.c_str());
+      }
+    };
     std::unique_ptr<debug::Debugger> dbg;
     try {
       dbg = std::make_unique<debug::Debugger>([&cfg] { return std::make_unique<Runtime>(cfg); }, o);
@@ -379,6 +413,18 @@ int plcrun_main(int argc, char** argv) {
     }
     if (vm.count("record"))
       std::cout << "recording every scan's inputs into " << vm["record"].as<std::string>() << "\n";
+    struct ResetRetain {
+      std::unique_ptr<retain::Manager>& m;
+      ~ResetRetain() { m.reset(); }
+    } reset_retain{retained};
+    // After the last scan (Debugger::stop_cell): the final save, as a plain
+    // run does. False when it failed.
+    auto finish_retain = [&retained] {
+      if (!retained) return true;
+      const bool ok = report_retain_stop(*retained);
+      retained.reset();
+      return ok;
+    };
     // Stopped before the debugger goes (declared after it).
     struct StopBridge {
       hmi::Bridge* b;
@@ -399,6 +445,7 @@ int plcrun_main(int argc, char** argv) {
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, nullptr);
     sigaction(SIGTERM, &sa, nullptr);
+    bool retain_failed = false;
     const std::string file = vm.count("commands") ? vm["commands"].as<std::string>() : "";
     if (!vm.count("debug") && !vm.count("commands")) {
       // The HMI only: run the cell, as a plain run would, until the span
@@ -424,6 +471,7 @@ int plcrun_main(int argc, char** argv) {
       if (g_end_signal.load() == 0) {
         if (bridge) bridge->stop();  // no command may restart the cell now
         dbg->stop_cell();
+        retain_failed = !finish_retain();
         std::fflush(stdout);
         print_summary(dbg->runtime());
       }
@@ -443,11 +491,12 @@ int plcrun_main(int argc, char** argv) {
     const int sig = g_end_signal.load();
     if (sig == 0) {
       g_debugger = nullptr;
-      return recording_failed ? 1 : 0;
+      return recording_failed || retain_failed ? 1 : 0;
     }
     // Ended by a signal: like a run, every output safe, then the summary.
     if (bridge) bridge->stop();  // no command may reach the cell while it stops
     dbg->stop_cell();
+    finish_retain();
     std::fflush(stdout);
     print_summary(dbg->runtime());
     g_debugger = nullptr;
@@ -479,11 +528,7 @@ int plcrun_main(int argc, char** argv) {
   std::unique_ptr<retain::Manager> retained;
   if (cfg.retain.present && !replayer) {
     retained = std::make_unique<retain::Manager>(*rt, cfg.retain);
-    const retain::StartMode sm = vm.count("warm")           ? retain::StartMode::Warm
-                                 : vm.count("cold")         ? retain::StartMode::Cold
-                                 : vm.count("reset-retain") ? retain::StartMode::Reset
-                                                            : retain::StartMode::Auto;
-    for (const auto& line : retained->start(sm).lines())
+    for (const auto& line : retained->start(start_mode).lines())
       std::fprintf(stderr, "plcrun: retain: %s\n", line.c_str());
   }
 
@@ -565,22 +610,7 @@ int plcrun_main(int argc, char** argv) {
     }
   }
   g_runtime = nullptr;
-  if (retained) {
-    // A controlled stop saves the last state (the scans are over).
-    const std::string err = retained->stop();
-    const retain::WriterStats st = retained->stats();
-    std::fprintf(
-        stderr,
-        "plcrun: retain: %llu saves (last sequence %llu), %llu unchanged, %llu skipped "
-        "(writer busy), %llu failed\n",
-        static_cast<unsigned long long>(st.written), static_cast<unsigned long long>(st.sequence),
-        static_cast<unsigned long long>(st.unchanged), static_cast<unsigned long long>(st.skipped),
-        static_cast<unsigned long long>(st.failed));
-    if (!err.empty()) {
-      std::fprintf(stderr, "plcrun: retain: the final save FAILED: %s\n", err.c_str());
-      rc = 1;
-    }
-  }
+  if (retained && !report_retain_stop(*retained)) rc = 1;
   if (status) status->done();
   if (trace) trace->stop();
   print_summary(*rt);

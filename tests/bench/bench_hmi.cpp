@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "plc/hmi/bridge.hpp"
+#include "plc/hmi/checked_decode.hpp"
 #include "plc/program.hpp"
 #include "softplc_hmi/values_t.hpp"
 
@@ -173,8 +174,8 @@ std::pair<std::string, std::vector<std::int64_t>> latency_run() {
   struct Sink {
     std::mutex* mu;
     std::vector<std::int64_t>* out;
-    void on(const lcm::ReceiveBuffer*, const std::string&, const softplc_hmi::values_t* m) {
-      const std::int64_t d = utime_now() - m->scan_utime;
+    void on(const softplc_hmi::values_t& m) {
+      const std::int64_t d = utime_now() - m.scan_utime;
       std::lock_guard<std::mutex> l(*mu);
       if (out->size() < 100000) out->push_back(d);
     }
@@ -187,7 +188,9 @@ std::pair<std::string, std::vector<std::int64_t>> latency_run() {
     client = std::make_unique<lcm::LCM>(url);
     rx = client.get();
   }
-  rx->subscribe(b.channels().values, &Sink::on, &sink);
+  // Before the bridge's thread starts: LCM subscribes and handles on one
+  // thread at a time.
+  hmi::subscribe_checked<softplc_hmi::values_t>(*rx, b.channels().values, &sink);
   rt.start(io::ClockMode::RealTime);
   std::thread scans([&rt] { rt.run(io::ClockMode::RealTime, std::chrono::seconds(3)); });
   b.start();

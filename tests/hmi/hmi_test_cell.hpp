@@ -11,6 +11,7 @@
 #include "plc/cell_config.hpp"
 #include "plc/debug/debugger.hpp"
 #include "plc/hmi/bridge.hpp"
+#include "plc/hmi/checked_decode.hpp"
 #include "plc_test_paths.hpp"
 #include "softplc_hmi/reply_t.hpp"
 #include "softplc_hmi/values_t.hpp"
@@ -35,6 +36,17 @@ hmi:
 
 // A virtual-time debugger session of the demo cell with its bridge.
 struct HmiCell {
+  // Declared first: they outlive the bridge's LCM that calls them.
+  struct ValuesSink {
+    HmiCell* h;
+    void on(const softplc_hmi::values_t& m) {
+      for (const auto& v : m.values) h->seen[v.index] = v.text;
+    }
+  } values_sink{this};
+  struct ReplySink {
+    HmiCell* h;
+    void on(const softplc_hmi::reply_t& r) { h->replies.push_back(r); }
+  } reply_sink{this};
   plc::CellConfig cfg;
   std::unique_ptr<plc::hmi::Bridge> bridge;
   std::unique_ptr<plc::debug::Debugger> dbg;
@@ -53,17 +65,16 @@ struct HmiCell {
     dbg = std::make_unique<plc::debug::Debugger>(
         [this] { return std::make_unique<plc::Runtime>(cfg); }, o);
     bridge->set_debugger(dbg.get());
-    bridge->lcm().subscribe(bridge->channels().values, &HmiCell::on_values, this);
-    bridge->lcm().subscribe(bridge->channels().reply, &HmiCell::on_reply, this);
+    // memq:// queues per lcm::LCM instance: the test's subscriptions are on
+    // the bridge's LCM, added here before anything handles it; the bridge's
+    // thread is never started (the test drives service() itself), so one
+    // thread subscribes, handles and publishes (LCM's threading rule).
+    plc::hmi::subscribe_checked<softplc_hmi::values_t>(bridge->lcm(), bridge->channels().values,
+                                                       &values_sink);
+    plc::hmi::subscribe_checked<softplc_hmi::reply_t>(bridge->lcm(), bridge->channels().reply,
+                                                      &reply_sink);
   }
   ~HmiCell() { bridge->stop(); }
-
-  void on_values(const lcm::ReceiveBuffer*, const std::string&, const softplc_hmi::values_t* m) {
-    for (const auto& v : m->values) seen[v.index] = v.text;
-  }
-  void on_reply(const lcm::ReceiveBuffer*, const std::string&, const softplc_hmi::reply_t* r) {
-    replies.push_back(*r);
-  }
 };
 
 }  // namespace plctest

@@ -423,6 +423,48 @@ TEST(RetainPlcrun, FillingCellListsClassesAndRestartsWarm) {
 
 namespace {
 
+// A cell with an hmi: section runs as a debugger session; with an HMI alone
+// (no console) retain is loaded and saved exactly as in a plain run
+// (issue 13: an HMI on a test bench must not turn retain off): the first
+// real-time run starts cold and saves, the second starts warm from that
+// file, and --cold/--reset-retain are accepted. Bounded: each run ends by
+// its --for.
+TEST(RetainPlcrun, RealTimeCellWithHmiSectionLoadsAndSavesRetain) {
+  const std::string dir = plctest::temp_path("plcrun_retain_hmi");
+  ASSERT_EQ(std::system(("rm -rf " + dir + " && mkdir -p " + dir).c_str()), 0);
+  const std::string cfg = dir + "/cell.yaml";
+  std::ofstream(cfg) << plctest::read_file(plctest::source_dir() +
+                                           "/programs/filling_cell/cell.yaml")
+                     << "\nretain: {file: filling.retain, save_every: 100ms}\n"
+                        "hmi:\n  url: memq://\n  publish: [\"Cell.containers\"]\n";
+  const std::string plcrun = plctest::plcrun_path();
+  auto first = plctest::run_command(plcrun + " " + cfg + " --realtime --for 1s");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  EXPECT_NE(first.output.find("plcrun: hmi: bridge on memq://"), std::string::npos) << first.output;
+  EXPECT_NE(first.output.find("plcrun: retain: cold start: no retain file yet"), std::string::npos)
+      << first.output;
+  EXPECT_EQ(first.output.find("not loaded or saved"), std::string::npos) << first.output;
+  EXPECT_NE(first.output.find(" failed\n"), std::string::npos)
+      << first.output;  // the writer's line
+  EXPECT_EQ(first.output.find("FAILED"), std::string::npos) << first.output;
+  auto second = plctest::run_command(plcrun + " " + cfg + " --realtime --for 100ms");
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  EXPECT_NE(second.output.find("plcrun: retain: warm start from " + dir + "/filling.retain."),
+            std::string::npos)
+      << second.output;
+  auto cold = plctest::run_command(plcrun + " " + cfg + " --realtime --cold --for 100ms");
+  EXPECT_EQ(cold.exit_code, 0) << cold.output;
+  EXPECT_NE(cold.output.find("plcrun: retain: cold start"), std::string::npos) << cold.output;
+  // A console session keeps its rule: it may goto/restart, so no retain.
+  auto debug = plctest::run_command(plcrun + " " + cfg + " --warm --commands /dev/null");
+  EXPECT_EQ(debug.exit_code, 2) << debug.output;
+  std::system(("rm -rf " + dir).c_str());
+}
+
+}  // namespace
+
+namespace {
+
 // The debugger's restart (virtual time): warm keeps RETAIN and PERSISTENT
 // values of the running cell, cold only PERSISTENT (IEC 61131-3 6.5.6).
 TEST(RetainDebugger, RestartWarmAndCold) {
