@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <chrono>
 #include <new>
+#include <thread>
 
 #include "plc/hmi/checked_decode.hpp"
 #include "plc/iec_literal.hpp"
@@ -315,7 +317,7 @@ void Bridge::with_runtime(F f) {
   if (!dbg_) return;
   // The runtime may be rebuilt (goto): read it only between commands, and
   // skip this round when the console is running one.
-  std::unique_lock<std::recursive_timed_mutex> session(dbg_->session_mutex(), std::try_to_lock);
+  std::unique_lock<std::recursive_mutex> session(dbg_->session_mutex(), std::try_to_lock);
   if (session.owns_lock()) f(dbg_->runtime());
 }
 
@@ -474,8 +476,13 @@ softplc_hmi::reply_t Bridge::serve(const softplc_hmi::command_t& c) {
   if (stops && !cfg_.stop_commands.value)
     return refuse("'" + v + "' is not allowed: the cell's hmi: stop_commands is false",
                   &BridgeCounters::refused);
-  std::unique_lock<std::recursive_timed_mutex> session(dbg_->session_mutex(), std::defer_lock);
-  if (!session.try_lock_for(std::chrono::milliseconds(200)))
+  // Up to 200 tries 1 ms apart rather than try_lock_for: a timed lock is
+  // pthread_mutex_clocklock, which ThreadSanitizer does not intercept (it
+  // then reports every unlock of the session mutex as a wrong-thread unlock).
+  std::unique_lock<std::recursive_mutex> session(dbg_->session_mutex(), std::defer_lock);
+  for (int i = 0; i < 200 && !session.try_lock(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  if (!session.owns_lock())
     return refuse("busy: the debugger console is running a command", &BridgeCounters::refused);
   debug::Debugger::Reply d{false, ""};
   if (v == "read") {

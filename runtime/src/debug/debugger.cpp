@@ -487,7 +487,7 @@ std::string Debugger::cmd_step(const std::vector<std::string>& a) {
 }
 
 Debugger::Reply Debugger::step(std::uint64_t n, const std::string& task_name) {
-  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  std::lock_guard<std::recursive_mutex> session(session_mu_);
   if (n < 1) return {false, "step: the count must be positive\n"};
   const TaskRuntime* target = nullptr;
   if (!task_name.empty()) {
@@ -555,7 +555,7 @@ std::string Debugger::cmd_continue(const std::vector<std::string>& a, bool until
 }
 
 Debugger::Reply Debugger::run_until(std::string_view text) {
-  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  std::lock_guard<std::recursive_mutex> session(session_mu_);
   std::string err;
   auto cond =
       Condition::compile(std::string(text), rt_->vars(), rt_->image(), rt_->byte_order(), err);
@@ -577,7 +577,7 @@ Debugger::Reply Debugger::run_until(std::string_view text) {
 }
 
 Debugger::Reply Debugger::continue_running(std::optional<TIME> for_time) {
-  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  std::lock_guard<std::recursive_mutex> session(session_mu_);
   if (for_time) {
     if (for_time->count() <= 0)
       return {false, "continue for: the duration must be positive, got " +
@@ -675,7 +675,7 @@ std::string Debugger::cmd_break(const std::vector<std::string>& a) {
 
 Debugger::Reply Debugger::add_breakpoint(std::string_view condition, std::uint64_t hits,
                                          const std::string& before_program) {
-  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  std::lock_guard<std::recursive_mutex> session(session_mu_);
   const std::string cond_text(condition);
   if (hits < 1) return {false, "break: 'hits' needs a positive count\n"};
   if (cond_text.empty() && before_program.empty())
@@ -714,7 +714,7 @@ Debugger::Reply Debugger::add_breakpoint(std::string_view condition, std::uint64
 }
 
 Debugger::Reply Debugger::delete_breakpoint(const std::string& id) {
-  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  std::lock_guard<std::recursive_mutex> session(session_mu_);
   std::lock_guard<std::mutex> lock(mu_);
   const std::size_t before = breaks_.size();
   if (id == "all")
@@ -729,7 +729,7 @@ Debugger::Reply Debugger::delete_breakpoint(const std::string& id) {
 }
 
 Debugger::Reply Debugger::pause() {
-  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  std::lock_guard<std::recursive_mutex> session(session_mu_);
   if (opt_.mode == io::ClockMode::Virtual)
     return {true, "paused (in virtual time the cell is paused between commands)\n"};
   const std::string note = pause_and_settle();
@@ -770,7 +770,7 @@ std::string Debugger::describe_values(const std::vector<std::string>& names) {
 }
 
 std::vector<Debugger::Value> Debugger::read(const std::vector<std::string>& names) {
-  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  std::lock_guard<std::recursive_mutex> session(session_mu_);
   // Resolve everything first, then read all values at one point.
   struct Line {
     std::string name, error;
@@ -917,7 +917,7 @@ Debugger::Reply Debugger::force(const std::string& name, std::string_view value)
 
 Debugger::Reply Debugger::write_or_force(const std::string& name, std::string_view text,
                                          bool force) {
-  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  std::lock_guard<std::recursive_mutex> session(session_mu_);
   const char* what = force ? "force" : "write";
   bool image = false;
   std::string err;
@@ -974,7 +974,7 @@ std::string Debugger::cmd_unforce(const std::vector<std::string>& a) {
 }
 
 Debugger::Reply Debugger::unforce(const std::string& name, bool restore) {
-  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  std::lock_guard<std::recursive_mutex> session(session_mu_);
   std::lock_guard<std::mutex> lock(mu_);
   std::string s;
   for (auto it = forces_.begin(); it != forces_.end();) {
@@ -1263,7 +1263,7 @@ conditions: ST syntax, e.g.  Tank.step = 3 AND Tank.level > 16#5000 OR NOT %IX0.
 }
 
 std::string Debugger::execute(std::string_view line_in) {
-  std::lock_guard<std::recursive_timed_mutex> session(session_mu_);
+  std::lock_guard<std::recursive_mutex> session(session_mu_);
   joined_line_ = std::string(line_in);
   const auto a = words(line_in);
   if (a.empty() || a[0][0] == '#') return {};

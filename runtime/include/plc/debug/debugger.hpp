@@ -102,9 +102,11 @@ class Debugger final : public ScanHooks {
   Reply add_breakpoint(std::string_view condition, std::uint64_t hits = 1,
                        const std::string& before_program = "");
   Reply delete_breakpoint(const std::string& id_or_all);
-  // Held by every call above; a front end on another thread may try_lock_for
-  // it to answer "busy" instead of waiting behind a long `run until`.
-  std::recursive_timed_mutex& session_mutex() { return session_mu_; }
+  // Held by every call above; a front end on another thread may try_lock
+  // it (a bounded number of times) to answer "busy" instead of waiting
+  // behind a long `run until`. Not a timed mutex: ThreadSanitizer does not
+  // intercept pthread_mutex_clocklock and would report every unlock.
+  std::recursive_mutex& session_mutex() { return session_mu_; }
 
   [[nodiscard]] bool quit_requested() const { return quit_; }
   [[nodiscard]] std::string prompt() const;
@@ -225,7 +227,7 @@ class Debugger final : public ScanHooks {
 
   Factory factory_;
   Options opt_;
-  std::recursive_timed_mutex session_mu_;
+  std::recursive_mutex session_mu_;
   std::unique_ptr<Runtime> rt_;
   std::unique_ptr<Replayer> replayer_;
   std::unique_ptr<Recorder> recorder_;
