@@ -2,9 +2,9 @@
 
 #include <fnmatch.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
-#include <chrono>
 #include <new>
 #include <thread>
 
