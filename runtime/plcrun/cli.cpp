@@ -174,6 +174,12 @@ void print_summary(const Runtime& rt) {
                   us(s.latency_ns.percentile(0.999)).c_str(), us(s.latency_ns.max()).c_str());
     if (!s.stop_reason.empty()) std::printf("  STOPPED: %s\n", s.stop_reason.c_str());
   }
+  // Per device, its plugin's own account: state and counters (the
+  // DeviceNet scanner: allocations, polls, timeouts, bad frames, bus state).
+  for (const auto& d : rt.devices())
+    if (d.plugin)
+      std::printf("device %-10s (%s): %s\n", d.name.c_str(), d.plugin_name.c_str(),
+                  d.plugin->diagnostics(d.index).c_str());
 }
 
 // A controlled stop saves the last state (the scans are over) and says

@@ -27,6 +27,14 @@ TEST(PlcrunCli, ListVarsPrintsPathTypeAndAddress) {
   EXPECT_NE(r.output.find("Supervisor.lamp_running BOOL %QX2.0\n"), std::string::npos);
 }
 
+TEST(PlcrunCli, SummaryGivesEachDevicesPluginDiagnostics) {
+  // The plugin's own account of each device (state, counters) ends the
+  // summary: for the sim plugin its state.
+  const auto r = plctest::run_command(plctest::plcrun_path() + " " + demo() + " --cycles 10");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("device tank1      (sim): online\n"), std::string::npos) << r.output;
+}
+
 TEST(PlcrunCli, StatsJsonHasEveryTask) {
   const std::string file = plctest::temp_path("stats.json");
   const auto r = plctest::run_command(plctest::plcrun_path() + " " + demo() +
