@@ -171,10 +171,12 @@ void UdpHub::run() {
       std::erase_if(peers, [&](const Peer& q) { return now - q.heard_ns > kForgetNs; });
       if (!known && peers.size() < kMaxPeers) peers.push_back({from, now});
       if (k == 0) continue;  // keep-alive: not forwarded
+      // Counted before it goes out: a node that has received it must
+      // never read a count without it.
+      ++forwarded_;
       for (const Peer& q : peers)
         (void)sendto(fd_, d.data(), static_cast<std::size_t>(n), MSG_DONTWAIT,
                      reinterpret_cast<const sockaddr*>(&q.addr), sizeof q.addr);
-      ++forwarded_;
     }
   }
 }
