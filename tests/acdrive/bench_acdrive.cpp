@@ -17,6 +17,7 @@
 
 #include "plc/fb/acdrive/ac_drive.hpp"
 #include "plc/io/sim_device.hpp"
+#include "plc_bench/collector.hpp"
 #include "vf66b/vf66b_model.hpp"
 
 namespace {
@@ -108,29 +109,11 @@ void acdrive_model_step_only(benchmark::State& st) {
 }
 BENCHMARK(acdrive_model_step_only);
 
-class LineReporter : public benchmark::ConsoleReporter {
- public:
-  // No colour codes: the `name: value unit` lines must parse cleanly.
-  LineReporter() : ConsoleReporter(OO_Tabular) {}
-  void ReportRuns(const std::vector<Run>& runs) override {
-    ConsoleReporter::ReportRuns(runs);
-    for (const auto& r : runs)
-      if (!r.error_occurred && r.run_type == Run::RT_Iteration)
-        lines_.push_back(r.benchmark_name() + ": " +
-                         std::to_string(static_cast<long long>(r.GetAdjustedRealTime() + 0.5)) +
-                         " ns");
-  }
-  std::vector<std::string> lines_;
-};
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  LineReporter rep;
-  benchmark::RunSpecifiedBenchmarks(&rep);
-  benchmark::Shutdown();
-  for (const auto& l : rep.lines_) std::printf("%s\n", l.c_str());
+  plc::bench::Collector c;
+  if (!plc::bench::run_benchmarks(argc, argv, c)) return 1;
+  c.print_wall_lines();
   return 0;
 }

@@ -13,6 +13,7 @@
 
 #include "plc/debug/debugger.hpp"
 #include "plc/program.hpp"
+#include "plc_bench/collector.hpp"
 
 namespace {
 
@@ -104,33 +105,12 @@ void BM_Record(benchmark::State& state) {
 }
 BENCHMARK(BM_Record)->MinTime(1.0);
 
-// Collects ns per iteration (CPU time) by benchmark name.
-class Collector : public benchmark::ConsoleReporter {
- public:
-  void ReportRuns(const std::vector<Run>& runs) override {
-    ConsoleReporter::ReportRuns(runs);
-    for (const Run& r : runs) {
-      per_scan[r.benchmark_name()] = r.GetAdjustedCPUTime();
-      wall[r.benchmark_name()] = r.GetAdjustedRealTime();
-    }
-  }
-  std::map<std::string, double> per_scan, wall;
-};
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  Collector c;
-  c.SetOutputStream(&std::cerr);  // the table on stderr, the figures on stdout
-  c.SetErrorStream(&std::cerr);
-  benchmark::RunSpecifiedBenchmarks(&c);
-  benchmark::Shutdown();
-  auto get = [&](const char* prefix) {
-    for (const auto& [k, v] : c.per_scan)
-      if (k.rfind(prefix, 0) == 0) return v;
-    return 0.0;
-  };
+  plc::bench::Collector c;
+  if (!plc::bench::run_benchmarks(argc, argv, c)) return 1;
+  auto get = [&](const char* prefix) { return c.cpu(prefix); };
   const double base = get("BM_ScanNoDebugger");
   const double idle = get("BM_ScanDebuggerIdle");
   const double bp = get("BM_TenBreakpoints");
@@ -146,12 +126,7 @@ int main(int argc, char** argv) {
   // Wall time per scan with the trace: in virtual time the scan waits for
   // the writer thread when it falls behind (backpressure), so this is the
   // formatting throughput, paid on the other core.
-  auto wall = [&](const char* prefix) {
-    for (const auto& [k, v] : c.wall)
-      if (k.rfind(prefix, 0) == 0) return v;
-    return 0.0;
-  };
-  std::printf("trace_100_vars_csv_wall: %.0f ns/scan\n", wall("BM_Trace100Csv"));
-  std::printf("trace_100_vars_vcd_wall: %.0f ns/scan\n", wall("BM_Trace100Vcd"));
+  std::printf("trace_100_vars_csv_wall: %.0f ns/scan\n", c.wall("BM_Trace100Csv"));
+  std::printf("trace_100_vars_vcd_wall: %.0f ns/scan\n", c.wall("BM_Trace100Vcd"));
   return 0;
 }

@@ -20,6 +20,7 @@
 #include "plc/devicenet/identifiers.hpp"
 #include "plc/devicenet/scanner.hpp"
 #include "plc/devicenet/slave.hpp"
+#include "plc_bench/collector.hpp"
 
 namespace {
 
@@ -118,15 +119,6 @@ void BM_PollCycleScannerAndSlaves(benchmark::State& state) {
 }
 BENCHMARK(BM_PollCycleScannerAndSlaves)->MinTime(0.5);
 
-class Collector : public benchmark::ConsoleReporter {
- public:
-  void ReportRuns(const std::vector<Run>& runs) override {
-    ConsoleReporter::ReportRuns(runs);
-    for (const Run& r : runs) cpu[r.benchmark_name()] = r.GetAdjustedCPUTime();
-  }
-  std::map<std::string, double> cpu;
-};
-
 // Bits of a CAN 2.0A data frame with n data bytes: SOF, 11-bit id, RTR, IDE,
 // r0, DLC (4), data, CRC (15) + delimiter, ACK (2), EOF (7), intermission
 // (3) = 47 + 8n; bit stuffing adds at most (34 + 8n - 1) / 4 more.
@@ -138,17 +130,9 @@ double frame_bits(std::size_t n, bool worst) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  Collector c;
-  c.SetOutputStream(&std::cerr);
-  c.SetErrorStream(&std::cerr);
-  benchmark::RunSpecifiedBenchmarks(&c);
-  benchmark::Shutdown();
-  auto get = [&](const std::string& prefix) {
-    for (const auto& [k, v] : c.cpu)
-      if (k.rfind(prefix, 0) == 0) return v;
-    return 0.0;
-  };
+  plc::bench::Collector c;
+  if (!plc::bench::run_benchmarks(argc, argv, c)) return 1;
+  auto get = [&](const char* prefix) { return c.cpu(prefix); };
   const double scanner_ns = get("BM_ScannerOnly");
   const double cycle_ns = get("BM_PollCycleScannerAndSlaves");
   std::printf("devicenet_scanner_cpu_per_device_cycle: %.0f ns\n", scanner_ns / kDevices);

@@ -21,6 +21,7 @@
 #include "plc/cell_config.hpp"
 #include "plc/online_change.hpp"
 #include "plc/runtime.hpp"
+#include "plc_bench/collector.hpp"
 
 namespace {
 
@@ -124,29 +125,12 @@ void BM_SwitchCopy(benchmark::State& state) {
 }
 BENCHMARK(BM_SwitchCopy)->UseManualTime()->Iterations(30);
 
-class Collector : public benchmark::ConsoleReporter {
- public:
-  void ReportRuns(const std::vector<Run>& runs) override {
-    ConsoleReporter::ReportRuns(runs);
-    for (const Run& r : runs) real[r.benchmark_name()] = r.GetAdjustedRealTime();
-  }
-  std::map<std::string, double> real;
-};
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  Collector c;
-  c.SetOutputStream(&std::cerr);
-  c.SetErrorStream(&std::cerr);
-  benchmark::RunSpecifiedBenchmarks(&c);
-  benchmark::Shutdown();
-  auto get = [&](const std::string& prefix) {
-    for (const auto& [k, v] : c.real)
-      if (k.rfind(prefix, 0) == 0) return v;
-    return 0.0;
-  };
+  plc::bench::Collector c;
+  if (!plc::bench::run_benchmarks(argc, argv, c)) return 1;
+  auto get = [&](const char* prefix) { return c.wall(prefix); };
   const double scan = get("BM_Scan"), sw = get("BM_SwitchScan"), prep = get("BM_Prepare");
   std::printf("online_change_prepare: %.0f us\n", prep / 1e3);
   std::printf("online_change_scan: %.1f us\n", scan / 1e3);

@@ -18,6 +18,7 @@
 #include "plc/retain/retain_layout.hpp"
 #include "plc/retain/retain_storage.hpp"
 #include "plc/retain/retain_writer.hpp"
+#include "plc_bench/collector.hpp"
 
 namespace {
 
@@ -93,37 +94,16 @@ void BM_Write(benchmark::State& state) {
 }
 BENCHMARK(BM_Write)->Arg(1000)->Arg(10000)->UseRealTime()->MinTime(1.0);
 
-class Collector : public benchmark::ConsoleReporter {
- public:
-  void ReportRuns(const std::vector<Run>& runs) override {
-    ConsoleReporter::ReportRuns(runs);
-    for (const Run& r : runs) {
-      cpu[r.benchmark_name()] = r.GetAdjustedCPUTime();
-      real[r.benchmark_name()] = r.GetAdjustedRealTime();
-    }
-  }
-  std::map<std::string, double> cpu, real;
-};
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  Collector c;
-  c.SetOutputStream(&std::cerr);
-  c.SetErrorStream(&std::cerr);
-  benchmark::RunSpecifiedBenchmarks(&c);
-  benchmark::Shutdown();
-  auto get = [](const std::map<std::string, double>& m, const std::string& prefix) {
-    for (const auto& [k, v] : m)
-      if (k.rfind(prefix, 0) == 0) return v;
-    return 0.0;
-  };
+  plc::bench::Collector c;
+  if (!plc::bench::run_benchmarks(argc, argv, c)) return 1;
   for (const char* n : {"1000", "10000"}) {
     const std::string k = n;
-    std::printf("retain_capture_%s_bytes: %.0f ns/save\n", n, get(c.cpu, "BM_Capture/" + k));
-    std::printf("retain_offer_%s_bytes: %.0f ns/save\n", n, get(c.cpu, "BM_Offer/" + k));
-    const double write_ns = get(c.real, "BM_Write/" + k + "/");
+    std::printf("retain_capture_%s_bytes: %.0f ns/save\n", n, c.cpu("BM_Capture/" + k));
+    std::printf("retain_offer_%s_bytes: %.0f ns/save\n", n, c.cpu("BM_Offer/" + k));
+    const double write_ns = c.wall("BM_Write/" + k + "/");
     std::printf("retain_write_%s_bytes: %.2f ms/file\n", n, write_ns / 1e6);
     std::printf("retain_write_%s_bytes_throughput: %.0f files/s\n", n,
                 write_ns > 0 ? 1e9 / write_ns : 0.0);

@@ -20,6 +20,7 @@
 
 #include "plc/cell_config.hpp"
 #include "plc/runtime.hpp"
+#include "plc_bench/collector.hpp"
 
 namespace {
 
@@ -77,7 +78,6 @@ BENCHMARK(BM_FillingCellVirtualTick)->MinTime(2.0);
 // scan time into their histograms, the scan count): into the live,
 // snapshot-able LiveTaskStats, and, for comparison, into plain fields that
 // no other thread may read (as before issue 10).
-double g_stats_live_ns = 0, g_stats_plain_ns = 0;
 
 void BM_TaskStatsLive(benchmark::State& state) {
   plc::LiveTaskStats s;
@@ -106,21 +106,6 @@ void BM_TaskStatsPlain(benchmark::State& state) {
   benchmark::DoNotOptimize(scan.count() + latency.count());
 }
 BENCHMARK(BM_TaskStatsPlain)->MinTime(0.5);
-
-// Keeps each benchmark's CPU time per iteration (wall time on a shared
-// machine counts the time other processes had the CPU).
-class Collect : public benchmark::ConsoleReporter {
- public:
-  Collect() : ConsoleReporter(OO_Tabular) {}
-  void ReportRuns(const std::vector<Run>& runs) override {
-    for (const Run& r : runs) {
-      const std::string name = r.benchmark_name();
-      if (name.rfind("BM_TaskStatsLive", 0) == 0) g_stats_live_ns = r.GetAdjustedCPUTime();
-      if (name.rfind("BM_TaskStatsPlain", 0) == 0) g_stats_plain_ns = r.GetAdjustedCPUTime();
-    }
-    ConsoleReporter::ReportRuns(runs);
-  }
-};
 
 void realtime_latency() {
   const char* env = std::getenv("PLC_BENCH_RT_SECONDS");
@@ -176,12 +161,12 @@ int main(int argc, char** argv) {
                  e.what());
     return 2;
   }
-  benchmark::Initialize(&argc, argv);
-  Collect reporter;
-  benchmark::RunSpecifiedBenchmarks(&reporter);
-  benchmark::Shutdown();
-  std::printf("task_stats_per_scan_live: %.2f ns\n", g_stats_live_ns);
-  std::printf("task_stats_per_scan_plain: %.2f ns\n", g_stats_plain_ns);
+  plc::bench::Collector c;
+  if (!plc::bench::run_benchmarks(argc, argv, c)) return 1;
+  const double stats_live_ns = c.cpu("BM_TaskStatsLive");
+  const double stats_plain_ns = c.cpu("BM_TaskStatsPlain");
+  std::printf("task_stats_per_scan_live: %.2f ns\n", stats_live_ns);
+  std::printf("task_stats_per_scan_plain: %.2f ns\n", stats_plain_ns);
   if (g_scans_per_s > 0) {  // (not filtered out with --benchmark_filter)
     std::printf("demo_virtual_scans_per_s: %.0f scans/s\n", g_scans_per_s);
     std::printf("demo_virtual_tick: %.3f us\n", g_us_per_tick);

@@ -17,6 +17,7 @@
 #include "plc/fb/drive/mc_blocks.hpp"
 #include "plc/fb/drive/sina_pos.hpp"
 #include "plc/io/sim_device.hpp"
+#include "plc_bench/collector.hpp"
 
 namespace {
 
@@ -117,29 +118,11 @@ void drive_mc_move_plus_model_step(benchmark::State& st) {
 }
 BENCHMARK(drive_mc_move_plus_model_step);
 
-class LineReporter : public benchmark::ConsoleReporter {
- public:
-  // No colour codes: the `name: value unit` lines must parse cleanly.
-  LineReporter() : ConsoleReporter(OO_Tabular) {}
-  void ReportRuns(const std::vector<Run>& runs) override {
-    ConsoleReporter::ReportRuns(runs);
-    for (const auto& r : runs)
-      if (!r.error_occurred && r.run_type == Run::RT_Iteration)
-        lines_.push_back(r.benchmark_name() + ": " +
-                         std::to_string(static_cast<long long>(r.GetAdjustedRealTime() + 0.5)) +
-                         " ns");
-  }
-  std::vector<std::string> lines_;
-};
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  LineReporter rep;
-  benchmark::RunSpecifiedBenchmarks(&rep);
-  benchmark::Shutdown();
-  for (const auto& l : rep.lines_) std::printf("%s\n", l.c_str());
+  plc::bench::Collector c;
+  if (!plc::bench::run_benchmarks(argc, argv, c)) return 1;
+  c.print_wall_lines();
   return 0;
 }
