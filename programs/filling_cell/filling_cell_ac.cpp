@@ -1,21 +1,13 @@
 #include "filling_cell_ac.hpp"
 
+#include "filling_station.hpp"
+
 namespace cell {
 
 FillingCellAc::FillingCellAc() {
   conveyor.Port.set_device_name("conveyor");
-  scale.port.set_device_name("scale");
-  guard.FMOD.port.set_device_name("safety");
-  guard.FMOD.F_Dest_Add = 1;
-  guard.FMOD.F_Source_Add = 10;
-  guard.FMOD.F_WD_Time = 100;
   conveyor.Enable = true;
-  dose.Device = &scale;
-  dose.TargetWeight = target_kg;
-  dose.FineSwitchPoint = 2.0F;
-  dose.Preact = 0.15F;
-  dose.TolPlus = 0.05F;
-  dose.TolMinus = 0.05F;
+  set_up_filling_station(guard, scale, dose, target_kg);
 }
 
 void FillingCellAc::cycle(const ScanContext& ctx) {
