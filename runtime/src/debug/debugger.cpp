@@ -92,6 +92,26 @@ void Debugger::detach() {
   rt_.reset();
 }
 
+std::unique_ptr<Trace> Debugger::make_trace(const VarRegistry& vars) const {
+  auto trace = std::make_unique<Trace>(vars, rt_->image(), rt_->byte_order());
+  trace->set_backpressure(opt_.mode == io::ClockMode::Virtual);
+  if (opt_.mode == io::ClockMode::RealTime) {
+    std::vector<std::string> names;
+    for (const auto& t : rt_->tasks()) names.push_back(t->name);
+    trace->set_one_task(std::move(names));
+  }
+  for (const std::string& spec : trace_spec_) {  // "add NAME", "trigger COND", "pre N"
+    auto w = words(spec);
+    if (w[0] == "add")
+      trace->add(w[1]);
+    else if (w[0] == "trigger")
+      trace->set_trigger(rest_after(spec, 1));
+    else if (w[0] == "pre")
+      trace->set_pretrigger(std::stoul(w[1]));
+  }
+  return trace;
+}
+
 void Debugger::build(const std::function<void(Runtime&)>& before_start) {
   detach();
   rt_ = factory_();
@@ -118,22 +138,7 @@ void Debugger::build(const std::function<void(Runtime&)>& before_start) {
     if (auto v = resolve(f.name, image, err)) f.var = *v;
   }
   writes_.clear();
-  trace_ = std::make_unique<Trace>(rt_->vars(), rt_->image(), rt_->byte_order());
-  trace_->set_backpressure(opt_.mode == io::ClockMode::Virtual);
-  if (opt_.mode == io::ClockMode::RealTime) {
-    std::vector<std::string> names;
-    for (const auto& t : rt_->tasks()) names.push_back(t->name);
-    trace_->set_one_task(std::move(names));
-  }
-  for (const std::string& spec : trace_spec_) {
-    auto w = words(spec);
-    if (w[0] == "add")
-      trace_->add(w[1]);
-    else if (w[0] == "trigger")
-      trace_->set_trigger(rest_after(spec, 1));
-    else if (w[0] == "pre")
-      trace_->set_pretrigger(std::stoul(w[1]));
-  }
+  trace_ = make_trace(rt_->vars());
   {
     std::lock_guard<std::mutex> lock(mu_);
     note_scan_end_reads();

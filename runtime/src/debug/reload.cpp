@@ -140,25 +140,7 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
         break;
       }
     carry->trace_task = trace_->sampling_task(fastest);
-    carry->trace = std::make_unique<Trace>(next, rt_->image(), rt_->byte_order());
-    carry->trace->set_backpressure(opt_.mode == io::ClockMode::Virtual);
-    if (opt_.mode == io::ClockMode::RealTime) {
-      std::vector<std::string> names;
-      for (const auto& t : rt_->tasks()) names.push_back(t->name);
-      carry->trace->set_one_task(std::move(names));
-    }
-    // The set-up as build() replays it: "add NAME", "trigger COND", "pre N".
-    for (const std::string& spec : trace_spec_) {
-      const auto space = spec.find(' ');
-      const std::string what = spec.substr(0, space);
-      const std::string arg = space == std::string::npos ? "" : spec.substr(space + 1);
-      if (what == "add")
-        carry->trace->add(arg);
-      else if (what == "trigger")
-        carry->trace->set_trigger(arg);
-      else if (what == "pre")
-        carry->trace->set_pretrigger(std::stoul(arg));
-    }
+    carry->trace = make_trace(next);
   }
   if (recorder_) {
     // Before the commit: the tasks' next latches write the change records.

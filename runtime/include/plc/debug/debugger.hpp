@@ -224,6 +224,9 @@ class Debugger final : public ScanHooks {
   // Real time: waits for a breakpoint or Ctrl-C, or until `span` of real
   // time has passed (`continue for`), then pauses; the stop reason.
   std::string realtime_wait_until_paused(std::optional<TIME> span = std::nullopt);
+  // A trace over `vars` set up as trace_spec_ says (build(), and reload
+  // for the new program's registry).
+  [[nodiscard]] std::unique_ptr<Trace> make_trace(const VarRegistry& vars) const;
 
   Factory factory_;
   Options opt_;
