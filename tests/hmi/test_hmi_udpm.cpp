@@ -154,3 +154,72 @@ kill -INT $LOGGER; wait $LOGGER
   EXPECT_GT(values, 10);
   EXPECT_GT(levels, 10);
 }
+
+// `plcctl watch` on a terminal redraws its block in place (cursor up over
+// the block, each line cleared: ESC[nA, ESC[K); piped, it prints plain
+// `time path = value` lines without any escape sequence. The terminal is a
+// pseudo-terminal from util-linux `script`; plcrun and plcctl talk over udpm
+// ttl=0 in the test's own network namespace, every wait bounded.
+TEST(HmiUdpmRealTime, WatchRedrawsInPlaceOnATerminalAndPrintsPlainLinesWhenPiped) {
+  if (sh("unshare --net true").exit_code != 0)
+    GTEST_SKIP() << "network namespaces are not available here";
+  if (sh("script --version").exit_code != 0) GTEST_SKIP() << "util-linux script is not installed";
+  const std::string dir = ::testing::TempDir() + "hmi_tty_" + std::to_string(::getpid());
+  ASSERT_EQ(sh("rm -rf " + dir + " && mkdir -p " + dir).exit_code, 0);
+  std::string cell = plctest::demo_yaml();
+  const auto wd = cell.find("watchdog: 10");
+  ASSERT_NE(wd, std::string::npos);
+  cell.replace(wd, 12, "watchdog: 0 ");
+  std::ofstream(dir + "/cell.yaml") << cell << R"(
+hmi:
+  url: udpm://239.255.76.67:7667?ttl=0
+  rate: 50
+  publish: ["Tank.*"]
+)";
+  const std::string bin = plctest::bin_dir();
+  const std::string watch = bin + "/plcctl watch Tank.level Tank.step --count 6 --for 5s";
+  std::ofstream(dir + "/run.sh") << "set -u\ncd " << dir << R"(
+ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 90
+)" << bin << R"(/plcrun cell.yaml --realtime --for 8s > plcrun.out 2>&1 & PLC=$!
+up=0
+for i in $(seq 1 40); do
+  if )" << bin << R"(/plcctl --timeout 200 read Tank.level > /dev/null 2>&1; then up=1; break; fi
+done
+[ $up = 1 ] || { kill $PLC; exit 91; }
+script -q -e -c ")" << watch << R"(" tty.out < /dev/null > /dev/null; echo "tty=$?"
+)" << watch << R"( | cat > piped.out; echo "piped=$?"
+kill -TERM $PLC; wait $PLC
+)";
+  const auto r = sh("timeout 60 unshare --net sh " + dir + "/run.sh");
+  ASSERT_NE(r.exit_code, 90) << r.output;
+  ASSERT_NE(r.exit_code, 91) << "the bridge never answered\n"
+                             << r.output << read_file(dir + "/plcrun.out");
+  EXPECT_NE(r.output.find("tty=0"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("piped=0"), std::string::npos) << r.output;
+
+  // The terminal: a header and two variables, so each redraw after the
+  // first moves the cursor up 3 lines and clears every line it rewrites.
+  const std::string tty = read_file(dir + "/tty.out");
+  auto count = [](const std::string& s, const std::string& what) {
+    std::size_t n = 0;
+    for (auto p = s.find(what); p != std::string::npos; p = s.find(what, p + what.size())) ++n;
+    return n;
+  };
+  EXPECT_GE(count(tty, "\033[3A"), 5U) << tty;     // 6 updates: 5 redraws in place
+  EXPECT_GE(count(tty, "\033[K"), 6U * 3) << tty;  // every line cleared as it is drawn
+  EXPECT_NE(tty.find("Tank.level"), std::string::npos) << tty;
+
+  // Piped: plain lines only.
+  const std::string piped = read_file(dir + "/piped.out");
+  EXPECT_EQ(piped.find('\033'), std::string::npos) << piped;
+  std::istringstream in(piped);
+  std::string line;
+  int lines = 0;
+  for (int i = 0; i < 1000 && std::getline(in, line); ++i) {
+    double t = 0;
+    char path[64], value[64];
+    EXPECT_EQ(std::sscanf(line.c_str(), "%lf %63s = %63s", &t, path, value), 3) << line;
+    ++lines;
+  }
+  EXPECT_GE(lines, 6);
+}
