@@ -420,7 +420,7 @@ int Bridge::publish_device_alarms() {
       const DeviceRuntime& d = rt.devices()[i];
       const io::DeviceLink::StateChange c = d.plugin->link(d.index).last_change();
       DeviceSeen& seen = l->devices[i];
-      if (c.count == seen.changes) continue;
+      if (c.count == seen.changes || c.torn) continue;  // torn: the next round reads it
       // More than one change since the last round: the one before the last
       // is reported without its scan (the link keeps the last one only).
       if (c.count - seen.changes > 1 && seen.state != c.from) {
@@ -460,9 +460,11 @@ void Bridge::publish_diagnostics() {
       // Active: the device as its task's scans see it is not online.
       const io::DeviceState seen = link.state();
       if (seen != io::DeviceState::Online) {
-        softplc_hmi::alarm_t a = c.count ? device_alarm(rt, d, c.from, c.to, c.scan, c.time, true)
-                                         : device_alarm(rt, d, seen, seen, 0, TIME(0), false);
+        softplc_hmi::alarm_t a = c.count && !c.torn
+                                     ? device_alarm(rt, d, c.from, c.to, c.scan, c.time, true)
+                                     : device_alarm(rt, d, seen, seen, 0, TIME(0), false);
         if (!c.count) a.text = std::string(io::to_string(seen)) + " since the start";
+        if (c.count && c.torn) a.text = io::to_string(seen);
         m.alarms.push_back(a);
       }
     }

@@ -66,6 +66,7 @@ class DeviceLink {
     DeviceState from = DeviceState::Offline, to = DeviceState::Offline;
     std::uint64_t scan = 0;
     TIME time{0};
+    bool torn = false;  // the writer was mid-update at every try: only count is known
   };
   [[nodiscard]] StateChange last_change() const;
   // At a latch of task `owner`: make the parked answers of its requests
