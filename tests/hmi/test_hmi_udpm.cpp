@@ -43,6 +43,17 @@ std::map<std::int64_t, std::string> trace_levels(const std::string& csv, int* ga
   return m;
 }
 
+// The demo cell without its watchdog (on a loaded machine, ctest -j2
+// beside other jobs, a first real-time scan may take tens of ms, and these
+// tests are about the bridge, not the watchdog), with `hmi` appended.
+std::string realtime_demo_cell(const std::string& hmi) {
+  std::string cell = plctest::demo_yaml();
+  const auto wd = cell.find("watchdog: 10");
+  EXPECT_NE(wd, std::string::npos);
+  if (wd != std::string::npos) cell.replace(wd, 12, "watchdog: 0 ");
+  return cell + hmi;
+}
+
 }  // namespace
 
 TEST(HmiUdpmRealTime, PlcctlWatchesWritesAndIsRefusedAcrossProcesses) {
@@ -51,20 +62,13 @@ TEST(HmiUdpmRealTime, PlcctlWatchesWritesAndIsRefusedAcrossProcesses) {
                     "user namespaces); the udpm test runs only inside its own namespace";
   const std::string dir = ::testing::TempDir() + "hmi_udpm_" + std::to_string(::getpid());
   ASSERT_EQ(sh("rm -rf " + dir + " && mkdir -p " + dir).exit_code, 0);
-  // The demo cell without its watchdog: on a loaded machine (ctest -j2
-  // beside other jobs) a first real-time scan may take tens of ms, and this
-  // test is about the bridge, not the watchdog.
-  std::string cell = plctest::demo_yaml();
-  const auto wd = cell.find("watchdog: 10");
-  ASSERT_NE(wd, std::string::npos);
-  cell.replace(wd, 12, "watchdog: 0 ");
-  std::ofstream(dir + "/cell.yaml") << cell << R"(
+  std::ofstream(dir + "/cell.yaml") << realtime_demo_cell(R"(
 hmi:
   url: udpm://239.255.76.67:7667?ttl=0
   rate: 50
   publish: ["Tank.*"]
   writable: ["Tank.high_level"]
-)";
+)");
   const std::string bin = plctest::bin_dir();
   // Every wait is bounded: plcrun runs 8 s at most, each plcctl call has a
   // timeout, the poll for the bridge tries 40 times.
@@ -184,16 +188,12 @@ TEST(HmiUdpmRealTime, WatchRedrawsInPlaceOnATerminalAndPrintsPlainLinesWhenPiped
   if (sh("script --version").exit_code != 0) GTEST_SKIP() << "util-linux script is not installed";
   const std::string dir = ::testing::TempDir() + "hmi_tty_" + std::to_string(::getpid());
   ASSERT_EQ(sh("rm -rf " + dir + " && mkdir -p " + dir).exit_code, 0);
-  std::string cell = plctest::demo_yaml();
-  const auto wd = cell.find("watchdog: 10");
-  ASSERT_NE(wd, std::string::npos);
-  cell.replace(wd, 12, "watchdog: 0 ");
-  std::ofstream(dir + "/cell.yaml") << cell << R"(
+  std::ofstream(dir + "/cell.yaml") << realtime_demo_cell(R"(
 hmi:
   url: udpm://239.255.76.67:7667?ttl=0
   rate: 50
   publish: ["Tank.*"]
-)";
+)");
   const std::string bin = plctest::bin_dir();
   const std::string watch = bin + "/plcctl watch Tank.level Tank.step --count 6 --for 5s";
   std::ofstream(dir + "/run.sh") << "set -u\ncd " << dir << R"(
