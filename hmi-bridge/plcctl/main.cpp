@@ -13,6 +13,7 @@
 #include "client.hpp"
 #include "plc/hmi/bridge.hpp"
 #include "plc/iec_literal.hpp"
+#include "softplc_hmi/alarm_t.hpp"
 #include "softplc_hmi/diagnostics_t.hpp"
 #include "softplc_hmi/stats_t.hpp"
 #include "softplc_hmi/trace_sample_t.hpp"
@@ -39,7 +40,8 @@ const char* kUsage =
     "  unforce NAME|all [restore]\n"
     "  pause | step [N] | continue\n"
     "  break CONDITION | delete ID|all\n"
-    "  stats | devices | alarms  the bridge's 1 Hz messages\n"
+    "  stats | devices | alarms  the bridge's 1 Hz messages (alarms --for/--count: then\n"
+    "                            each device lost/back as it happens)\n"
     "  log FILE                  record the bridge's channels (lcm-logger format)\n"
     "  trend PATTERN... (--png FILE | --csv FILE)  sample and plot\n";
 
@@ -141,6 +143,22 @@ int cmd_watch(Client& c, const std::vector<std::string>& patterns, const Span& s
   return seen ? 0 : 1;
 }
 
+// Alarm events (PREFIX_ALARM) as lines, until --for/--count or Ctrl-C.
+int cmd_alarm_events(Client& c, const Span& span) {
+  struct Printer {
+    std::uint64_t seen = 0;
+    void on(const softplc_hmi::alarm_t& a) {
+      std::printf("%s %s: %s\n", a.active ? "ALARM" : "CLEARED", a.source.c_str(), a.text.c_str());
+      std::fflush(stdout);
+      ++seen;
+    }
+  } p;
+  auto* s = subscribe_checked<softplc_hmi::alarm_t>(c.lcm(), c.channels().alarm, &p);
+  while (!span.over(p.seen)) c.lcm().handleTimeout(100);
+  c.lcm().unsubscribe(s);
+  return 0;
+}
+
 int cmd_log(Client& c, const std::string& file, const Span& span) {
   // lcm's own writer: the lcm-logger file format (lcm-logplayer replays it).
   lcm::LogFile log(file, "w");
@@ -238,8 +256,8 @@ int main(int argc, char** argv) {
     ("prefix", po::value<std::string>()->default_value("PLC"), "channel prefix (the cell's hmi: prefix)")
     ("key", po::value<std::string>()->value_name("FILE"), "shared key file (the cell's hmi: key_file): sign commands")
     ("timeout", po::value<int>()->default_value(2000)->value_name("MS"), "how long to wait for an answer")
-    ("for", po::value<std::string>()->value_name("DURATION"), "watch, log, trend: stop after this long (e.g. 10s)")
-    ("count", po::value<std::uint64_t>()->value_name("N"), "watch: updates, log: events, trend: samples")
+    ("for", po::value<std::string>()->value_name("DURATION"), "watch, log, trend, alarms: stop after this long (e.g. 10s)")
+    ("count", po::value<std::uint64_t>()->value_name("N"), "watch: updates, log: events, trend: samples, alarms: events")
     ("png", po::value<std::string>()->value_name("FILE"), "trend: draw into a PNG (PLplot)")
     ("csv", po::value<std::string>()->value_name("FILE"), "trend: write a CSV")
     ("args", po::value<std::vector<std::string>>(), "command and arguments");
@@ -371,14 +389,20 @@ int main(int argc, char** argv) {
     }
     if (cmd == "devices") {
       for (const auto& d : m->devices)
-        std::printf("%-16s plugin %-10s task %-10s in %s (%d bytes)  out %s (%d bytes)\n",
-                    d.name.c_str(), d.plugin.c_str(), d.task.c_str(), d.input.c_str(), d.in_bytes,
-                    d.output.c_str(), d.out_bytes);
-    } else {
-      if (m->alarms.empty()) std::printf("no active alarms\n");
-      for (const auto& al : m->alarms) std::printf("%s: %s\n", al.source.c_str(), al.text.c_str());
+        std::printf(
+            "%-16s %-8s plugin %-10s task %-10s in %s (%d bytes)  out %s (%d bytes)  changes "
+            "%lld\n  %s\n",
+            d.name.c_str(), d.state.c_str(), d.plugin.c_str(), d.task.c_str(), d.input.c_str(),
+            d.in_bytes, d.output.c_str(), d.out_bytes, static_cast<long long>(d.changes),
+            d.diagnostics.c_str());
+      return 0;
     }
-    return 0;
+    if (m->alarms.empty()) std::printf("no active alarms\n");
+    for (const auto& al : m->alarms) std::printf("%s: %s\n", al.source.c_str(), al.text.c_str());
+    // --for/--count: then each alarm event as it comes (lost, back).
+    if (!vm.count("for") && !vm.count("count")) return 0;
+    std::fflush(stdout);
+    return cmd_alarm_events(*c, span);
   }
   static const std::map<std::string, std::pair<std::size_t, std::size_t>> arity = {
       {"read", {1, 256}},   {"write", {2, 2}},    {"force", {2, 2}},

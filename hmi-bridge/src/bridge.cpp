@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <new>
 #include <thread>
@@ -87,7 +88,16 @@ bool pattern_matches(const std::string& pattern, const std::string& text) {
   return fnmatch(pattern.c_str(), text.c_str(), 0) == 0;
 }
 
+// What the bridge last reported of one device (publish_device_alarms).
+struct Bridge::DeviceSeen {
+  std::uint64_t changes = 0;  // DeviceLink::last_change().count
+  io::DeviceState state = io::DeviceState::Offline;
+  bool ever_online = false;
+};
+
 struct Bridge::Layout {
+  const Runtime* rt = nullptr;  // the runtime attach() resolved this for
+  std::vector<DeviceSeen> devices;
   std::string cell;
   softplc_hmi::cell_description_t desc;
   std::vector<std::unique_ptr<ScanSnapshot>> snaps;
@@ -131,7 +141,16 @@ bool Bridge::may(const std::vector<Item<std::string>>& patterns, const std::stri
 
 void Bridge::attach(Runtime& rt) {
   auto l = std::make_shared<Layout>();
+  l->rt = &rt;
   l->cell = rt.cell_name();
+  for (const DeviceRuntime& d : rt.devices()) {
+    const io::DeviceLink& link = d.plugin->link(d.index);
+    DeviceSeen seen;
+    seen.changes = link.last_change().count;
+    seen.state = link.state();
+    seen.ever_online = seen.state == io::DeviceState::Online;
+    l->devices.push_back(seen);
+  }
   for (const auto& t : rt.tasks()) l->task_names.push_back(t->name);
   std::vector<std::vector<ScanSnapshot::Item>> per_task(rt.tasks().size());
   std::vector<bool> used(cfg_.publish.size() + cfg_.writable.size() + cfg_.forceable.size());
@@ -297,6 +316,7 @@ int Bridge::service(int wait_ms) {
   const auto now = std::chrono::steady_clock::now();
   const bool full = now - last_full_ >= std::chrono::seconds(1);
   const int sent = publish_values(full);
+  publish_device_alarms();
   if (full && sent > 0) last_full_ = now;
   return sent;
 }
@@ -352,12 +372,79 @@ void Bridge::publish_stats() {
   lcm_.publish(ch_.stats, &m);
 }
 
+namespace {
+
+std::string device_alarm_text(const std::string& task, io::DeviceState from, io::DeviceState to,
+                              std::uint64_t scan, TIME time) {
+  std::string s = std::string(io::to_string(from)) + " -> " + io::to_string(to);
+  if (scan == 0) return s + " (its scan is not known: several changes within one bridge round)";
+  char b[96];
+  std::snprintf(b, sizeof b, " at scan %llu of task %s (t=%.3f s)",
+                static_cast<unsigned long long>(scan), task.c_str(),
+                std::chrono::duration<double>(time).count());
+  return s + b;
+}
+
+softplc_hmi::alarm_t device_alarm(const Runtime& rt, const DeviceRuntime& d, io::DeviceState from,
+                                  io::DeviceState to, std::uint64_t scan, TIME time,
+                                  bool ever_online) {
+  softplc_hmi::alarm_t a{};
+  a.source = "device " + d.name;
+  a.task = rt.tasks()[std::size_t(d.task)]->name;
+  a.text = device_alarm_text(a.task, from, to, scan, time);
+  a.kind = to != io::DeviceState::Online ? "device_lost"
+           : ever_online                 ? "device_back"
+                                         : "device_online";
+  a.active = to != io::DeviceState::Online;
+  a.from_state = io::to_string(from);
+  a.to_state = io::to_string(to);
+  a.scan = std::int64_t(scan);
+  a.plc_time_ns = time.count();
+  a.utime = utime_now();
+  return a;
+}
+
+}  // namespace
+
+int Bridge::publish_device_alarms() {
+  std::shared_ptr<Layout> l;
+  {
+    std::lock_guard<std::mutex> lock(layout_mu_);
+    l = layout_;
+  }
+  if (!l) return 0;
+  std::vector<softplc_hmi::alarm_t> out;
+  with_runtime([&](Runtime& rt) {
+    if (&rt != l->rt || rt.devices().size() != l->devices.size()) return;  // not attached yet
+    for (std::size_t i = 0; i < l->devices.size(); ++i) {
+      const DeviceRuntime& d = rt.devices()[i];
+      const io::DeviceLink::StateChange c = d.plugin->link(d.index).last_change();
+      DeviceSeen& seen = l->devices[i];
+      if (c.count == seen.changes || c.torn) continue;  // torn: the next round reads it
+      // More than one change since the last round: the one before the last
+      // is reported without its scan (the link keeps the last one only).
+      if (c.count - seen.changes > 1 && seen.state != c.from) {
+        out.push_back(device_alarm(rt, d, seen.state, c.from, 0, TIME(0), seen.ever_online));
+        seen.ever_online |= c.from == io::DeviceState::Online;
+      }
+      out.push_back(device_alarm(rt, d, c.from, c.to, c.scan, c.time, seen.ever_online));
+      seen.changes = c.count;
+      seen.state = c.to;
+      seen.ever_online |= c.to == io::DeviceState::Online;
+    }
+  });
+  for (const auto& a : out) lcm_.publish(ch_.alarm, &a);
+  return int(out.size());
+}
+
 void Bridge::publish_diagnostics() {
   softplc_hmi::diagnostics_t m;
   m.utime = utime_now();
   with_runtime([&m](Runtime& rt) {
     m.cell = rt.cell_name();
     for (const DeviceRuntime& d : rt.devices()) {
+      const io::DeviceLink& link = d.plugin->link(d.index);
+      const io::DeviceLink::StateChange c = link.last_change();
       softplc_hmi::device_t dv;
       dv.name = d.name;
       dv.plugin = d.plugin_name;
@@ -366,11 +453,32 @@ void Bridge::publish_diagnostics() {
       dv.output = d.out.to_string();
       dv.in_bytes = int(d.sizes.input_bytes);
       dv.out_bytes = int(d.sizes.output_bytes);
+      dv.state = io::to_string(link.live_state());
+      dv.diagnostics = d.plugin->diagnostics(d.index);
+      dv.changes = std::int64_t(c.count);
       m.devices.push_back(dv);
+      // Active: the device as its task's scans see it is not online.
+      const io::DeviceState seen = link.state();
+      if (seen != io::DeviceState::Online) {
+        softplc_hmi::alarm_t a = c.count && !c.torn
+                                     ? device_alarm(rt, d, c.from, c.to, c.scan, c.time, true)
+                                     : device_alarm(rt, d, seen, seen, 0, TIME(0), false);
+        if (!c.count) a.text = std::string(io::to_string(seen)) + " since the start";
+        if (c.count && c.torn) a.text = io::to_string(seen);
+        m.alarms.push_back(a);
+      }
     }
     for (const auto& t : rt.tasks()) {
       const TaskStats s = t->stats.snapshot();
-      if (!s.stop_reason.empty()) m.alarms.push_back({"task " + t->name, s.stop_reason});
+      if (s.stop_reason.empty()) continue;
+      softplc_hmi::alarm_t a{};
+      a.source = "task " + t->name;
+      a.text = s.stop_reason;
+      a.kind = "task_stopped";
+      a.active = true;
+      a.task = t->name;
+      a.utime = m.utime;
+      m.alarms.push_back(a);
     }
   });
   m.n_devices = int(m.devices.size());

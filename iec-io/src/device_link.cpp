@@ -64,6 +64,40 @@ void DeviceLink::untrack(const RecordRequest* r) {
   unlock();
 }
 
+// A sequence count around the fields (no fences: ThreadSanitizer does not
+// model them). The odd count is stored before the fields, and each field's
+// release store keeps it ordered before; a reader that saw a field of this
+// change then sees the count changed on its second load.
+void DeviceLink::note_change(DeviceState from, DeviceState to, std::uint64_t scan, TIME now) {
+  const std::uint64_t seq = change_seq_.load(std::memory_order_relaxed);
+  change_seq_.store(seq + 1, std::memory_order_relaxed);
+  change_from_.store(static_cast<std::uint8_t>(from), std::memory_order_release);
+  change_to_.store(static_cast<std::uint8_t>(to), std::memory_order_release);
+  change_scan_.store(scan, std::memory_order_release);
+  change_time_ns_.store(now.count(), std::memory_order_release);
+  change_seq_.store(seq + 2, std::memory_order_release);
+}
+
+DeviceLink::StateChange DeviceLink::last_change() const {
+  StateChange c;
+  // Bounded: a change is rare, so a reader overlapping one retries at most
+  // a few times; after 1000 (the writer preempted mid-update) it says so.
+  for (int i = 0; i < 1000; ++i) {
+    const std::uint64_t s1 = change_seq_.load(std::memory_order_acquire);
+    if (s1 % 2) continue;
+    c.count = s1 / 2;
+    c.from = static_cast<DeviceState>(change_from_.load(std::memory_order_acquire));
+    c.to = static_cast<DeviceState>(change_to_.load(std::memory_order_acquire));
+    c.scan = change_scan_.load(std::memory_order_acquire);
+    c.time = TIME(change_time_ns_.load(std::memory_order_acquire));
+    if (change_seq_.load(std::memory_order_relaxed) == s1) return c;
+  }
+  c = StateChange{};
+  c.count = change_seq_.load(std::memory_order_acquire) / 2;
+  c.torn = true;
+  return c;
+}
+
 void DeviceLink::set_deferred(bool on) {
   lock();
   deferred_ = on;

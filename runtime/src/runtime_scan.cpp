@@ -59,7 +59,7 @@ ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
           .deliver_answered(static_cast<int>(t.order), [&](const io::RecordRequest& r) {
             for (ScanHooks* h : hooks_) h->on_answer(t, i, r);
           });
-    for (DeviceRuntime* d : t.devices) d->plugin->link(d->index).latch_state();
+    for (DeviceRuntime* d : t.devices) d->plugin->link(d->index).latch_state(t.cycle + 1, now);
     io::DeviceLink::set_current_owner(static_cast<int>(t.order));
     for (ScanHooks* h : hooks_) h->after_latch(t, global_);
     t.image.copy_from(global_);

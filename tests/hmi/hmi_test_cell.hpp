@@ -54,8 +54,10 @@ struct HmiCell {
   std::map<std::string, int> index;  // path -> index
   std::vector<softplc_hmi::reply_t> replies;
 
-  explicit HmiCell(const std::string& hmi = kHmiSection, const std::string& key_file = "") {
-    std::string text = demo_yaml() + hmi;
+  // `base`: the cell without its hmi: section (default: the demo cell).
+  explicit HmiCell(const std::string& hmi = kHmiSection, const std::string& key_file = "",
+                   const std::string& base = demo_yaml()) {
+    std::string text = base + hmi;
     if (!key_file.empty()) text += "  key_file: " + key_file + "\n";
     cfg = plc::parse_cell_config(text, "hmi_test.yaml");
     bridge = std::make_unique<plc::hmi::Bridge>(cfg.hmi, cfg.file);

@@ -62,6 +62,8 @@ TEST(HmiCheckedDecode, ShapesMatchTheLcmTypes) {
   g.n_devices = 2;
   g.alarms.resize(1);
   g.n_alarms = 1;
+  softplc_hmi::alarm_t a{};
+  a.kind = "device_lost";
   auto round_trip = [](const auto& m) {
     auto b = encoded(m);
     std::remove_cvref_t<decltype(m)> out;
@@ -76,6 +78,7 @@ TEST(HmiCheckedDecode, ShapesMatchTheLcmTypes) {
   round_trip(s);
   round_trip(d);
   round_trip(g);
+  round_trip(a);
 }
 
 // A reply whose count is -1 or 2^31-1 with one value behind it: lcm-gen's

@@ -24,6 +24,7 @@
 #include "plc/hmi/channels.hpp"
 #include "plc/hmi/command_auth.hpp"
 #include "plc/hmi/scan_snapshot.hpp"
+#include "softplc_hmi/alarm_t.hpp"
 #include "softplc_hmi/cell_description_t.hpp"
 #include "softplc_hmi/command_t.hpp"
 #include "softplc_hmi/reply_t.hpp"
@@ -67,12 +68,17 @@ class Bridge {
   void stop();
 
   // One round on the caller's thread (tests, virtual time): handles every
-  // command waiting (up to a bound) and publishes the snapshots the scans
-  // have filled since the last round. Returns the values_t messages sent.
+  // command waiting (up to a bound), publishes the snapshots the scans
+  // have filled since the last round and an alarm for each device state
+  // change since then. Returns the values_t messages sent.
   int service(int wait_ms = 0);
   void publish_stats();
   void publish_diagnostics();
   void publish_description();
+  // Publishes an alarm_t on PREFIX_ALARM for every device whose state, as
+  // its task's scans saw it, changed since the last call (lost, back), and
+  // remembers it for diagnostics_t. Returns how many.
+  int publish_device_alarms();
 
   [[nodiscard]] BridgeCounters counters() const;
   // What describe publishes (empty before attach()).
@@ -86,6 +92,7 @@ class Bridge {
 
  private:
   struct Layout;  // what attach() resolved for one runtime
+  struct DeviceSeen;
   void run();
   void flush_replies();
   template <class F>

@@ -8,12 +8,13 @@
 namespace plc::hmi {
 
 struct Channels {
-  std::string values, trace, stats, diag, desc, cmd, reply;
+  std::string values, trace, stats, diag, alarm, desc, cmd, reply;
   explicit Channels(const std::string& prefix)
       : values(prefix + "_VALUES"),
         trace(prefix + "_TRACE"),
         stats(prefix + "_STATS"),
         diag(prefix + "_DIAG"),
+        alarm(prefix + "_ALARM"),
         desc(prefix + "_DESC"),
         cmd(prefix + "_CMD"),
         reply(prefix + "_REPLY") {}

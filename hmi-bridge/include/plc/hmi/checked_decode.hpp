@@ -20,6 +20,7 @@
 #include <lcm/lcm-cpp.hpp>
 #include <string>
 
+#include "softplc_hmi/alarm_t.hpp"
 #include "softplc_hmi/cell_description_t.hpp"
 #include "softplc_hmi/command_t.hpp"
 #include "softplc_hmi/diagnostics_t.hpp"
@@ -50,7 +51,8 @@ template <> inline const char* shape_of<softplc_hmi::values_t>() { return "lslll
 template <> inline const char* shape_of<softplc_hmi::trace_sample_t>() { return "llsn*i*d"; }
 template <> inline const char* shape_of<softplc_hmi::stats_t>() { return "lsn*(slllllls)lllllll"; }
 template <> inline const char* shape_of<softplc_hmi::cell_description_t>() { return "lslbbn*(ssssbbb)"; }
-template <> inline const char* shape_of<softplc_hmi::diagnostics_t>() { return "lsn*(sssssii)n*(ss)"; }
+template <> inline const char* shape_of<softplc_hmi::diagnostics_t>() { return "lsn*(sssssiissl)n*(sssbssslll)"; }
+template <> inline const char* shape_of<softplc_hmi::alarm_t>() { return "sssbssslll"; }
 // clang-format on
 
 // Decodes data as T only when its encoding is plausible. Never throws.

@@ -11,6 +11,7 @@
 #include <cstdint>
 
 #include "plc/io/record_request.hpp"
+#include "plc/types.hpp"
 
 namespace plc::io {
 
@@ -46,8 +47,28 @@ class DeviceLink {
   // current owner) and is delivered at that task's next latch.
   void set_deferred(bool on);
   static void set_current_owner(int owner);
-  // At a latch of task `owner`: copy the plugin's state for FBs.
-  void latch_state() { latched_state_.store(live_state(), std::memory_order_release); }
+  // At a latch of the owning task: copy the plugin's state for FBs. A
+  // change is noted with that scan's number (1 = the task's first) and PLC
+  // time, for readers on other threads (the HMI bridge's device alarms):
+  // however briefly a state lasts, a scan that saw it is counted. The scan
+  // thread pays a compare when nothing changed.
+  void latch_state(std::uint64_t scan = 0, TIME now = TIME(0)) {
+    const DeviceState s = live_state();
+    const DeviceState before = latched_state_.load(std::memory_order_relaxed);
+    if (s == before) return;
+    latched_state_.store(s, std::memory_order_release);
+    note_change(before, s, scan, now);
+  }
+  // The last change latch_state() noted, and how many it noted in all
+  // (count 0: none). Lock-free, from any thread.
+  struct StateChange {
+    std::uint64_t count = 0;
+    DeviceState from = DeviceState::Offline, to = DeviceState::Offline;
+    std::uint64_t scan = 0;
+    TIME time{0};
+    bool torn = false;  // the writer was mid-update at every try: only count is known
+  };
+  [[nodiscard]] StateChange last_change() const;
   // At a latch of task `owner`: make the parked answers of its requests
   // visible, calling f(request) for each (recording), in submission order.
   // Requests finished without parking (refusals, replay) are forgotten.
@@ -109,6 +130,13 @@ class DeviceLink {
   mutable std::atomic_flag lock_ = ATOMIC_FLAG_INIT;
   std::atomic<DeviceState> state_{DeviceState::Offline};
   std::atomic<DeviceState> latched_state_{DeviceState::Offline};
+  // The last noted change, under a sequence count (odd while the one
+  // writer, the owning task's scan thread, updates it; changes = seq / 2).
+  void note_change(DeviceState from, DeviceState to, std::uint64_t scan, TIME now);
+  std::atomic<std::uint64_t> change_seq_{0};
+  std::atomic<std::uint8_t> change_from_{0}, change_to_{0};
+  std::atomic<std::uint64_t> change_scan_{0};
+  std::atomic<std::int64_t> change_time_ns_{0};
 };
 
 }  // namespace plc::io
