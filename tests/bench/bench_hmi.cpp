@@ -27,6 +27,7 @@
 #include "plc/hmi/bridge.hpp"
 #include "plc/hmi/checked_decode.hpp"
 #include "plc/program.hpp"
+#include "plc_bench/collector.hpp"
 #include "softplc_hmi/values_t.hpp"
 
 namespace {
@@ -151,18 +152,6 @@ void BM_ScanAndPublish1000(benchmark::State& state) {
 }
 BENCHMARK(BM_ScanAndPublish1000)->MinTime(1.0)->UseRealTime();
 
-class Collector : public benchmark::ConsoleReporter {
- public:
-  void ReportRuns(const std::vector<Run>& runs) override {
-    ConsoleReporter::ReportRuns(runs);
-    for (const Run& r : runs) {
-      cpu[r.benchmark_name()] = r.GetAdjustedCPUTime();
-      wall[r.benchmark_name()] = r.GetAdjustedRealTime();
-    }
-  }
-  std::map<std::string, double> cpu, wall;
-};
-
 // Real time: 3 s of a 1 ms task with the bridge thread publishing at
 // 1000/s; each arrival's delay after the scan's copy. Returns the transport
 // used and the delays in microseconds.
@@ -278,23 +267,14 @@ AbabResult abab_run(int pairs, int scans_per_block) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  Collector c;
-  c.SetOutputStream(&std::cerr);
-  c.SetErrorStream(&std::cerr);
-  benchmark::RunSpecifiedBenchmarks(&c);
-  benchmark::Shutdown();
-  auto get = [](const std::map<std::string, double>& m, const char* prefix) {
-    for (const auto& [k, v] : m)
-      if (k.rfind(prefix, 0) == 0) return v;
-    return 0.0;
-  };
-  const double base = get(c.cpu, "BM_ScanNoBridge");
+  plc::bench::Collector c;
+  if (!plc::bench::run_benchmarks(argc, argv, c)) return 1;
+  const double base = c.cpu("BM_ScanNoBridge");
   std::printf("hmi_scan_1000_vars_no_bridge: %.0f ns\n", base);
-  std::printf("hmi_scan_cost_idle: %.0f ns/scan\n", get(c.cpu, "BM_ScanBridgeIdle") - base);
-  std::printf("hmi_scan_cost_1000_vars: %.0f ns/scan\n", get(c.cpu, "BM_SnapshotCopy1000"));
-  std::printf("hmi_scan_with_copy_1000_vars: %.0f ns\n", get(c.cpu, "BM_ScanBridgeCopy1000"));
-  const double pub = get(c.wall, "BM_ScanAndPublish1000") - get(c.wall, "BM_ScanNoBridge");
+  std::printf("hmi_scan_cost_idle: %.0f ns/scan\n", c.cpu("BM_ScanBridgeIdle") - base);
+  std::printf("hmi_scan_cost_1000_vars: %.0f ns/scan\n", c.cpu("BM_SnapshotCopy1000"));
+  std::printf("hmi_scan_with_copy_1000_vars: %.0f ns\n", c.cpu("BM_ScanBridgeCopy1000"));
+  const double pub = c.wall("BM_ScanAndPublish1000") - c.wall("BM_ScanNoBridge");
   if (pub > 0) std::printf("hmi_publish_max_rate: %.0f snapshots/s\n", 1e9 / pub);
   const AbabResult ab = abab_run(60, 5000);
   std::fprintf(stderr, "bench_hmi: bridge on/off, %d ABAB pairs of 5000 scans, scan-thread CPU\n",
