@@ -44,10 +44,8 @@ void ProfinetPlugin::configure(const io::ModelParams& p) {
   if (!parsed) throw io::ParamError("ip", "'" + ip + "' is not an IPv4 address (a.b.c.d)");
   ip_ = *parsed;
   cfg_.station_name = p.get_string("station_name", cfg_.station_name);
-  if (!valid_station_name(cfg_.station_name))
-    throw io::ParamError("station_name", "'" + cfg_.station_name +
-                                             "' is not a valid PROFINET station name (a-z 0-9 "
-                                             "and '-', labels of 1..63 separated by '.')");
+  if (const std::string why = station_name_problem(cfg_.station_name); !why.empty())
+    throw io::ParamError("station_name", why);
   // Send clock: a power of two x 31.25 us from 250 us to 4 ms (RT_CLASS_1
   // SendClockFactor 8..128; fieldbus-masters.md §1 item 2).
   const TIME clock = p.get_time("send_clock", milliseconds(1), std::chrono::microseconds(250),
@@ -82,14 +80,15 @@ io::DeviceSizes ProfinetPlugin::add_device(const io::DeviceSpec& spec) {
   // The device's own model (a registered one): its parameters are checked
   // here, its cyclic sizes must be the description's, and with simulate it
   // is the device behind the simulated PnDevice.
-  io::ModelParams model_params = model_params_of(spec.params);
+  io::ModelParams model_params = device_model_params(spec.params);
   std::unique_ptr<io::DeviceModel> model;
   if (const auto* f = io::DeviceModelRegistry::instance().find(spec.model)) {
     model = (*f)(model_params);
-    const auto sizes = io_sizes(d.desc);
-    if (model->input_size() != sizes.input_bytes || model->output_size() != sizes.output_bytes)
-      throw io::ParamError("", "the description's IO data (" + std::to_string(sizes.input_bytes) +
-                                   " in, " + std::to_string(sizes.output_bytes) +
+    if (model->input_size() != d.desc.input_size() ||
+        model->output_size() != d.desc.output_size())
+      throw io::ParamError("", "the description's IO data (" +
+                                   std::to_string(d.desc.input_size()) + " in, " +
+                                   std::to_string(d.desc.output_size()) +
                                    " out) is not the model's (" +
                                    std::to_string(model->input_size()) + " in, " +
                                    std::to_string(model->output_size()) + " out)");
@@ -113,8 +112,7 @@ io::DeviceSizes ProfinetPlugin::add_device(const io::DeviceSpec& spec) {
   controller_->add(d);  // throws std::invalid_argument: not connectable
   entries_.push_back(d);
   sim_models_.push_back(simulate_ ? std::move(model) : nullptr);
-  const auto sizes = io_sizes(d.desc);
-  return {sizes.input_bytes, sizes.output_bytes};
+  return {d.desc.input_size(), d.desc.output_size()};
 }
 
 void ProfinetPlugin::open() {

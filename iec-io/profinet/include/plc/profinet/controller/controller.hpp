@@ -39,6 +39,10 @@
 
 namespace plc::profinet {
 
+struct RpcPdu;
+struct NdrResponse;
+enum class RpcCall : std::uint8_t;
+
 struct ControllerConfig {
   std::string station_name = "softplc";     // CMInitiatorStationName
   std::uint16_t vendor_id = 0x0000;         // in our CMInitiatorObjectUUID
@@ -103,6 +107,8 @@ class Controller {
   [[nodiscard]] TIME next_due() const { return next_due_; }
   // Sends a Release for every AR (stop); answers are not waited for.
   void release_all(TIME now);
+  // Release requests still waiting for their answer.
+  [[nodiscard]] bool releasing() const;
 
   // Cyclic data (callers synchronise: the plugin holds its mutex). Inputs
   // are zero while the device is not Online.
@@ -121,9 +127,23 @@ class Controller {
 
  private:
   void on_ethernet(std::span<const std::uint8_t> frame, TIME now);
+  void on_alarm(Device& d, std::uint16_t frame_id, std::span<const std::uint8_t> pdu, TIME now);
   void on_udp(std::span<const std::uint8_t> data, Ipv4 ip, std::uint16_t port, TIME now);
+  void on_rpc_request(Device& d, const RpcPdu& pdu, Ipv4 ip, std::uint16_t port, TIME now);
+  void on_rpc_response(Device& d, RpcCall call, const NdrResponse& res, TIME now);
   void run_device(Device& d, TIME now);
+  void identify(Device& d, TIME now);
+  void dcp_set(Device& d, TIME now, bool name);
+  void connect(Device& d, TIME now);
+  void write_startup(Device& d, TIME now);
+  void prm_end(Device& d, TIME now);
+  void release(Device& d, TIME now);
+  void call(Device& d, RpcCall call, std::uint16_t opnum, const std::vector<std::uint8_t>& args,
+            TIME now, TIME timeout);
+  void start_cyclic(Device& d, TIME now);
+  void stop_cyclic(Device& d);
   void send_cyclic(Device& d, TIME now);
+  void drop_link(Device& d);
   void lose(Device& d, TIME now, const std::string& why);
   void fault(Device& d, TIME now, const std::string& why);
   void changed(const Device& d);
