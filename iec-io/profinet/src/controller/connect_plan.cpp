@@ -9,7 +9,7 @@
 // 3..15 and max alarm data 200..1432.
 #include <stdexcept>
 
-#include "controller_device.hpp"
+#include "plc/profinet/controller/connect_plan.hpp"
 
 namespace plc::profinet {
 
