@@ -1,8 +1,8 @@
+#include "plc/profinet/link/address.hpp"
+
 #include <arpa/inet.h>
 
 #include <cstdio>
-
-#include "plc/profinet/link/address.hpp"
 
 namespace plc::profinet {
 

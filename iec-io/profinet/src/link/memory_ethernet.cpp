@@ -39,7 +39,7 @@ class MemoryEthernetPort final : public EthernetPort {
   }
   Mac mac() const override { return mac_; }
   bool send(std::span<const std::uint8_t> frame) override {
-    if (frame.size() < 14 || frame.size() > kMaxFrame) {
+    if (frame.size() < 14 || frame.size() > kMaxFrameLength) {
       counters_.send_failed.fetch_add(1, std::memory_order_relaxed);
       return false;
     }
@@ -78,8 +78,9 @@ std::unique_ptr<EthernetPort> MemoryEthernet::port(Mac mac) {
     std::lock_guard lock(impl_->mutex);
     do {
       const std::uint64_t n = impl_->next_mac++;
-      mac = {0x02, 0x00, std::uint8_t(n >> 24), std::uint8_t(n >> 16), std::uint8_t(n >> 8),
-             std::uint8_t(n)};
+      mac = {
+          0x02,           0x00, std::uint8_t(n >> 24), std::uint8_t(n >> 16), std::uint8_t(n >> 8),
+          std::uint8_t(n)};
     } while (impl_->endpoints.count(key_of(mac)) != 0);
   }
   return std::make_unique<MemoryEthernetPort>(impl_, mac);

@@ -38,8 +38,8 @@ class MemorySegment {
 
   std::mutex mutex;
   std::condition_variable arrived;
-  std::map<std::uint64_t, Endpoint> endpoints;  // by endpoint key
-  std::map<Sender, Faults, Less> faults;             // by sender address
+  std::map<std::uint64_t, Endpoint> endpoints;            // by endpoint key
+  std::map<Sender, Faults, Less> faults;                  // by sender address
   std::deque<std::pair<std::uint64_t, Message>> delayed;  // (receiver key, message)
   std::chrono::nanoseconds now{0};
   std::uint64_t carried = 0;
@@ -127,8 +127,8 @@ class MemorySegment {
 
   // Takes the next message for `key` into buf, waiting up to `timeout`.
   // Returns its length or 0; a message too long for buf is dropped.
-  std::size_t take(std::uint64_t key, std::span<std::uint8_t> buf,
-                   std::chrono::nanoseconds timeout, Extra* extra) {
+  std::size_t take(std::uint64_t key, std::span<std::uint8_t> buf, std::chrono::nanoseconds timeout,
+                   Extra* extra) {
     std::unique_lock lock(mutex);
     auto& ep = endpoints.at(key);
     auto ready = [&] { return !ep.queue.empty(); };

@@ -59,8 +59,8 @@ class MemoryUdpPort final : public UdpPort {
       has_exact = net_->endpoints.count(exact) != 0;
     }
     const std::uint64_t target = has_exact ? exact : any;
-    const bool ok = net_->send(ip_, key_, std::move(m),
-                               [&](std::uint64_t k, auto&) { return k == target; });
+    const bool ok =
+        net_->send(ip_, key_, std::move(m), [&](std::uint64_t k, auto&) { return k == target; });
     (ok ? counters_.sent : counters_.send_failed).fetch_add(1, std::memory_order_relaxed);
     return ok;
   }

@@ -1,8 +1,10 @@
 #include "plc/profinet/link/raw_ethernet_port.hpp"
 
+#include <arpa/inet.h>
 #include <linux/if_packet.h>
 #include <net/ethernet.h>
 #include <net/if.h>
+#include <net/if_arp.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -29,8 +31,8 @@ RawEthernetPort::RawEthernetPort(const std::string& interface, RawEthernetOption
     : interface_(interface) {
   const std::string where = "raw Ethernet on '" + interface + "'";
   if (interface.empty() || interface.size() >= IFNAMSIZ)
-    fail(-1, where + ": not an interface name (1.." + std::to_string(IFNAMSIZ - 1) +
-                 " characters)");
+    fail(-1,
+         where + ": not an interface name (1.." + std::to_string(IFNAMSIZ - 1) + " characters)");
   ifindex_ = static_cast<int>(::if_nametoindex(interface.c_str()));
   if (ifindex_ == 0)
     fail(-1, where + ": no such interface in this network namespace (`ip link` lists them)");
@@ -38,15 +40,15 @@ RawEthernetPort::RawEthernetPort(const std::string& interface, RawEthernetOption
   if (fd_ < 0) {
     const int e = errno;
     if (e == EPERM || e == EACCES)
-      fail(-1, where + ": no permission for a raw socket: PROFINET needs CAP_NET_RAW (run as "
-                       "root, or `setcap cap_net_raw,cap_net_admin+ep` on the executable)");
+      fail(-1, where +
+                   ": no permission for a raw socket: PROFINET needs CAP_NET_RAW (run as "
+                   "root, or `setcap cap_net_raw,cap_net_admin+ep` on the executable)");
     fail(-1, where + ": socket: " + why(e));
   }
   ifreq ifr{};
   std::memcpy(ifr.ifr_name, interface.c_str(), interface.size());
   if (::ioctl(fd_, SIOCGIFHWADDR, &ifr) != 0) fail(fd_, where + ": no MAC address: " + why(errno));
-  if (ifr.ifr_hwaddr.sa_family != ARPHRD_ETHER)
-    fail(fd_, where + ": not an Ethernet interface");
+  if (ifr.ifr_hwaddr.sa_family != ARPHRD_ETHER) fail(fd_, where + ": not an Ethernet interface");
   std::memcpy(mac_.data(), ifr.ifr_hwaddr.sa_data, 6);
 
   sockaddr_ll sll{};
@@ -63,7 +65,7 @@ RawEthernetPort::RawEthernetPort(const std::string& interface, RawEthernetOption
   mr.mr_ifindex = ifindex_;
   mr.mr_type = PACKET_MR_MULTICAST;
   mr.mr_alen = 6;
-  std::memcpy(mr.mr_address, kDcpMulticast.data(), 6);
+  std::memcpy(mr.mr_address, kDcpIdentifyMulticast.data(), 6);
   if (::setsockopt(fd_, SOL_PACKET, PACKET_ADD_MEMBERSHIP, &mr, sizeof mr) != 0)
     fail(fd_, where + ": cannot join the DCP multicast 01:0e:cf:00:00:00: " + why(errno));
   if (options.promiscuous) {
@@ -80,9 +82,9 @@ RawEthernetPort::~RawEthernetPort() {
 }
 
 bool RawEthernetPort::send(std::span<const std::uint8_t> frame) {
-  const bool ok = frame.size() >= 14 && frame.size() <= kMaxFrame &&
-                  ::send(fd_, frame.data(), frame.size(), MSG_DONTWAIT) ==
-                      static_cast<ssize_t>(frame.size());
+  const bool ok =
+      frame.size() >= 14 && frame.size() <= kMaxFrameLength &&
+      ::send(fd_, frame.data(), frame.size(), MSG_DONTWAIT) == static_cast<ssize_t>(frame.size());
   (ok ? counters_.sent : counters_.send_failed).fetch_add(1, std::memory_order_relaxed);
   return ok;
 }
@@ -95,7 +97,7 @@ std::size_t RawEthernetPort::receive(std::span<std::uint8_t> buf,
     // The MACs go to `head`, the rest of the frame to buf + 16: a tag the
     // kernel took off then goes back in front of the EtherType without
     // moving the frame. (So an untagged frame needs 4 bytes more room than
-    // its length: a kMaxFrame buffer holds any frame.)
+    // its length: a kMaxFrameLength buffer holds any frame.)
     std::uint8_t head[12];
     iovec iov[2] = {{head, sizeof head},
                     {buf.data() + (buf.size() >= 16 ? 16 : buf.size()),
