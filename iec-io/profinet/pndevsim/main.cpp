@@ -46,7 +46,7 @@
 
 #include "plc/iec_literal.hpp"
 #include "plc/io/device_model.hpp"
-#include "plc/profinet/description/builtin.hpp"
+#include "plc/profinet/description/builtin_descriptions.hpp"
 #include "plc/profinet/device/pn_device.hpp"
 #include "plc/profinet/link/raw_ethernet_port.hpp"
 #include "plc/profinet/link/socket_udp_port.hpp"
@@ -105,7 +105,7 @@ std::optional<pn::PnioStatus> parse_status(const std::string& s) {
     if (d < 0) return std::nullopt;
     v = v << 4 | static_cast<std::uint32_t>(d);
   }
-  return pn::PnioStatus::from_u32(v);
+  return pn::PnioStatus::from(v);
 }
 
 struct ScheduledAlarm {
@@ -196,7 +196,7 @@ void realtime_thread(pn::EthernetPort& eth, std::vector<Hosted>& hosted, Mailbox
   sched_param sp{};
   sp.sched_priority = 80;
   (void)pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);  // where permitted
-  std::array<std::uint8_t, pn::kMaxFrame> buf{};
+  std::array<std::uint8_t, pn::kMaxFrameLength> buf{};
   int toggles_seen = 0;
   std::int64_t next = mono_ns();
   std::vector<std::string> cmds;

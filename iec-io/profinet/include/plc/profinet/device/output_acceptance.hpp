@@ -20,7 +20,8 @@
 #include <cstdint>
 #include <optional>
 
-#include "plc/profinet/link/ethernet_port.hpp"
+#include "plc/profinet/link/address.hpp"
+#include "plc/profinet/wire/cyclic.hpp"  // cycle_counter_advanced
 
 namespace plc::profinet {
 
@@ -63,12 +64,5 @@ class OutputAcceptance {
   std::array<std::uint64_t, kOutputRejectKinds> rejected_{};
   std::uint64_t accepted_ = 0;
 };
-
-// p-net pf_cpm_check_cycle: `now` is new when it lies 1..61440 counts after
-// `prev` (mod 2^16).
-[[nodiscard]] constexpr bool cycle_counter_advanced(std::uint16_t prev, std::uint16_t now) {
-  const auto diff = static_cast<std::uint16_t>(now - prev);
-  return diff >= 1 && diff <= 61440;
-}
 
 }  // namespace plc::profinet

@@ -49,21 +49,23 @@
 #include "plc/io/device_model.hpp"
 #include "plc/profinet/description/device_description.hpp"
 #include "plc/profinet/device/output_acceptance.hpp"
-#include "plc/profinet/device/pnio_status.hpp"
 #include "plc/profinet/link/ethernet_port.hpp"
 #include "plc/profinet/link/udp_port.hpp"
+#include "plc/profinet/wire/blocks.hpp"
+#include "plc/profinet/wire/dcp.hpp"
+#include "plc/profinet/wire/ethernet.hpp"
+#include "plc/profinet/wire/rpc.hpp"
 
 namespace plc::profinet {
 
 struct PnDeviceConfig {
   DeviceDescription description;  // station name, IP, idents, modules
   std::optional<Mac> mac;         // our source MAC; default: the port's
-  Ipv4 netmask{0xFFFFFF00};
-  Ipv4 gateway{0};
   std::chrono::nanoseconds idle_step = std::chrono::milliseconds(1);
   std::chrono::nanoseconds app_ready_retry = std::chrono::milliseconds(100);
   int app_ready_retries = 30;  // then the AR is aborted
   bool hello_at_start = false;
+  bool vlan_tag = false;  // send cyclic frames with a priority-6 tag (VLAN 0)
 };
 
 // Fault switches (pndevsim: by config and at run time).
@@ -94,7 +96,8 @@ struct PnDeviceCounters {
   std::uint64_t writes = 0, reads = 0, record_errors = 0;
   std::uint64_t app_ready_sent = 0;
   std::uint64_t frames_sent = 0, frames_dropped_by_fault = 0;
-  std::uint64_t frames_received = 0, frames_unknown = 0;  // unknown FrameID / not for us
+  std::uint64_t frames_received = 0, frames_unknown = 0;  // to us / with an unknown FrameID
+  std::uint64_t frames_bad = 0;  // undecodable DCP, RTA or Ethernet header
   std::uint64_t data_hold_expired = 0;
   std::uint64_t alarms_sent = 0, alarm_repeats = 0, alarms_acked = 0;
   std::uint64_t releases = 0;
@@ -110,6 +113,10 @@ struct PnDeviceEvent {
 [[nodiscard]] std::string describe(const PnDeviceEvent& e);
 
 enum class AlarmKind : std::uint8_t { Diagnosis, Process };
+
+// DCP Identify answer delay: (MAC mod ResponseDelayFactor) x 10 ms, the
+// MAC's last two bytes taken as the number; none for a factor of 0 or 1.
+[[nodiscard]] std::chrono::nanoseconds dcp_response_delay(const Mac& mac, std::uint16_t factor);
 
 class PnDevice {
  public:
@@ -152,22 +159,47 @@ class PnDevice {
     std::chrono::nanoseconds due{0};
     std::vector<std::uint8_t> frame;
   };
+  struct Delayed {
+    std::chrono::nanoseconds due{0};
+    std::size_t length = 0;
+    std::array<std::uint8_t, kMaxFrameLength> frame{};
+  };
 
+  [[nodiscard]] bool quiet() const;
+  [[nodiscard]] DcpIdentity identity() const;
   void read_ethernet(std::chrono::nanoseconds now);
   void read_udp(std::chrono::nanoseconds now);
   void on_dcp(std::uint16_t frame_id, const Mac& src, std::span<const std::uint8_t> pdu,
               std::chrono::nanoseconds now);
-  void on_cyclic(std::span<const std::uint8_t> frame, std::chrono::nanoseconds now);
-  void on_alarm(std::uint16_t frame_id, std::span<const std::uint8_t> pdu,
+  void on_cyclic(std::span<const std::uint8_t> frame, const PnFrameView& v,
+                 std::chrono::nanoseconds now);
+  void on_alarm(std::uint16_t frame_id, const Mac& src, std::span<const std::uint8_t> pdu,
                 std::chrono::nanoseconds now);
   void on_rpc(std::span<const std::uint8_t> dgram, Ipv4 from, std::uint16_t port,
               std::chrono::nanoseconds now);
+  void on_app_ready_response(const RpcPdu& pdu, std::chrono::nanoseconds now);
+  PnioStatus serve_connect(std::span<const std::uint8_t> args, Ipv4 from,
+                           std::vector<std::uint8_t>& out, std::chrono::nanoseconds now);
+  std::optional<PnioStatus> setup_ar(const ConnectRequest& req, Ar& ar);
+  PnioStatus serve_release(std::span<const std::uint8_t> args, std::vector<std::uint8_t>& out,
+                           std::chrono::nanoseconds now);
+  PnioStatus serve_control(std::span<const std::uint8_t> args, std::vector<std::uint8_t>& out,
+                           std::chrono::nanoseconds now);
+  PnioStatus serve_write(std::span<const std::uint8_t> args, std::vector<std::uint8_t>& out);
+  PnioStatus serve_read(std::span<const std::uint8_t> args, std::uint16_t opnum,
+                        std::vector<std::uint8_t>& out);
+  PnioStatus write_one(const RecordRequestHeader& h, std::span<const std::uint8_t> data);
+  [[nodiscard]] bool has_subslot(std::uint32_t api, std::uint16_t slot, std::uint16_t subslot) const;
+  [[nodiscard]] bool ar_matches(const Uuid& ar_uuid) const;
+  void maybe_enter_data_exchange(std::chrono::nanoseconds now);
   void timers(std::chrono::nanoseconds now);
   void send_cyclic(std::chrono::nanoseconds now);
+  void flush_delayed(std::chrono::nanoseconds now);
   void step_model(std::chrono::nanoseconds now);
   void end_ar(ArEnd why, std::chrono::nanoseconds now);
   void emit(PnDeviceEvent e);
   void send_eth(std::span<const std::uint8_t> frame);
+  void send_udp(Ipv4 ip, std::uint16_t port, std::span<const std::uint8_t> data);
 
   PnDeviceConfig cfg_;
   std::unique_ptr<io::DeviceModel> model_;
@@ -183,15 +215,23 @@ class PnDevice {
 
   std::string station_name_;
   Ipv4 ip_;
+  Ipv4 netmask_;
+  Ipv4 gateway_;
   Mac mac_{};
   std::unique_ptr<Ar> ar_;
   std::vector<PendingDcp> dcp_out_;
   std::vector<std::uint8_t> from_plc_, to_plc_;
-  std::array<std::uint8_t, 1518> rx_{};
-  std::array<std::uint8_t, 1518> tx_{};
+  std::array<std::uint8_t, kMaxFrameLength> rx_{};
+  std::array<std::uint8_t, kMaxFrameLength> tx_{};
+  std::array<std::uint8_t, iocr::kMaxCSduLength> c_sdu_{};
+  std::vector<Delayed> delayed_;
+  std::size_t delayed_head_ = 0, delayed_tail_ = 0;
   std::vector<std::uint8_t> udp_rx_;
+  // The last RPC answer, for a repeated request.
+  std::vector<std::uint8_t> last_response_;
+  Uuid last_activity_;
+  std::uint32_t last_seq_ = 0;
   bool started_ = false;
-  bool hello_sent_ = false;
   std::chrono::nanoseconds last_step_{0};
   std::chrono::nanoseconds next_idle_step_{0};
 };
