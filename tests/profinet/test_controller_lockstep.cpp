@@ -82,8 +82,10 @@ TEST_F(Lockstep, FieldbusMasters1_6_OutputFramesStartAtTheConnectResponseWithGoo
   for (int i = 0; i < 500 && !loop.online(0); ++i) {
     const bool before = loop.ctrl->state(0) == ArState::Connecting;
     loop.step();
-    if (before && loop.ctrl->state(0) != ArState::Connecting && loop.ctrl->state(0) != ArState::Waiting)
+    if (before && loop.ctrl->state(0) != ArState::Connecting &&
+        loop.ctrl->state(0) != ArState::Waiting) {
       EXPECT_GE(loop.ctrl->counters(0).frames_out, 1u) << "no output frame with the Connect response";
+    }
     for (std::size_t n; (n = tap->receive(buf, std::chrono::nanoseconds(0))) > 0;) {
       PnFrameView v;
       if (first_checked || !decode_pn_frame(std::span(buf).first(n), v) ||

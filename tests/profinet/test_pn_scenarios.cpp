@@ -82,7 +82,7 @@ TEST(PnScenarios, E1_MdiPositioningRelativeAndAbsoluteOverProfinet) {
   auto body = [&] { fb(b.ctx, b.axis); };
   fb.EnableAxis = true;
   ASSERT_TRUE(b.until(body, [&] { return fb.AxisEnabled; }, 100));
-  auto execute = [&](INT mode) {
+  auto execute = [&](plc::INT mode) {
     fb.ModePos = mode;
     fb.ExecuteMode = false;
     b.run(body, 1);

@@ -23,6 +23,7 @@
 #include <thread>
 #include <vector>
 
+#include "plc/io/device_model.hpp"
 #include "plc/io/plugin.hpp"
 #include "plc/profinet/controller/controller.hpp"
 
