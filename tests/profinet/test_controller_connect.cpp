@@ -94,8 +94,7 @@ TEST(ControllerConnect, FieldbusMasters1_2_EveryPnetCheckHoldsForEverySendClockA
           cfg.data_hold_factor = dhf;
           SCOPED_TRACE(desc.station_name + " scf " + std::to_string(scf) + " rr " +
                        std::to_string(rr) + " dhf " + std::to_string(dhf));
-          const ConnectPlan p =
-              plan_connect(cfg, desc, mac, make_uuid_v4(1, 2), 1, 0xC000);
+          const ConnectPlan p = plan_connect(cfg, desc, mac, make_uuid_v4(1, 2), 1, 0xC000);
           expect_pnet_accepts(p.request, desc);
           // The encoded request decodes to the same blocks.
           ConnectRequest back;

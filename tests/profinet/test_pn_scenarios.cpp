@@ -81,7 +81,8 @@ TEST(PnScenarios, E1_MdiPositioningRelativeAndAbsoluteOverProfinet) {
   drive::SinaPos fb;
   auto body = [&] { fb(b.ctx, b.axis); };
   fb.EnableAxis = true;
-  ASSERT_TRUE(b.until(body, [&] { return fb.AxisEnabled; }, 100));
+  ASSERT_TRUE(b.until(
+      body, [&] { return fb.AxisEnabled; }, 100));
   auto execute = [&](plc::INT mode) {
     fb.ModePos = mode;
     fb.ExecuteMode = false;
@@ -93,11 +94,13 @@ TEST(PnScenarios, E1_MdiPositioningRelativeAndAbsoluteOverProfinet) {
   fb.Velocity = 6000;
   execute(1);
   EXPECT_EQ(fb.Status, drive::kStatusRunning);
-  ASSERT_TRUE(b.until(body, [&] { return fb.AxisPosOk; }, 3000));
+  ASSERT_TRUE(b.until(
+      body, [&] { return fb.AxisPosOk; }, 3000));
   EXPECT_NEAR(fb.ActPosition, 30000, 10);
   fb.Position = -10000;
   execute(2);
-  ASSERT_TRUE(b.until(body, [&] { return fb.AxisPosOk; }, 3000));
+  ASSERT_TRUE(b.until(
+      body, [&] { return fb.AxisPosOk; }, 3000));
   EXPECT_NEAR(fb.ActPosition, -10000, 10);
   EXPECT_EQ(b.loop.ctrl->counters(0).bad_total(), 0u);
 }
@@ -112,7 +115,8 @@ TEST(PnScenarios, E1_ParameterAccessOverProfinet) {
     fb.Start = false;
     b.run(body, 1);
     fb.Start = true;
-    const bool ok = b.until(body, [&] { return fb.Done || fb.Error; }, 200);
+    const bool ok = b.until(
+        body, [&] { return fb.Done || fb.Error; }, 200);
     fb.Start = false;
     return ok;
   };
@@ -158,13 +162,18 @@ TEST(PnScenarios, E1_AbsoluteEncoderInitAcrossTheResetOverProfinet) {
   fb.Execute = false;
   b.run(body, 1);
   fb.Execute = true;
-  ASSERT_TRUE(b.until(body, [&] { return fb.Done || fb.Error; }, 20000));
-  EXPECT_TRUE(fb.Done) << std::hex << fb.ErrorID.value;
+  ASSERT_TRUE(b.until(
+      body, [&] { return fb.Done || fb.Error; }, 20000));
+  EXPECT_TRUE(fb.Done) << std::hex << fb.ErrorID.value << " step " << std::dec << fb.Step << "; "
+                       << b.loop.ctrl->diagnostics(0) << "; device "
+                       << b.loop.devices[0].dev->describe();
   EXPECT_EQ(b.model->multi_turn(), 0);
-  ASSERT_TRUE(b.until(body, [&] { return b.axis.CommOk; }, 5000));
+  ASSERT_TRUE(b.until(
+      body, [&] { return b.axis.CommOk; }, 5000));
   EXPECT_NEAR(b.axis.ActPosition, 4567, 1);
   power.Enable = true;
-  ASSERT_TRUE(b.until(body, [&] { return power.Status; }, 200));
+  ASSERT_TRUE(b.until(
+      body, [&] { return power.Status; }, 200));
 }
 
 // ---- NORD PROFIsafe over PROFINET ------------------------------------------------
@@ -173,9 +182,9 @@ struct NordOverPn {
   NordOverPn() : loop(quick_retry()) {
     io::ModelParams p;
     const std::pair<const char*, const char*> kv[] = {
-        {"dip_address", "1"}, {"p840", "305441741"}, {"p802_1", "1"}, {"p802_2", "1"},
-        {"p802_3", "1"},      {"p802_4", "1"},       {"p802_5", "1"}, {"p802_6", "1"},
-        {"p802_7", "1"}};
+        {"dip_address", "1"}, {"p840", "305441741"}, {"p802_1", "1"},
+        {"p802_2", "1"},      {"p802_3", "1"},       {"p802_4", "1"},
+        {"p802_5", "1"},      {"p802_6", "1"},       {"p802_7", "1"}};
     for (auto [k, v] : kv) p.set(k, v);
     auto m = std::make_unique<plc::sim::NordProfisafeModel>(p);
     model = m.get();

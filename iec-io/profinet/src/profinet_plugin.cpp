@@ -48,8 +48,8 @@ void ProfinetPlugin::configure(const io::ModelParams& p) {
     throw io::ParamError("station_name", why);
   // Send clock: a power of two x 31.25 us from 250 us to 4 ms (RT_CLASS_1
   // SendClockFactor 8..128; fieldbus-masters.md §1 item 2).
-  const TIME clock = p.get_time("send_clock", milliseconds(1), std::chrono::microseconds(250),
-                                milliseconds(4));
+  const TIME clock =
+      p.get_time("send_clock", milliseconds(1), std::chrono::microseconds(250), milliseconds(4));
   const auto factor = clock.count() / 31250;
   if (factor * 31250 != clock.count() || (factor & (factor - 1)) != 0)
     throw io::ParamError("send_clock",
@@ -84,17 +84,15 @@ io::DeviceSizes ProfinetPlugin::add_device(const io::DeviceSpec& spec) {
   std::unique_ptr<io::DeviceModel> model;
   if (const auto* f = io::DeviceModelRegistry::instance().find(spec.model)) {
     model = (*f)(model_params);
-    if (model->input_size() != d.desc.input_size() ||
-        model->output_size() != d.desc.output_size())
-      throw io::ParamError("", "the description's IO data (" +
-                                   std::to_string(d.desc.input_size()) + " in, " +
-                                   std::to_string(d.desc.output_size()) +
+    if (model->input_size() != d.desc.input_size() || model->output_size() != d.desc.output_size())
+      throw io::ParamError("", "the description's IO data (" + std::to_string(d.desc.input_size()) +
+                                   " in, " + std::to_string(d.desc.output_size()) +
                                    " out) is not the model's (" +
                                    std::to_string(model->input_size()) + " in, " +
                                    std::to_string(model->output_size()) + " out)");
   } else if (simulate_) {
-    throw io::ParamError("", "simulate: true needs a device model, and '" + spec.model +
-                                 "' is none");
+    throw io::ParamError("",
+                         "simulate: true needs a device model, and '" + spec.model + "' is none");
   } else {
     model_params.reject_unknown();
   }
@@ -103,8 +101,8 @@ io::DeviceSizes ProfinetPlugin::add_device(const io::DeviceSpec& spec) {
       throw io::ParamError("station_name", "station name '" + d.desc.station_name +
                                                "' is already used by device '" + e.name + "'");
     if (e.desc.ip == d.desc.ip)
-      throw io::ParamError("ip", "IP " + to_string(d.desc.ip) + " is already used by device '" +
-                                     e.name + "'");
+      throw io::ParamError(
+          "ip", "IP " + to_string(d.desc.ip) + " is already used by device '" + e.name + "'");
   }
   if (d.desc.ip == ip_)
     throw io::ParamError("ip", "the device has the controller's IP " + to_string(ip_));
@@ -244,11 +242,11 @@ std::string ProfinetPlugin::diagnostics(std::size_t device) const {
   std::string s = controller_->diagnostics(device);
   if (mode_ == io::ClockMode::RealTime && wake_.wakes > 0) {
     char b[160];
-    std::snprintf(b, sizeof b, "; cyclic thread wake-ups %llu, late max %lld us avg %lld us, missed %llu",
-                  static_cast<unsigned long long>(wake_.wakes),
-                  static_cast<long long>(wake_.max_ns / 1000),
-                  static_cast<long long>(wake_.sum_ns / static_cast<std::int64_t>(wake_.wakes) / 1000),
-                  static_cast<unsigned long long>(wake_.missed));
+    std::snprintf(
+        b, sizeof b, "; cyclic thread wake-ups %llu, late max %lld us avg %lld us, missed %llu",
+        static_cast<unsigned long long>(wake_.wakes), static_cast<long long>(wake_.max_ns / 1000),
+        static_cast<long long>(wake_.sum_ns / static_cast<std::int64_t>(wake_.wakes) / 1000),
+        static_cast<unsigned long long>(wake_.missed));
     s += b;
   }
   return s;

@@ -21,9 +21,9 @@ struct DeviceAlarm {
   std::uint32_t count = 0;  // alarms reported since start; 0 = none yet
   std::uint16_t type = 0;   // AlarmType (1 = diagnosis, 2 = process, ...)
   std::uint16_t slot = 0, subslot = 0;
-  std::uint16_t usi = 0;    // user structure identifier (0x8000 = channel diagnosis)
-  std::uint32_t data = 0;   // first 4 bytes of the alarm item after the USI, big-endian
-  bool appears = true;      // false: the diagnosis disappeared (alarm specifier)
+  std::uint16_t usi = 0;   // user structure identifier (0x8000 = channel diagnosis)
+  std::uint32_t data = 0;  // first 4 bytes of the alarm item after the USI, big-endian
+  bool appears = true;     // false: the diagnosis disappeared (alarm specifier)
 };
 
 enum class DeviceState : std::uint8_t {

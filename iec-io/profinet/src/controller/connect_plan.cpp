@@ -7,9 +7,9 @@
 // FrameSendOffset, DataHoldFactor 1..0x1E00, C_SDU 40..1440, input FrameID
 // in 0xC000..0xF7FF, AlarmCR LT 0x8892 with timeout factor 1..100, retries
 // 3..15 and max alarm data 200..1432.
-#include <stdexcept>
-
 #include "plc/profinet/controller/connect_plan.hpp"
+
+#include <stdexcept>
 
 namespace plc::profinet {
 
@@ -18,8 +18,8 @@ Uuid controller_object_uuid(const ControllerConfig& cfg) {
 }
 
 ConnectPlan plan_connect(const ControllerConfig& cfg, const DeviceDescription& desc,
-                         const Mac& controller_mac, const Uuid& ar_uuid,
-                         std::uint16_t session_key, std::uint16_t input_frame_id) {
+                         const Mac& controller_mac, const Uuid& ar_uuid, std::uint16_t session_key,
+                         std::uint16_t input_frame_id) {
   ConnectPlan p;
   ConnectRequest& r = p.request;
   r.ar.ar_type = ar::kTypeIocarSingle;
@@ -86,8 +86,8 @@ ConnectPlan plan_connect(const ControllerConfig& cfg, const DeviceDescription& d
   r.iocrs.push_back(iocr(iocr::kTypeInput, 1, input_frame_id, p.layout.input));
   // The output FrameID is the device's choice (it consumes the frames); we
   // propose the next one, the Connect response says which it took.
-  r.iocrs.push_back(iocr(iocr::kTypeOutput, 2, static_cast<std::uint16_t>(input_frame_id + 1),
-                         p.layout.output));
+  r.iocrs.push_back(
+      iocr(iocr::kTypeOutput, 2, static_cast<std::uint16_t>(input_frame_id + 1), p.layout.output));
 
   r.alarm_cr.alarm_cr_type = alarm_cr::kType;
   r.alarm_cr.lt = iocr::kLtProfinet;

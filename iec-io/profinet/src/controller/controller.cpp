@@ -274,9 +274,9 @@ void Controller::on_alarm(Device& d, std::uint16_t frame_id, std::span<const std
   Device::AlarmChannel& ch = d.alarm[high ? 1 : 0];
   const std::uint8_t type = p.header.pdu_type & 0x0F;
   if (type == rta::kTypeErr) {
-    return lose(d, now,
-                "the device aborted the AR (ERR-RTA, " +
-                    status_text(p.error.value_or(PnioStatus{})) + ")");
+    return lose(
+        d, now,
+        "the device aborted the AR (ERR-RTA, " + status_text(p.error.value_or(PnioStatus{})) + ")");
   }
   if (type == rta::kTypeAck || type == rta::kTypeData) {
     // Either acknowledges our AlarmAck.
@@ -304,8 +304,7 @@ void Controller::on_alarm(Device& d, std::uint16_t frame_id, std::span<const std
   a.slot = n.slot;
   a.subslot = n.subslot;
   a.usi = n.user_structure_identifier.value_or(0);
-  for (std::size_t i = 0; i < 4 && i < n.data.size(); ++i)
-    a.data = (a.data << 8) | n.data[i];
+  for (std::size_t i = 0; i < 4 && i < n.data.size(); ++i) a.data = (a.data << 8) | n.data[i];
   a.appears = n.alarm_type != alarm_type::kDiagnosisDisappears;
   d.link.post_alarm(a);
   char b[160];
@@ -328,21 +327,23 @@ void Controller::on_alarm(Device& d, std::uint16_t frame_id, std::span<const std
   ch.ack_frame = encode_alarm_ack(d.mac, eth_->mac(), h, ack_for(n));
   ch.ack_pending = true;
   ch.ack_tries = 1;
-  ch.ack_deadline = now + std::chrono::milliseconds(100) * d.plan.request.alarm_cr.rta_timeout_factor;
+  ch.ack_deadline =
+      now + std::chrono::milliseconds(100) * d.plan.request.alarm_cr.rta_timeout_factor;
   eth_->send(ch.ack_frame);
 }
 
 // ---- UDP: RPC responses and the device's ApplicationReady ---------------------
 
-void Controller::on_udp(std::span<const std::uint8_t> data, Ipv4 ip, std::uint16_t port,
-                        TIME now) {
+void Controller::on_udp(std::span<const std::uint8_t> data, Ipv4 ip, std::uint16_t port, TIME now) {
   RpcPdu pdu;
   Device* from = nullptr;
   for (auto& dp : devices_)
     if (dp->cfg.desc.ip == ip) from = dp.get();
   if (!decode_rpc(data, pdu)) {
-    if (from) bad(from->counters, BadFrame::Rpc);
-    else ++unmatched_;
+    if (from)
+      bad(from->counters, BadFrame::Rpc);
+    else
+      ++unmatched_;
     return;
   }
   if (!from) {
@@ -353,17 +354,17 @@ void Controller::on_udp(std::span<const std::uint8_t> data, Ipv4 ip, std::uint16
   const RpcHeader& h = pdu.header;
   if (h.packet_type == rpc::kRequest) return on_rpc_request(d, pdu, ip, port, now);
   if (h.activity != d.activity || d.call == RpcCall::None || h.sequence_number != d.call_seq)
-    return bad(d.counters, BadFrame::Rpc);  // late (after its timeout) or not ours
+    return bad(d.counters, BadFrame::Rpc);     // late (after its timeout) or not ours
   if (h.packet_type == rpc::kWorking) return;  // the device is busy with it: keep waiting
   const RpcCall call = d.call;
   d.call = RpcCall::None;
   NdrResponse res;
   if (h.packet_type != rpc::kResponse || !decode_ndr_response(pdu.body, h.little_endian, res)) {
     bad(d.counters, BadFrame::Rpc);
-    const std::string why = h.packet_type == rpc::kResponse
-                                ? "malformed RPC response"
-                                : "RPC " + std::string(h.packet_type == rpc::kReject ? "reject"
-                                                                                      : "fault");
+    const std::string why =
+        h.packet_type == rpc::kResponse
+            ? "malformed RPC response"
+            : "RPC " + std::string(h.packet_type == rpc::kReject ? "reject" : "fault");
     if (call == RpcCall::Read || call == RpcCall::RecordWrite) {
       ++d.counters.records_error;
       if (d.record) d.record->fail(io::RecordError::InvalidState);
@@ -404,15 +405,14 @@ void Controller::on_rpc_response(Device& d, RpcCall call, const NdrResponse& res
             for (const auto& s : m.submodules)
               if (s.state != submodule_state::kOk || m.state != module_state::kProperModule) {
                 char b[160];
-                std::snprintf(b, sizeof b,
-                              "the device's module differs from the description: API 0x%X slot "
-                              "%u subslot 0x%04X (module ident 0x%X, submodule ident 0x%X, state "
-                              "0x%04X)",
-                              static_cast<unsigned>(api.api), static_cast<unsigned>(m.slot),
-                              static_cast<unsigned>(s.subslot),
-                              static_cast<unsigned>(m.module_ident),
-                              static_cast<unsigned>(s.submodule_ident),
-                              static_cast<unsigned>(s.state));
+                std::snprintf(
+                    b, sizeof b,
+                    "the device's module differs from the description: API 0x%X slot "
+                    "%u subslot 0x%04X (module ident 0x%X, submodule ident 0x%X, state "
+                    "0x%04X)",
+                    static_cast<unsigned>(api.api), static_cast<unsigned>(m.slot),
+                    static_cast<unsigned>(s.subslot), static_cast<unsigned>(m.module_ident),
+                    static_cast<unsigned>(s.submodule_ident), static_cast<unsigned>(s.state));
                 ++d.counters.connect_errors;
                 release(d, now);
                 return fault(d, now, b);
@@ -435,11 +435,13 @@ void Controller::on_rpc_response(Device& d, RpcCall call, const NdrResponse& res
         std::string why = "start-up record write refused: " + status_text(res.status);
         for (const auto& s : wr.sub_results)
           if (!s.status.ok())
-            why += "; index 0x" + [&] {
-              char b[16];
-              std::snprintf(b, sizeof b, "%04X", s.index);
-              return std::string(b);
-            }() + " " + status_text(s.status);
+            why += "; index 0x" +
+                   [&] {
+                     char b[16];
+                     std::snprintf(b, sizeof b, "%04X", s.index);
+                     return std::string(b);
+                   }() +
+                   " " + status_text(s.status);
         release(d, now);
         return fault(d, now, why);
       }
@@ -465,8 +467,8 @@ void Controller::on_rpc_response(Device& d, RpcCall call, const NdrResponse& res
       if (!r) return;
       if (!res.status.ok()) {
         ++d.counters.records_error;
-        return r->fail(record_error_of(res.status), static_cast<std::uint16_t>(
-                                                        res.status.error_code1 >= 0xB0 ? 0 : 0));
+        return r->fail(record_error_of(res.status),
+                       static_cast<std::uint16_t>(res.status.error_code1 >= 0xB0 ? 0 : 0));
       }
       if (call == RpcCall::RecordWrite) {
         WriteResponse wr;
@@ -551,7 +553,8 @@ void Controller::run_device(Device& d, TIME now) {
     if (ch.ack_tries > d.plan.request.alarm_cr.rta_retries)
       return lose(d, now, "the device does not acknowledge our AlarmAck");
     ++ch.ack_tries;
-    ch.ack_deadline = now + std::chrono::milliseconds(100) * d.plan.request.alarm_cr.rta_timeout_factor;
+    ch.ack_deadline =
+        now + std::chrono::milliseconds(100) * d.plan.request.alarm_cr.rta_timeout_factor;
     eth_->send(ch.ack_frame);
   }
   switch (d.state) {
@@ -679,7 +682,8 @@ void Controller::write_startup(Device& d, TIME now) {
   std::vector<RecordWrite> records;
   for (const ModuleDescription& m : d.cfg.desc.modules)
     for (const SubmoduleDescription& s : m.submodules)
-      for (const StartupRecord& r : s.records) records.push_back({s.api, m.slot, s.subslot, r.index, r.data});
+      for (const StartupRecord& r : s.records)
+        records.push_back({s.api, m.slot, s.subslot, r.index, r.data});
   if (records.empty()) return prm_end(d, now);
   d.state = ArState::Writing;
   call(d, RpcCall::Write, rpc::kOpWrite,
@@ -705,10 +709,8 @@ void Controller::release(Device& d, TIME now) {
   c.ar_uuid = d.ar_uuid;
   c.session_key = d.session_key;
   c.command = control::kRelease;
-  if (d.call == RpcCall::Read || d.call == RpcCall::RecordWrite) {
-    if (d.record) d.record->fail(io::RecordError::NotReachable);
-    d.record = nullptr;
-  }
+  if (d.record) d.record->fail(io::RecordError::NotReachable);
+  d.record = nullptr;
   d.releasing = true;
   call(d, RpcCall::Release, rpc::kOpRelease, encode_control(c), now, cfg_.rpc_timeout);
 }
@@ -791,11 +793,9 @@ void Controller::send_cyclic(Device& d, TIME now) {
 // ---- loss, faults ---------------------------------------------------------------
 
 void Controller::drop_link(Device& d) {
-  if (d.call == RpcCall::Read || d.call == RpcCall::RecordWrite) {
-    if (d.record) d.record->fail(io::RecordError::NotReachable);
-    d.record = nullptr;
-    d.call = RpcCall::None;
-  }
+  if (d.record) d.record->fail(io::RecordError::NotReachable);  // the one in flight
+  d.record = nullptr;
+  if (d.call == RpcCall::Read || d.call == RpcCall::RecordWrite) d.call = RpcCall::None;
   for (io::RecordRequest* r = d.link.pop(); r; r = d.link.pop())
     r->fail(io::RecordError::NotReachable);
   std::fill(d.in.begin(), d.in.end(), 0);  // invalid inputs never look like data
@@ -837,8 +837,8 @@ std::string Controller::diagnostics(std::size_t i) const {
   std::string bad_text;
   for (int b = 0; b < static_cast<int>(BadFrame::kCount); ++b)
     if (c.bad[b])
-      bad_text += std::string(" ") + to_string(static_cast<BadFrame>(b)) + " " +
-                  std::to_string(c.bad[b]);
+      bad_text +=
+          std::string(" ") + to_string(static_cast<BadFrame>(b)) + " " + std::to_string(c.bad[b]);
   char buf[640];
   std::snprintf(
       buf, sizeof buf,
@@ -850,9 +850,8 @@ std::string Controller::diagnostics(std::size_t i) const {
       static_cast<unsigned long long>(c.bad_total()), bad_text.empty() ? "" : " (",
       bad_text.empty() ? "" : (bad_text.substr(1) + ")").c_str(),
       static_cast<unsigned long long>(c.connects),
-      static_cast<unsigned long long>(c.connect_errors),
-      static_cast<unsigned long long>(c.losses), static_cast<unsigned long long>(c.alarms),
-      static_cast<unsigned long long>(c.records_ok),
+      static_cast<unsigned long long>(c.connect_errors), static_cast<unsigned long long>(c.losses),
+      static_cast<unsigned long long>(c.alarms), static_cast<unsigned long long>(c.records_ok),
       static_cast<unsigned long long>(c.records_error),
       static_cast<unsigned long long>(c.records_timeout));
   std::string s = buf;

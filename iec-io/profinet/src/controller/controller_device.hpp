@@ -41,9 +41,9 @@ struct Controller::Device {
   std::uint16_t record_seq = 0;
   ConnectPlan plan;
   std::uint16_t input_frame_id = 0, output_frame_id = 0;
-  TIME interval{0};      // send interval of this AR (clock x its reduction ratio)
+  TIME interval{0};                // send interval of this AR (clock x its reduction ratio)
   std::uint16_t counter_step = 0;  // cycle counter per frame (31.25 us units)
-  bool cyclic = false;  // output frames running
+  bool cyclic = false;             // output frames running
   bool app_ready = false;
   TIME next_send{0};
   std::uint16_t cycle_counter = 0;

@@ -28,8 +28,8 @@ struct ConnectPlan {
 // checks each rule). Throws std::invalid_argument if the description cannot
 // be laid out in one RT_CLASS_1 frame.
 ConnectPlan plan_connect(const ControllerConfig& cfg, const DeviceDescription& desc,
-                         const Mac& controller_mac, const Uuid& ar_uuid,
-                         std::uint16_t session_key, std::uint16_t input_frame_id);
+                         const Mac& controller_mac, const Uuid& ar_uuid, std::uint16_t session_key,
+                         std::uint16_t input_frame_id);
 
 // The CMInitiatorObjectUUID of our controller (the ApplicationReady's
 // object UUID).

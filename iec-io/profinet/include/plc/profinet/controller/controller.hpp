@@ -44,16 +44,16 @@ struct NdrResponse;
 enum class RpcCall : std::uint8_t;
 
 struct ControllerConfig {
-  std::string station_name = "softplc";     // CMInitiatorStationName
-  std::uint16_t vendor_id = 0x0000;         // in our CMInitiatorObjectUUID
+  std::string station_name = "softplc";  // CMInitiatorStationName
+  std::uint16_t vendor_id = 0x0000;      // in our CMInitiatorObjectUUID
   std::uint16_t device_id = 0x0000;
-  std::uint16_t send_clock_factor = 32;     // x 31.25 us: 32 = 1 ms
-  std::uint16_t reduction_ratio = 1;        // send interval = send clock x ratio
-  std::uint16_t data_hold_factor = 3;       // watchdog: factor x send interval
+  std::uint16_t send_clock_factor = 32;               // x 31.25 us: 32 = 1 ms
+  std::uint16_t reduction_ratio = 1;                  // send interval = send clock x ratio
+  std::uint16_t data_hold_factor = 3;                 // watchdog: factor x send interval
   TIME dcp_timeout = std::chrono::milliseconds(500);  // identify / set answer window
   TIME rpc_timeout = std::chrono::milliseconds(500);  // one RPC request
-  TIME ready_timeout = std::chrono::seconds(5);  // PrmEnd -> ApplicationReady
-  TIME retry = std::chrono::seconds(1);          // before a lost/refused device is tried again
+  TIME ready_timeout = std::chrono::seconds(5);       // PrmEnd -> ApplicationReady
+  TIME retry = std::chrono::seconds(1);               // before a lost/refused device is tried again
   TIME record_timeout = std::chrono::seconds(2);
   [[nodiscard]] TIME send_interval() const {
     return std::chrono::nanoseconds(31250) * send_clock_factor * reduction_ratio;
@@ -61,11 +61,11 @@ struct ControllerConfig {
 };
 
 struct ControllerDevice {
-  std::string name;            // the cell's device name (logs)
-  DeviceDescription desc;      // station name, IP, slots
-  bool set_name = false;       // DCP Set NameOfStation to the device with `mac` first
-  bool set_ip = false;         // DCP Set IP (desc.ip) before connecting
-  Mac mac{};                   // for set_name: the device to name (as the TIA "assign name")
+  std::string name;        // the cell's device name (logs)
+  DeviceDescription desc;  // station name, IP, slots
+  bool set_name = false;   // DCP Set NameOfStation to the device with `mac` first
+  bool set_ip = false;     // DCP Set IP (desc.ip) before connecting
+  Mac mac{};               // for set_name: the device to name (as the TIA "assign name")
   // Where the FBs' record requests go (RecordRequest carries only the
   // index): by default the first submodule with IO data.
   std::uint32_t record_api = 0;

@@ -21,10 +21,10 @@ enum class BadFrame : std::uint8_t {
 const char* to_string(BadFrame b);
 
 struct DeviceCounters {
-  std::uint64_t frames_out = 0;   // cyclic output frames sent
-  std::uint64_t frames_in = 0;    // valid cyclic input frames taken
-  std::uint64_t late = 0;         // output frames sent a whole interval or more after due
-  std::uint64_t lost = 0;         // input frames missing (gaps in the device's cycle counter)
+  std::uint64_t frames_out = 0;  // cyclic output frames sent
+  std::uint64_t frames_in = 0;   // valid cyclic input frames taken
+  std::uint64_t late = 0;        // output frames sent a whole interval or more after due
+  std::uint64_t lost = 0;        // input frames missing (gaps in the device's cycle counter)
   std::uint64_t bad[static_cast<int>(BadFrame::kCount)] = {};
   std::uint64_t connects = 0;        // ARs established (ApplicationReady answered)
   std::uint64_t connect_errors = 0;  // Connect/Write/PrmEnd refused or timed out
