@@ -178,6 +178,11 @@ void ProfinetPlugin::stop() {
 void ProfinetPlugin::tick(TIME now) {
   std::lock_guard<std::mutex> lock(mutex_);
   last_now_ = now;
+  controller_->poll(now);
+  if (sim_.empty()) return;
+  // Simulated devices: they take the outputs just sent, answer, and the
+  // controller reads the answers at once, so FBs see a device's inputs one
+  // scan after their outputs, as over the sim plugin.
   for (auto& s : sim_) s->poll(now);
   controller_->poll(now);
 }
