@@ -15,11 +15,6 @@ namespace plc::profinet {
 // declare the same alias.
 using Mac = std::array<std::uint8_t, 6>;
 
-// The DCP multicast address every device listens on (Identify requests,
-// fieldbus-masters.md §1 item 1).
-inline constexpr Mac kDcpMulticast{0x01, 0x0E, 0xCF, 0x00, 0x00, 0x00};
-inline constexpr Mac kBroadcast{0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF};
-
 std::string to_string(const Mac& m);             // "01:0e:cf:00:00:00"
 std::optional<Mac> parse_mac(std::string_view);  // "01:0e:cf:00:00:00" or with '-'
 

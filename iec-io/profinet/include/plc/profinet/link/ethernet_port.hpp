@@ -10,13 +10,9 @@
 #include <span>
 
 #include "plc/profinet/link/address.hpp"
+#include "plc/profinet/wire/ethernet.hpp"  // kEtherTypeProfinet, kMaxFrameLength
 
 namespace plc::profinet {
-
-inline constexpr std::uint16_t kEtherTypeProfinet = 0x8892;
-inline constexpr std::uint16_t kEtherTypeVlan = 0x8100;
-// Largest frame a port delivers or sends: 1514 bytes + a 4-byte VLAN tag.
-inline constexpr std::size_t kMaxFrame = 1518;
 
 // Counters of one port; atomics so a diagnostics thread may read them while
 // the real-time thread sends and receives.
