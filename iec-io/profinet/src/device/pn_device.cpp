@@ -147,6 +147,7 @@ void PnDevice::send_udp(Ipv4 ip, std::uint16_t port, std::span<const std::uint8_
 // ---------------------------------------------------------------- poll
 
 void PnDevice::poll(nanoseconds now) {
+  now_ = now;
   if (!started_) {
     started_ = true;
     last_step_ = now;
@@ -850,7 +851,7 @@ bool PnDevice::raise_alarm(AlarmKind kind, std::uint16_t usi, std::span<const st
   ch.transport_acked = false;
   ch.retries_left = ar.req.alarm_cr.rta_retries;
   ch.specifier = n.alarm_specifier;
-  ch.next_retry = last_step_ + milliseconds(100) * ar.req.alarm_cr.rta_timeout_factor;
+  ch.next_retry = now_ + milliseconds(100) * ar.req.alarm_cr.rta_timeout_factor;
   send_eth(ch.frame);
   ++counters_.alarms_sent;
   return true;

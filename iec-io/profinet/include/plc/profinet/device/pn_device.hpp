@@ -233,6 +233,7 @@ class PnDevice {
   std::uint32_t last_seq_ = 0;
   bool started_ = false;
   std::chrono::nanoseconds last_step_{0};
+  std::chrono::nanoseconds now_{0};  // of the last poll (raise_alarm has no clock)
   std::chrono::nanoseconds next_idle_step_{0};
 };
 
