@@ -4,6 +4,7 @@
 // fault hooks drop / delay / cut what a port sends.
 #include <gtest/gtest.h>
 
+#include <thread>
 #include <vector>
 
 #include "plc/profinet/link/open_link.hpp"
@@ -151,4 +152,21 @@ TEST(LinkAddress, MacAndIpv4TextForms) {
   EXPECT_EQ(pn::to_string(pn::Ipv4{0x0A580001}), "10.88.0.1");
   EXPECT_FALSE(pn::parse_ipv4("192.168.0"));
   EXPECT_FALSE(pn::parse_ipv4("192.168.0.256"));
+}
+
+// A real-time thread may wait on a memory port (receive with a timeout):
+// a frame sent from another thread wakes it. Bounded: the wait is at most
+// 10 s, the frame is sent right after the receiver started.
+TEST(LinkMemoryEthernet, ReceiveWithTimeoutWakesOnAFrameFromAnotherThread) {
+  pn::MemoryEthernet hub;
+  auto a = hub.port(), b = hub.port();
+  std::size_t got = 0;
+  std::thread rx([&] {
+    std::vector<std::uint8_t> buf(pn::kMaxFrameLength);
+    got = b->receive(buf, 10s);
+  });
+  ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 1)));
+  rx.join();
+  EXPECT_EQ(got, 60u);
+  EXPECT_EQ(b->counters().received.load(), 1u);
 }
