@@ -1,6 +1,7 @@
 #include "plc/profinet/wire/codec.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 namespace plc::profinet {
 
@@ -143,6 +144,11 @@ void ByteBuilder::patch_u32(std::size_t at, std::uint32_t v, bool little_endian)
     const std::size_t shift = little_endian ? 8 * i : 8 * (3 - i);
     out_.at(at + i) = static_cast<std::uint8_t>(v >> shift);
   }
+}
+void ByteBuilder::bytes(std::span<const std::uint8_t> v) {
+  const std::size_t at = out_.size();
+  out_.resize(at + v.size());
+  if (!v.empty()) std::memcpy(out_.data() + at, v.data(), v.size());
 }
 void ByteBuilder::align(std::size_t a, std::size_t from) {
   while ((out_.size() - from) % a != 0) out_.push_back(0);

@@ -100,7 +100,7 @@ class ByteBuilder {
   void u8(std::uint8_t v) { out_.push_back(v); }
   void u16(std::uint16_t v, bool little_endian = false);
   void u32(std::uint32_t v, bool little_endian = false);
-  void bytes(std::span<const std::uint8_t> v) { out_.insert(out_.end(), v.begin(), v.end()); }
+  void bytes(std::span<const std::uint8_t> v);
   void zeros(std::size_t n) { out_.insert(out_.end(), n, 0); }
   void patch_u16(std::size_t at, std::uint16_t v, bool little_endian = false);
   void patch_u32(std::size_t at, std::uint32_t v, bool little_endian = false);

@@ -98,10 +98,14 @@ struct CyclicHeader {
 // is too small or c_sdu is longer than 1440 bytes.
 std::size_t encode_cyclic(std::span<std::uint8_t> out, const CyclicHeader& h,
                           std::span<const std::uint8_t> c_sdu);
-// Fills only the APDU status of a frame already built in place (the C_SDU
-// written directly into the frame via cyclic_c_sdu()).
+// Zero-copy variant: the C_SDU of a frame of this layout lives at
+// cyclic_c_sdu(frame, ...); write the IO data there, then finish_cyclic()
+// writes the header and APDU status around it. Both return empty / 0 when
+// `frame` is too small.
 std::span<std::uint8_t> cyclic_c_sdu(std::span<std::uint8_t> frame, std::size_t c_sdu_length,
                                      bool vlan);
+std::size_t finish_cyclic(std::span<std::uint8_t> frame, const CyclicHeader& h,
+                          std::size_t c_sdu_length);
 
 // A received cyclic frame; c_sdu views into the caller's buffer.
 struct CyclicView {
