@@ -8,6 +8,9 @@
 #include <libxml/tree.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -84,6 +87,13 @@ class Reader {
   }
 
   void load() {
+    // Checked first so that a missing file is our one-line error, not
+    // libxml2's I/O warning on stderr as well.
+    if (std::FILE* f = std::fopen(path_.c_str(), "rb")) {
+      std::fclose(f);
+    } else {
+      throw GsdmlError(path_ + ":0: cannot read the file: " + std::strerror(errno));
+    }
     std::unique_ptr<xmlParserCtxt, CtxtFree> ctxt(xmlNewParserCtxt());
     if (!ctxt) throw GsdmlError(path_ + ":0: out of memory");
     doc_.reset(xmlCtxtReadFile(ctxt.get(), path_.c_str(), nullptr,
