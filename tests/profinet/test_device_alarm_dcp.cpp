@@ -52,8 +52,8 @@ TEST_F(DeviceAlarm, DiagnosisAlarmIsRepeatedUntilAckRtaThenCompletedByAlarmAck) 
   ASSERT_EQ(sent.size(), 1u);
   const pn::RtaPdu first = sent[0];
   EXPECT_EQ(first.header.pdu_type & 0x0F, pn::rta::kTypeData);
-  EXPECT_EQ(first.header.send_seq, 0);       // first DATA after 0xFFFF
-  EXPECT_EQ(first.header.ack_seq, 0xFFFF);   // nothing received yet
+  EXPECT_EQ(first.header.send_seq, 0);      // first DATA after 0xFFFF
+  EXPECT_EQ(first.header.ack_seq, 0xFFFF);  // nothing received yet
   ASSERT_TRUE(first.notification.has_value());
   EXPECT_EQ(first.notification->alarm_type, pn::alarm_type::kDiagnosis);
   EXPECT_EQ(first.notification->slot, 1);
@@ -68,8 +68,8 @@ TEST_F(DeviceAlarm, DiagnosisAlarmIsRepeatedUntilAckRtaThenCompletedByAlarmAck) 
   ASSERT_EQ(sent.size(), 1u);
   EXPECT_EQ(sent[0].header.send_seq, 0);  // the same PDU again
   // ACK-RTA: no more repeats.
-  ctl_eth->send(pn::encode_rta_ack(kDevMac, kCtlMac, false,
-                                   from_controller(pn::rta::kTypeAck, 0xFFFF, 0)));
+  ctl_eth->send(
+      pn::encode_rta_ack(kDevMac, kCtlMac, false, from_controller(pn::rta::kTypeAck, 0xFFFF, 0)));
   run_alive(milliseconds(500));
   EXPECT_TRUE(alarms().empty());
   EXPECT_EQ(dev->counters().alarm_repeats, 1u);
@@ -131,7 +131,8 @@ class DeviceDcp : public DeviceHarness {
     for (const auto& f : controller_frames()) {
       pn::PnFrameView v;
       pn::DcpMessage m;
-      if (pn::decode_pn_frame(f, v) && pn::is_dcp(v.frame_id) && pn::decode_dcp(v.frame_id, v.pdu, m))
+      if (pn::decode_pn_frame(f, v) && pn::is_dcp(v.frame_id) &&
+          pn::decode_dcp(v.frame_id, v.pdu, m))
         out.push_back(m);
     }
     return out;
@@ -142,7 +143,7 @@ TEST(DcpResponseDelay, MacModFactorTimesTenMs) {
   const pn::Mac mac{2, 0, 0, 0, 0x12, 0x34};  // 0x1234 = 4660
   EXPECT_EQ(pn::dcp_response_delay(mac, 0), nanoseconds(0));
   EXPECT_EQ(pn::dcp_response_delay(mac, 1), nanoseconds(0));
-  EXPECT_EQ(pn::dcp_response_delay(mac, 100), milliseconds(600));  // 4660 mod 100 = 60
+  EXPECT_EQ(pn::dcp_response_delay(mac, 100), milliseconds(600));   // 4660 mod 100 = 60
   EXPECT_EQ(pn::dcp_response_delay(mac, 400), milliseconds(2600));  // 4660 mod 400 = 260
 }
 

@@ -72,13 +72,20 @@ const std::vector<Refusal>& refusals() {
       {"ArTypeNotIocarSingle", [](auto& q) { q.ar.ar_type = 0x0006; }, 0x01, 4},
       {"ArUuidNil", [](auto& q) { q.ar.ar_uuid = {}; }, 0x01, 5},
       {"InitiatorMacMulticast", [](auto& q) { q.ar.cm_initiator_mac[0] = 0x01; }, 0x01, 7},
-      {"InitiatorObjectUuidNotPnio", [](auto& q) { q.ar.cm_initiator_object_uuid.data1 = 0x12345678; }, 0x01, 8},
+      {"InitiatorObjectUuidNotPnio",
+       [](auto& q) { q.ar.cm_initiator_object_uuid.data1 = 0x12345678; }, 0x01, 8},
       {"ArStateNotActive", [](auto& q) { q.ar.ar_properties &= ~0x7U; }, 0x01, 9},
       {"ExternalParameterServer", [](auto& q) { q.ar.ar_properties &= ~0x10U; }, 0x01, 9},
       {"ActivityTimeoutFactor0", [](auto& q) { q.ar.activity_timeout_factor = 0; }, 0x01, 10},
       {"ActivityTimeoutFactor1001", [](auto& q) { q.ar.activity_timeout_factor = 1001; }, 0x01, 10},
       {"InitiatorStationNameEmpty", [](auto& q) { q.ar.station_name.clear(); }, 0x01, 12},
-      {"InitiatorStationNameNotVisible", [](auto& q) { q.ar.station_name = "pl\x01" "c"; }, 0x01, 13},
+      {"InitiatorStationNameNotVisible",
+       [](auto& q) {
+         q.ar.station_name =
+             "pl\x01"
+             "c";
+       },
+       0x01, 13},
       // pf_cmdev_check_iocr_param
       {"IocrTypeUnknown", [](auto& q) { q.iocrs[0].iocr_type = 7; }, 0x02, 4},
       {"IocrLtNotProfinet", [](auto& q) { q.iocrs[0].lt = 0x0800; }, 0x02, 6},
@@ -94,9 +101,11 @@ const std::vector<Refusal>& refusals() {
       {"BelowMinDeviceInterval", [](auto& q) { q.iocrs[0].send_clock_factor = 8; }, 0x02, 11},
       {"Phase0", [](auto& q) { q.iocrs[0].phase = 0; }, 0x02, 12},
       {"PhaseAboveReductionRatio", [](auto& q) { q.iocrs[0].phase = 2; }, 0x02, 12},
-      {"FrameSendOffsetBeyondSendClock", [](auto& q) { q.iocrs[0].frame_send_offset = 1000000; }, 0x02, 14},
+      {"FrameSendOffsetBeyondSendClock", [](auto& q) { q.iocrs[0].frame_send_offset = 1000000; },
+       0x02, 14},
       {"DataHoldFactor0", [](auto& q) { q.iocrs[0].data_hold_factor = 0; }, 0x02, 16},
-      {"DataHoldFactorAbove0x1E00", [](auto& q) { q.iocrs[0].data_hold_factor = 0x1E01; }, 0x02, 16},
+      {"DataHoldFactorAbove0x1E00", [](auto& q) { q.iocrs[0].data_hold_factor = 0x1E01; }, 0x02,
+       16},
       {"DataHoldTimeAbove1920ms", [](auto& q) { q.iocrs[0].data_hold_factor = 1921; }, 0x02, 16},
       {"IocrVlanIdNot0", [](auto& q) { q.iocrs[0].iocr_tag_header = 0xC001; }, 0x02, 17},
       {"IocrPriorityNot6", [](auto& q) { q.iocrs[0].iocr_tag_header = 0xA000; }, 0x02, 17},
@@ -105,18 +114,20 @@ const std::vector<Refusal>& refusals() {
       {"ExpectedSlotMissingOnDevice", [](auto& q) { q.expected[1].modules[0].slot = 5; }, 0x03, 6},
       {"ExpectedSlotTwice", [](auto& q) { q.expected[1].modules[0].slot = 0; }, 0x03, 6},
       {"ExpectedModuleIdent0", [](auto& q) { q.expected[1].modules[0].module_ident = 0; }, 0x03, 7},
-      {"ExpectedModuleWithoutSubmodules", [](auto& q) { q.expected[1].modules[0].submodules.clear(); }, 0x03, 9},
+      {"ExpectedModuleWithoutSubmodules",
+       [](auto& q) { q.expected[1].modules[0].submodules.clear(); }, 0x03, 9},
       {"ExpectedSubslotMissingOnDevice",
-       [](auto& q) {
-         q.expected[1].modules[0].submodules[0].subslot = 2;
-       },
-       0x03, 10},
-      {"ExpectedSubmoduleLengthIops2", [](auto& q) { q.expected[1].modules[0].submodules[0].length_iops = 2; }, 0x03, 15},
-      {"ExpectedSubmoduleLengthIocs2", [](auto& q) { q.expected[1].modules[0].submodules[0].length_iocs = 2; }, 0x03, 16},
+       [](auto& q) { q.expected[1].modules[0].submodules[0].subslot = 2; }, 0x03, 10},
+      {"ExpectedSubmoduleLengthIops2",
+       [](auto& q) { q.expected[1].modules[0].submodules[0].length_iops = 2; }, 0x03, 15},
+      {"ExpectedSubmoduleLengthIocs2",
+       [](auto& q) { q.expected[1].modules[0].submodules[0].length_iocs = 2; }, 0x03, 16},
       // pf_cmdev_check_iocr_apis
       {"IocrApiNotExpected", [](auto& q) { q.iocrs[0].apis[0].api = 0x3A00; }, 0x02, 20},
       {"IocrDataObjectTwice",
-       [](auto& q) { q.iocrs[0].apis[0].data_objects.push_back(q.iocrs[0].apis[0].data_objects[0]); },
+       [](auto& q) {
+         q.iocrs[0].apis[0].data_objects.push_back(q.iocrs[0].apis[0].data_objects[0]);
+       },
        0x02, 23},
       {"IocrDataObjectBeyondDataLength",
        [](auto& q) { q.iocrs[0].apis[0].data_objects.back().frame_offset = 39; }, 0x02, 24},

@@ -36,7 +36,8 @@ TEST_F(DeviceExchange, SingleWriteAndReadReachTheModelsRecords) {
   pn::RecordResponseHeader res;
   std::span<const std::uint8_t> data;
   ASSERT_TRUE(pn::decode_read_response(r->args, res, data));
-  EXPECT_EQ(std::vector<std::uint8_t>(data.begin(), data.end()), (std::vector<std::uint8_t>{1, 2, 3}));
+  EXPECT_EQ(std::vector<std::uint8_t>(data.begin(), data.end()),
+            (std::vector<std::uint8_t>{1, 2, 3}));
   // An index the model does not have: PNIORW invalid index (record_status.hpp).
   rh.index = 0x0043;
   const auto bad = call(pn::rpc::kOpRead, pn::encode_read_request(rh));
@@ -50,8 +51,8 @@ TEST_F(DeviceExchange, SingleWriteAndReadReachTheModelsRecords) {
 // manufacturer-specific status and comes back as the same RecordError.
 TEST_F(DeviceExchange, MultipleWriteWritesEveryRecordAndReportsEachResult) {
   ASSERT_TRUE(connect(connect_request()).ok());
-  const std::vector<pn::RecordWrite> recs{{0, 1, 1, 0x10, {0xA}}, {0, 1, 1, 0x99, {0xB}},
-                                          {0, 1, 1, 0x11, {0xC, 0xD}}};
+  const std::vector<pn::RecordWrite> recs{
+      {0, 1, 1, 0x10, {0xA}}, {0, 1, 1, 0x99, {0xB}}, {0, 1, 1, 0x11, {0xC, 0xD}}};
   const auto a = write(recs, true);
   ASSERT_TRUE(a.has_value());
   EXPECT_EQ(echo->writes, (std::vector<std::uint16_t>{0x10, 0x11}));
@@ -169,9 +170,10 @@ TEST_F(DeviceExchange, OutputFramesAreTakenOnlyAsPnetTakesThem) {
   longer.push_back(0);
   ctl_eth->send(longer);
   ctl_eth->send(output_frame(bad, counter_ + 32, pn::data_status::kGood, 1));
-  ctl_eth->send(output_frame(bad, counter_));  // counter not advanced (duplicate)
+  ctl_eth->send(output_frame(bad, counter_));        // counter not advanced (duplicate)
   ctl_eth->send(output_frame(bad, counter_ - 100));  // went back
-  ctl_eth->send(output_frame(bad, counter_ + 32, pn::data_status::kGood & ~pn::data_status::kDataValid));
+  ctl_eth->send(
+      output_frame(bad, counter_ + 32, pn::data_status::kGood & ~pn::data_status::kDataValid));
   run(milliseconds(1));
 
   using R = pn::OutputReject;

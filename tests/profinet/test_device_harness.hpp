@@ -26,9 +26,9 @@ namespace pn_test {
 
 namespace pn = plc::profinet;
 namespace io = plc::io;
+using std::chrono::microseconds;
 using std::chrono::milliseconds;
 using std::chrono::nanoseconds;
-using std::chrono::microseconds;
 
 // A model that shows what reached it: inputs = outputs XOR 0xFF; records
 // kept by index; index 0x99 refuses with the model code 0x1234.
@@ -73,9 +73,11 @@ inline pn::DeviceDescription echo_description() {
   d.ip = pn::Ipv4{0x0A000002};
   d.vendor_id = 0x0FFF;
   d.device_id = 0x0042;
-  d.modules.push_back({0, 0x00000001, {{pn::kDapSubslot, 0, 0x1, 0, 0, {}},
-                                        {pn::kInterfaceSubslot, 0, 0x8000, 0, 0, {}},
-                                        {pn::kPortSubslot, 0, 0x8001, 0, 0, {}}}});
+  d.modules.push_back({0,
+                       0x00000001,
+                       {{pn::kDapSubslot, 0, 0x1, 0, 0, {}},
+                        {pn::kInterfaceSubslot, 0, 0x8000, 0, 0, {}},
+                        {pn::kPortSubslot, 0, 0x8001, 0, 0, {}}}});
   d.modules.push_back({1, 0x00000010, {{1, 0, 0x00000011, 4, 4, {}}}});
   return d;
 }
@@ -104,6 +106,35 @@ inline std::vector<pn::ExpectedSubmoduleBlockReq> expected_from(const pn::Device
 }
 
 inline const pn::Uuid kArUuid{0x11223344, 0x5566, 0x7788, {1, 2, 3, 4, 5, 6, 7, 8}};
+
+// A valid Connect for `d` from a controller with MAC `ctl`: AR (session 7,
+// initiator "plc"), input CR FrameID 0xC001 and output CR (device's choice)
+// at 1 ms, the default AlarmCR, the expected submodules of `d`.
+inline pn::ConnectRequest make_connect_request(const pn::DeviceDescription& d, const pn::Mac& ctl) {
+  pn::ConnectRequest r;
+  r.ar.ar_uuid = kArUuid;
+  r.ar.session_key = 7;
+  r.ar.cm_initiator_mac = ctl;
+  r.ar.cm_initiator_object_uuid = pn::pnio_object_uuid(1, 0x0001, 0x0FFF);
+  r.ar.station_name = "plc";
+  r.expected = expected_from(d);
+  pn::CyclicLayout layout;
+  EXPECT_TRUE(pn::compute_layout(r.expected, layout));
+  pn::IocrBlockReq in;
+  in.iocr_type = pn::iocr::kTypeInput;
+  in.iocr_reference = 1;
+  in.frame_id = 0xC001;
+  in.send_clock_factor = 32;
+  in.reduction_ratio = 1;
+  pn::apply_layout(layout.input, in);
+  pn::IocrBlockReq out = in;
+  out.iocr_type = pn::iocr::kTypeOutput;
+  out.iocr_reference = 2;
+  out.frame_id = 0xFFFF;
+  pn::apply_layout(layout.output, out);
+  r.iocrs = {in, out};
+  return r;
+}
 
 class DeviceHarness : public ::testing::Test {
  public:
@@ -162,31 +193,7 @@ class DeviceHarness : public ::testing::Test {
     return out;
   }
 
-  pn::ConnectRequest connect_request() const {
-    pn::ConnectRequest r;
-    r.ar.ar_uuid = kArUuid;
-    r.ar.session_key = 7;
-    r.ar.cm_initiator_mac = kCtlMac;
-    r.ar.cm_initiator_object_uuid = pn::pnio_object_uuid(1, 0x0001, 0x0FFF);
-    r.ar.station_name = "plc";
-    r.expected = expected_from(desc_);
-    pn::CyclicLayout layout;
-    EXPECT_TRUE(pn::compute_layout(r.expected, layout));
-    pn::IocrBlockReq in;
-    in.iocr_type = pn::iocr::kTypeInput;
-    in.iocr_reference = 1;
-    in.frame_id = 0xC001;
-    in.send_clock_factor = 32;
-    in.reduction_ratio = 1;
-    pn::apply_layout(layout.input, in);
-    pn::IocrBlockReq out = in;
-    out.iocr_type = pn::iocr::kTypeOutput;
-    out.iocr_reference = 2;
-    out.frame_id = 0xFFFF;
-    pn::apply_layout(layout.output, out);
-    r.iocrs = {in, out};
-    return r;
-  }
+  pn::ConnectRequest connect_request() const { return make_connect_request(desc_, kCtlMac); }
 
   // One RPC call from the controller; the device's answer (nullopt: none).
   struct Answer {
@@ -280,9 +287,10 @@ class DeviceHarness : public ::testing::Test {
           !pn::decode_control(ndr.args, c) || c.block_type != pn::block::kApplicationReadyReq)
         continue;
       ++n;
-      const auto body = pn::encode_ndr_response(
-          {}, ndr.args_maximum, pn::encode_control(pn::control_response_for(c)));
-      ctl_udp->send_to(dev_ip, pn::kRpcUdpPort, pn::encode_rpc(pn::response_header_for(pdu.header), body));
+      const auto body = pn::encode_ndr_response({}, ndr.args_maximum,
+                                                pn::encode_control(pn::control_response_for(c)));
+      ctl_udp->send_to(dev_ip, pn::kRpcUdpPort,
+                       pn::encode_rpc(pn::response_header_for(pdu.header), body));
     }
     return n;
   }
