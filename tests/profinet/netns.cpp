@@ -3,9 +3,12 @@
 #include <dirent.h>
 #include <fcntl.h>
 #include <linux/if_ether.h>
+#include <poll.h>
 #include <sched.h>
 #include <signal.h>
 #include <sys/socket.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -102,6 +105,81 @@ NsRun NetnsPair::run(const NetnsSide& side, const std::string& cmd) const {
   const auto r = run_command("timeout 60 ip netns exec " + quote(side.ns) + " sh -c " + quote(cmd));
   return {r.exit_code, r.output};
 }
+
+std::unique_ptr<NsProcess> NetnsPair::start(const NetnsSide& side, const std::string& cmd) const {
+  static std::atomic<int> counter{0};
+  const std::string ns_path = "/run/netns/" + side.ns;
+  const std::string log =
+      ::testing::TempDir() + side.ns + "_proc" + std::to_string(counter++) + ".log";
+  const std::string script = "exec " + cmd;
+  const int logfd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  const int nsfd = ::open(ns_path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (logfd < 0 || nsfd < 0) {
+    if (logfd >= 0) ::close(logfd);
+    if (nsfd >= 0) ::close(nsfd);
+    ADD_FAILURE() << "cannot start in " << side.ns << ": " << std::strerror(errno);
+    return nullptr;
+  }
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    // Only async-signal-safe calls between fork and exec.
+    ::setpgid(0, 0);
+    if (::setns(nsfd, CLONE_NEWNET) != 0) ::_exit(126);
+    ::dup2(logfd, 1);
+    ::dup2(logfd, 2);
+    ::execl("/bin/sh", "sh", "-c", script.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::close(logfd);
+  ::close(nsfd);
+  if (pid < 0) {
+    ADD_FAILURE() << "fork: " << std::strerror(errno);
+    return nullptr;
+  }
+  ::setpgid(pid, pid);  // also from here: no race with signal() before the child ran
+  return std::make_unique<NsProcess>(pid, log);
+}
+
+NsProcess::~NsProcess() {
+  if (!reaped_) {
+    signal(SIGKILL);
+    (void)wait(std::chrono::seconds(10));
+  }
+}
+
+void NsProcess::signal(int sig) const {
+  if (!reaped_) ::kill(-pid_, sig);
+}
+
+bool NsProcess::running() { return wait(std::chrono::milliseconds(0)) == -1; }
+
+int NsProcess::wait(std::chrono::milliseconds timeout) {
+  if (reaped_) return status_;
+  const int pidfd = static_cast<int>(::syscall(SYS_pidfd_open, pid_, 0));
+  if (pidfd >= 0) {
+    pollfd p{pidfd, POLLIN, 0};
+    (void)::poll(&p, 1, static_cast<int>(timeout.count()));
+    ::close(pidfd);
+  }
+  int st = 0;
+  const pid_t r = ::waitpid(pid_, &st, WNOHANG);
+  if (r != pid_) return -1;
+  reaped_ = true;
+  status_ = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+  return status_;
+}
+
+int NsProcess::stop(std::chrono::milliseconds grace) {
+  signal(SIGTERM);
+  int st = wait(grace);
+  if (st == -1) {
+    signal(SIGKILL);
+    st = wait(std::chrono::seconds(10));
+  }
+  return st;
+}
+
+std::string NsProcess::output() const { return read_file(log_); }
 
 bool NetnsPair::enter(const NetnsSide& side) {
   const int fd = ::open(("/run/netns/" + side.ns).c_str(), O_RDONLY | O_CLOEXEC);

@@ -13,10 +13,14 @@
 //                          sockets it opens live in A, and may then be used
 //                          from any thread
 //   start_in(b(), f)       the same, running on while the test goes on
+//   start(b(), "cmd")      a child process inside B running on while the
+//                          test goes on (pndevsim against plcrun in A);
+//                          killed when its handle ends
 #pragma once
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <functional>
 #include <future>
 #include <memory>
@@ -36,6 +40,33 @@ struct NsRun {
   std::string output;  // stdout and stderr
 };
 
+// A child process in a namespace, in its own process group; stdout and
+// stderr go to a log file. The destructor kills the group if it still runs.
+class NsProcess {
+ public:
+  NsProcess(int pid, std::string log) : pid_(pid), log_(std::move(log)) {}
+  ~NsProcess();
+  NsProcess(const NsProcess&) = delete;
+  NsProcess& operator=(const NsProcess&) = delete;
+
+  [[nodiscard]] int pid() const { return pid_; }
+  [[nodiscard]] bool running();
+  // Sends `sig` to the process group.
+  void signal(int sig) const;
+  // Waits up to `timeout` for the exit (pidfd + poll, no sleeping); returns
+  // the exit status as from a shell (128 + signal), or -1 if it still runs.
+  int wait(std::chrono::milliseconds timeout);
+  // SIGTERM, then wait up to `grace`, then SIGKILL. Returns the status.
+  int stop(std::chrono::milliseconds grace = std::chrono::seconds(5));
+  [[nodiscard]] std::string output() const;  // the log so far
+
+ private:
+  int pid_;
+  std::string log_;
+  int status_ = -1;
+  bool reaped_ = false;
+};
+
 class NetnsPair {
  public:
   // nullptr and the reason when this machine cannot make namespaces (not
@@ -50,6 +81,10 @@ class NetnsPair {
 
   // `timeout 60 ip netns exec NS sh -c CMD`.
   NsRun run(const NetnsSide& side, const std::string& cmd) const;
+
+  // `sh -c "exec CMD"` inside side's namespace, running on. nullptr (and
+  // a failed test) if it cannot start.
+  std::unique_ptr<NsProcess> start(const NetnsSide& side, const std::string& cmd) const;
 
   // Runs f on a new thread that has joined side's namespace; returns what f
   // returns (rethrows what it throws). Fails the test if setns fails.

@@ -147,3 +147,32 @@ TEST_F(LinkNetns, ChildProcessRunsInsideTheNamespace) {
     EXPECT_EQ(ping.exit_code, 0) << ping.output;
   }
 }
+
+TEST_F(LinkNetns, StartedChildRunsInItsNamespaceUntilStopped) {
+  // The child waits for one UDP datagram in B (a bounded 30 s wait) and
+  // prints what it got; the test sends it from A.
+  auto child =
+      pair().start(b(),
+                   "timeout 30 python3 -c \"import socket; s=socket.socket(socket.AF_INET, "
+                   "socket.SOCK_DGRAM); s.bind(('" +
+                       b().ip + "', 34964)); print(s.recv(64).decode(), flush=True)\"");
+  ASSERT_NE(child, nullptr);
+  const auto ipa = *pn::parse_ipv4(a().ip), ipb = *pn::parse_ipv4(b().ip);
+  auto ua = pair().in(a(), [&] { return pn::open_udp(a().iface, ipa, 0); });
+  const std::string hello = "hello-from-a";
+  // The child binds at some point after start: send until it has answered
+  // by exiting (bounded: 300 tries, 100 ms apart as measured by the wait).
+  int status = -1;
+  for (int i = 0; i < 300 && status == -1; ++i) {
+    ua->send_to(ipb, pn::kPnioRpcPort,
+                std::span(reinterpret_cast<const std::uint8_t*>(hello.data()), hello.size()));
+    status = child->wait(std::chrono::milliseconds(100));
+  }
+  EXPECT_EQ(status, 0) << child->output();
+  EXPECT_NE(child->output().find(hello), std::string::npos) << child->output();
+  // A child that runs on is ended by stop().
+  auto sleeper = pair().start(a(), "sleep 60");
+  ASSERT_NE(sleeper, nullptr);
+  EXPECT_TRUE(sleeper->running());
+  EXPECT_EQ(sleeper->stop(), 128 + SIGTERM);
+}

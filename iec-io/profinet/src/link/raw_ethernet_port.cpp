@@ -60,7 +60,7 @@ RawEthernetPort::RawEthernetPort(const std::string& interface, RawEthernetOption
   // sockets still see the tag in their auxdata. A classic BPF filter keeps
   // the rest out of the socket: EtherType 0x8892 at byte 12 (untagged, or
   // tag already taken off) or behind a tag still in the frame.
-  static sock_filter code[] = {
+  sock_filter code[] = {
       {BPF_LD | BPF_H | BPF_ABS, 0, 0, 12},
       {BPF_JMP | BPF_JEQ | BPF_K, 4, 0, kEtherTypeProfinet},
       {BPF_JMP | BPF_JEQ | BPF_K, 0, 2, kEtherTypeVlan},
@@ -83,13 +83,15 @@ RawEthernetPort::RawEthernetPort(const std::string& interface, RawEthernetOption
   // The kernel takes VLAN tags off received frames and reports them here.
   if (::setsockopt(fd_, SOL_PACKET, PACKET_AUXDATA, &one, sizeof one) != 0)
     fail(fd_, where + ": PACKET_AUXDATA: " + why(errno));
-  packet_mreq mr{};
-  mr.mr_ifindex = ifindex_;
-  mr.mr_type = PACKET_MR_MULTICAST;
-  mr.mr_alen = 6;
-  std::memcpy(mr.mr_address, kDcpIdentifyMulticast.data(), 6);
-  if (::setsockopt(fd_, SOL_PACKET, PACKET_ADD_MEMBERSHIP, &mr, sizeof mr) != 0)
-    fail(fd_, where + ": cannot join the DCP multicast 01:0e:cf:00:00:00: " + why(errno));
+  for (const Mac& group : {kDcpIdentifyMulticast, kDcpHelloMulticast}) {
+    packet_mreq mr{};
+    mr.mr_ifindex = ifindex_;
+    mr.mr_type = PACKET_MR_MULTICAST;
+    mr.mr_alen = 6;
+    std::memcpy(mr.mr_address, group.data(), 6);
+    if (::setsockopt(fd_, SOL_PACKET, PACKET_ADD_MEMBERSHIP, &mr, sizeof mr) != 0)
+      fail(fd_, where + ": cannot join the DCP multicast " + to_string(group) + ": " + why(errno));
+  }
   if (options.promiscuous) {
     packet_mreq pr{};
     pr.mr_ifindex = ifindex_;
