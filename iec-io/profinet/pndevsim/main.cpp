@@ -145,7 +145,8 @@ std::string run_command(const std::string& line, std::vector<Hosted>& hosted) {
   if (cmd == "status") {
     std::string out;
     for (const auto& h : hosted)
-      out += (out.empty() ? "" : "\n") + std::string("pndevsim: ") + h.name + ": " + h.dev->describe();
+      out +=
+          (out.empty() ? "" : "\n") + std::string("pndevsim: ") + h.name + ": " + h.dev->describe();
     return out;
   }
   std::vector<Hosted*> targets;
@@ -278,7 +279,8 @@ int main(int argc, char** argv) {
   try {
     const YAML::Node root = YAML::LoadFile(file);
     reject_unknown(root, {"interface", "poll", "control", "devices"});
-    if (!root["interface"]) throw ConfigError(root, "key 'interface' missing (a network interface)");
+    if (!root["interface"])
+      throw ConfigError(root, "key 'interface' missing (a network interface)");
     period = get_time(root, "poll", period);
     if (period < std::chrono::microseconds(50) || period > std::chrono::milliseconds(4))
       throw ConfigError(root["poll"], "key 'poll': between 50us and 4ms");
@@ -419,19 +421,20 @@ int main(int argc, char** argv) {
     control_fd = STDIN_FILENO;
   } else if (control != "none") {
     if (mkfifo(control.c_str(), 0600) != 0 && errno != EEXIST) {
-      std::fprintf(stderr, "pndevsim: control FIFO %s: %s\n", control.c_str(), std::strerror(errno));
+      std::fprintf(stderr, "pndevsim: control FIFO %s: %s\n", control.c_str(),
+                   std::strerror(errno));
       return 2;
     }
     // O_RDWR keeps the FIFO open when a writer goes away (no endless EOF).
     control_fd = open(control.c_str(), O_RDWR | O_NONBLOCK);
     if (control_fd < 0) {
-      std::fprintf(stderr, "pndevsim: control FIFO %s: %s\n", control.c_str(), std::strerror(errno));
+      std::fprintf(stderr, "pndevsim: control FIFO %s: %s\n", control.c_str(),
+                   std::strerror(errno));
       return 2;
     }
   }
 
-  print_line("pndevsim: " + std::to_string(hosted.size()) + " device(s) on " +
-             eth->interface());
+  print_line("pndevsim: " + std::to_string(hosted.size()) + " device(s) on " + eth->interface());
   for (const auto& h : hosted)
     print_line("pndevsim: " + h.name + ": " + h.dev->station_name() + " " +
                pn::to_string(h.dev->ip()) + " " + pn::to_string(h.dev->mac()));

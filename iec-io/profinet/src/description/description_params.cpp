@@ -1,6 +1,7 @@
 #include "plc/profinet/description/description_params.hpp"
 
 #include <algorithm>
+#include <boost/algorithm/string/trim.hpp>
 #include <map>
 #include <sstream>
 
@@ -64,11 +65,7 @@ std::map<std::string, std::string> fields(const std::string& key, const std::str
   return out;
 }
 
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t");
-  const auto e = s.find_last_not_of(" \t");
-  return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
-}
+std::string trim(const std::string& s) { return boost::algorithm::trim_copy(s); }
 
 // "INDEX=HEXBYTES; INDEX=HEXBYTES" (spaces between bytes allowed).
 std::vector<StartupRecord> parse_records(const std::string& key, const std::string& text) {

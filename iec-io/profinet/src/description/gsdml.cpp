@@ -8,6 +8,10 @@
 #include <libxml/tree.h>
 
 #include <algorithm>
+#include <boost/algorithm/string/trim.hpp>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -84,6 +88,13 @@ class Reader {
   }
 
   void load() {
+    // Checked first so that a missing file is our one-line error, not
+    // libxml2's I/O warning on stderr as well.
+    if (std::FILE* f = std::fopen(path_.c_str(), "rb")) {
+      std::fclose(f);
+    } else {
+      throw GsdmlError(path_ + ":0: cannot read the file: " + std::strerror(errno));
+    }
     std::unique_ptr<xmlParserCtxt, CtxtFree> ctxt(xmlNewParserCtxt());
     if (!ctxt) throw GsdmlError(path_ + ":0: out of memory");
     doc_.reset(xmlCtxtReadFile(ctxt.get(), path_.c_str(), nullptr,
@@ -362,16 +373,15 @@ std::vector<GsdmlSelection::Slot> parse_gsdml_modules(const std::string& text) {
   std::istringstream in(text);
   std::string item;
   while (std::getline(in, item, ';')) {
-    const auto b = item.find_first_not_of(" \t");
-    if (b == std::string::npos) continue;
-    item = item.substr(b, item.find_last_not_of(" \t") - b + 1);
+    boost::algorithm::trim(item);
+    if (item.empty()) continue;
     const auto eq = item.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == item.size())
       throw std::invalid_argument("'" + item + "': expected SLOT=MODULE (ID or name)");
-    const auto slot = parse_iec_unsigned(item.substr(0, item.find_last_not_of(" \t", eq - 1) + 1));
+    const auto slot = parse_iec_unsigned(boost::algorithm::trim_copy(item.substr(0, eq)));
     if (!slot || *slot < 1 || *slot > 0x7FFF)
       throw std::invalid_argument("'" + item + "': the slot must be a number 1..32767");
-    const std::string mod = item.substr(item.find_first_not_of(" \t", eq + 1));
+    const std::string mod = boost::algorithm::trim_copy(item.substr(eq + 1));
     out.push_back({static_cast<std::uint16_t>(*slot), mod});
   }
   return out;

@@ -40,9 +40,9 @@ std::optional<PnioStatus> check_ar(const ArBlockReq& ar) {
   if (ar.ar_uuid.is_nil()) return fail(kArBlock, 5);
   if (ar.cm_initiator_mac[0] & 0x01) return fail(kArBlock, 7);  // multicast MAC
   if (!initiator_object_uuid_ok(ar.cm_initiator_object_uuid)) return fail(kArBlock, 8);
-  if ((p & 0x7U) != 1U) return fail(kArBlock, 9);    // State must be Active
+  if ((p & 0x7U) != 1U) return fail(kArBlock, 9);      // State must be Active
   if (((p >> 4) & 1U) == 0) return fail(kArBlock, 9);  // external parameter server
-  if (device_access) return fail(kArBlock, 9);          // device access only with IOSAR
+  if (device_access) return fail(kArBlock, 9);         // device access only with IOSAR
   if (companion == 3) return fail(kArBlock, 9);
   if (ar.activity_timeout_factor < 1 || ar.activity_timeout_factor > 1000)
     return fail(kArBlock, 10);
@@ -155,8 +155,8 @@ std::optional<PnioStatus> check_expected(const ConnectRequest& req,
 }
 
 const ExpectedSubmodule* find_expected(const std::vector<const ExpectedModule*>& mods,
-                                       std::uint32_t api, std::uint16_t slot,
-                                       std::uint16_t subslot, bool& slot_found) {
+                                       std::uint32_t api, std::uint16_t slot, std::uint16_t subslot,
+                                       bool& slot_found) {
   slot_found = false;
   for (const ExpectedModule* m : mods) {
     if (m->api != api || m->slot != slot) continue;
@@ -265,8 +265,9 @@ std::optional<PnioStatus> check_connect(const ConnectRequest& req, const DeviceD
   if (auto e = check_iocr_apis(req, mods)) return e;
   const auto inputs = std::count_if(req.iocrs.begin(), req.iocrs.end(),
                                     [](const auto& c) { return c.iocr_type == iocr::kTypeInput; });
-  const auto outputs = std::count_if(req.iocrs.begin(), req.iocrs.end(),
-                                     [](const auto& c) { return c.iocr_type == iocr::kTypeOutput; });
+  const auto outputs = std::count_if(req.iocrs.begin(), req.iocrs.end(), [](const auto& c) {
+    return c.iocr_type == iocr::kTypeOutput;
+  });
   if (inputs == 0 || outputs == 0) return fail(kCmrpc, connect_error::kCmrpcIocrMissing);
   // One input and one output CR: the only layout this device exchanges.
   if (inputs != 1 || outputs != 1) return fail(kCmrpc, connect_error::kCmrpcWrongBlockCount);
@@ -274,7 +275,8 @@ std::optional<PnioStatus> check_connect(const ConnectRequest& req, const DeviceD
   return std::nullopt;
 }
 
-std::optional<ModuleDiffBlock> module_diff(const ConnectRequest& req, const DeviceDescription& dev) {
+std::optional<ModuleDiffBlock> module_diff(const ConnectRequest& req,
+                                           const DeviceDescription& dev) {
   ModuleDiffBlock diff;
   for (const ExpectedModule* m : expected_modules(req)) {
     const ModuleDescription* real = find_module(dev, m->slot);

@@ -4,11 +4,16 @@ namespace plc::profinet {
 
 const char* to_string(OutputReject r) {
   switch (r) {
-    case OutputReject::WrongSource: return "wrong source MAC";
-    case OutputReject::WrongLength: return "wrong length";
-    case OutputReject::TransferStatus: return "TransferStatus not 0";
-    case OutputReject::CounterNotAdvanced: return "cycle counter not advanced";
-    case OutputReject::DataInvalid: return "DataValid not set";
+    case OutputReject::WrongSource:
+      return "wrong source MAC";
+    case OutputReject::WrongLength:
+      return "wrong length";
+    case OutputReject::TransferStatus:
+      return "TransferStatus not 0";
+    case OutputReject::CounterNotAdvanced:
+      return "cycle counter not advanced";
+    case OutputReject::DataInvalid:
+      return "DataValid not set";
   }
   return "?";
 }

@@ -28,22 +28,32 @@ constexpr std::size_t kDelayRing = 64;
 
 const char* to_string(PnDeviceState s) {
   switch (s) {
-    case PnDeviceState::Idle: return "idle";
-    case PnDeviceState::Parameterizing: return "parameterizing";
-    case PnDeviceState::AppReady: return "application ready";
-    case PnDeviceState::DataExchange: return "data exchange";
+    case PnDeviceState::Idle:
+      return "idle";
+    case PnDeviceState::Parameterizing:
+      return "parameterizing";
+    case PnDeviceState::AppReady:
+      return "application ready";
+    case PnDeviceState::DataExchange:
+      return "data exchange";
   }
   return "?";
 }
 
 const char* to_string(ArEnd e) {
   switch (e) {
-    case ArEnd::Released: return "released";
-    case ArEnd::DataHoldExpired: return "data hold expired";
-    case ArEnd::StartupTimeout: return "start-up timeout";
-    case ArEnd::AlarmTimeout: return "alarm not acknowledged";
-    case ArEnd::AppReadyTimeout: return "ApplicationReady not answered";
-    case ArEnd::Aborted: return "aborted by the controller";
+    case ArEnd::Released:
+      return "released";
+    case ArEnd::DataHoldExpired:
+      return "data hold expired";
+    case ArEnd::StartupTimeout:
+      return "start-up timeout";
+    case ArEnd::AlarmTimeout:
+      return "alarm not acknowledged";
+    case ArEnd::AppReadyTimeout:
+      return "ApplicationReady not answered";
+    case ArEnd::Aborted:
+      return "aborted by the controller";
   }
   return "?";
 }
@@ -51,16 +61,23 @@ const char* to_string(ArEnd e) {
 std::string describe(const PnDeviceEvent& e) {
   char buf[64];
   switch (e.kind) {
-    case PnDeviceEvent::Kind::Connected: return "connected";
+    case PnDeviceEvent::Kind::Connected:
+      return "connected";
     case PnDeviceEvent::Kind::Refused:
       std::snprintf(buf, sizeof buf, "refused %08X", static_cast<unsigned>(e.status.value()));
       return buf;
-    case PnDeviceEvent::Kind::DataExchange: return "data exchange";
-    case PnDeviceEvent::Kind::Lost: return std::string("lost (") + to_string(e.end) + ")";
-    case PnDeviceEvent::Kind::Released: return "released";
-    case PnDeviceEvent::Kind::AlarmAcked: return "alarm acknowledged";
-    case PnDeviceEvent::Kind::NameSet: return "name set";
-    case PnDeviceEvent::Kind::IpSet: return "ip set";
+    case PnDeviceEvent::Kind::DataExchange:
+      return "data exchange";
+    case PnDeviceEvent::Kind::Lost:
+      return std::string("lost (") + to_string(e.end) + ")";
+    case PnDeviceEvent::Kind::Released:
+      return "released";
+    case PnDeviceEvent::Kind::AlarmAcked:
+      return "alarm acknowledged";
+    case PnDeviceEvent::Kind::NameSet:
+      return "name set";
+    case PnDeviceEvent::Kind::IpSet:
+      return "ip set";
   }
   return "?";
 }
@@ -84,8 +101,8 @@ struct PnDevice::Ar {
   Ipv4 controller_ip;
   IocrLayout in_layout, out_layout;
   std::uint16_t in_frame_id = 0, out_frame_id = 0;
-  nanoseconds interval{milliseconds(1)};      // our input frames
-  nanoseconds data_hold{milliseconds(3)};     // controller's output frames
+  nanoseconds interval{milliseconds(1)};   // our input frames
+  nanoseconds data_hold{milliseconds(3)};  // controller's output frames
   std::uint16_t counter_step = 32;
   std::uint16_t cycle_counter = 0;
   nanoseconds next_send{0};
@@ -112,11 +129,10 @@ PnDevice::PnDevice(PnDeviceConfig cfg, std::unique_ptr<io::DeviceModel> model, E
   const SubmoduleDescription* io = cfg_.description.io_submodule();
   if (!io) throw std::invalid_argument("PnDevice: the description has no modules");
   if (io->input_length != model_->input_size() || io->output_length != model_->output_size())
-    throw std::invalid_argument("PnDevice: the IO submodule's lengths (" +
-                                std::to_string(io->input_length) + "/" +
-                                std::to_string(io->output_length) + ") differ from the model's (" +
-                                std::to_string(model_->input_size()) + "/" +
-                                std::to_string(model_->output_size()) + ")");
+    throw std::invalid_argument(
+        "PnDevice: the IO submodule's lengths (" + std::to_string(io->input_length) + "/" +
+        std::to_string(io->output_length) + ") differ from the model's (" +
+        std::to_string(model_->input_size()) + "/" + std::to_string(model_->output_size()) + ")");
   station_name_ = cfg_.description.station_name;
   ip_ = cfg_.description.ip;
   netmask_ = cfg_.description.netmask;
@@ -147,6 +163,7 @@ void PnDevice::send_udp(Ipv4 ip, std::uint16_t port, std::span<const std::uint8_
 // ---------------------------------------------------------------- poll
 
 void PnDevice::poll(nanoseconds now) {
+  now_ = now;
   if (!started_) {
     started_ = true;
     last_step_ = now;
@@ -274,7 +291,8 @@ void PnDevice::on_dcp(std::uint16_t frame_id, const Mac& src, std::span<const st
       // would abort the AR); the controller names devices before Connect.
       const bool locked = ar_ != nullptr;
       if (req.station_name) {
-        const bool ok = !locked && (req.station_name->empty() || valid_station_name(*req.station_name));
+        const bool ok =
+            !locked && (req.station_name->empty() || valid_station_name(*req.station_name));
         results.push_back({dcp::kOptDevice, dcp::kSubDeviceNameOfStation,
                            ok ? dcp::kErrorOk : dcp::kErrorSetNotPossible});
         if (ok) {
@@ -293,7 +311,8 @@ void PnDevice::on_dcp(std::uint16_t frame_id, const Mac& src, std::span<const st
             udp_ = open_udp_(ip_);
           }
         }
-        results.push_back({dcp::kOptIp, dcp::kSubIpParameter, ok ? dcp::kErrorOk : dcp::kErrorSetNotPossible});
+        results.push_back(
+            {dcp::kOptIp, dcp::kSubIpParameter, ok ? dcp::kErrorOk : dcp::kErrorSetNotPossible});
         if (ok) {
           ip_ = Ipv4{req.ip->ip};
           netmask_ = Ipv4{req.ip->netmask};
@@ -343,12 +362,22 @@ void PnDevice::on_rpc(std::span<const std::uint8_t> dgram, Ipv4 from, std::uint1
     status = connect_refusal(connect_error::kCmrpc, connect_error::kCmrpcArgsLengthInvalid);
   } else {
     switch (h.opnum) {
-      case rpc::kOpConnect: status = serve_connect(ndr.args, from, args, now); break;
-      case rpc::kOpRelease: status = serve_release(ndr.args, args, now); break;
+      case rpc::kOpConnect:
+        status = serve_connect(ndr.args, from, args, now);
+        break;
+      case rpc::kOpRelease:
+        status = serve_release(ndr.args, args, now);
+        break;
       case rpc::kOpRead:
-      case rpc::kOpReadImplicit: status = serve_read(ndr.args, h.opnum, args); break;
-      case rpc::kOpWrite: status = serve_write(ndr.args, args); break;
-      case rpc::kOpControl: status = serve_control(ndr.args, args, now); break;
+      case rpc::kOpReadImplicit:
+        status = serve_read(ndr.args, h.opnum, args);
+        break;
+      case rpc::kOpWrite:
+        status = serve_write(ndr.args, args);
+        break;
+      case rpc::kOpControl:
+        status = serve_control(ndr.args, args, now);
+        break;
       default:
         ++counters_.rpc_bad;
         status = connect_refusal(connect_error::kCmrpc, connect_error::kCmrpcUnknownBlocks);
@@ -377,7 +406,8 @@ PnioStatus PnDevice::serve_connect(std::span<const std::uint8_t> args, Ipv4 from
     return {};
   }
   std::optional<PnioStatus> refusal = faults_.refuse_connect;
-  if (!refusal && ar_) refusal = connect_refusal(connect_error::kCmrpc, connect_error::kCmrpcNoArResources);
+  if (!refusal && ar_)
+    refusal = connect_refusal(connect_error::kCmrpc, connect_error::kCmrpcNoArResources);
   if (!refusal) refusal = check_connect(req, cfg_.description);
   auto ar = std::make_unique<Ar>();
   if (!refusal) refusal = setup_ar(req, *ar);
@@ -437,7 +467,8 @@ std::optional<PnioStatus> PnDevice::setup_ar(const ConnectRequest& req, Ar& ar) 
                                                          : in->frame_id + 1);
   ar.interval = send_interval(in->send_clock_factor, in->reduction_ratio);
   ar.counter_step = static_cast<std::uint16_t>(in->send_clock_factor * in->reduction_ratio);
-  ar.data_hold = send_interval(out->send_clock_factor, out->reduction_ratio) * out->data_hold_factor;
+  ar.data_hold =
+      send_interval(out->send_clock_factor, out->reduction_ratio) * out->data_hold_factor;
 
   // Which expected submodules match ours (ident and lengths): those get
   // IOPS/IOCS good, the others bad (they are in the ModuleDiffBlock).
@@ -480,7 +511,9 @@ std::optional<PnioStatus> PnDevice::setup_ar(const ConnectRequest& req, Ar& ar) 
   return std::nullopt;
 }
 
-bool PnDevice::ar_matches(const Uuid& ar_uuid) const { return ar_ && ar_->req.ar.ar_uuid == ar_uuid; }
+bool PnDevice::ar_matches(const Uuid& ar_uuid) const {
+  return ar_ && ar_->req.ar.ar_uuid == ar_uuid;
+}
 
 PnioStatus PnDevice::serve_release(std::span<const std::uint8_t> args,
                                    std::vector<std::uint8_t>& out, nanoseconds now) {
@@ -501,7 +534,8 @@ PnioStatus PnDevice::serve_control(std::span<const std::uint8_t> args,
   ControlBlock c;
   if (!decode_control(args, c) || c.block_type != block::kPrmEndReq ||
       c.command != control::kPrmEnd)
-    return {pnio_error::kCodeControl, pnio_error::kDecodePnio, 0x14, 0x08};  // DCTRL: ControlCommand
+    return {pnio_error::kCodeControl, pnio_error::kDecodePnio, 0x14,
+            0x08};  // DCTRL: ControlCommand
   if (!ar_matches(c.ar_uuid) || c.session_key != ar_->req.ar.session_key)
     return {pnio_error::kCodeControl, pnio_error::kDecodePnio, connect_error::kCmrpc,
             connect_error::kCmrpcArUuidUnknown};
@@ -820,7 +854,8 @@ bool PnDevice::raise_alarm(AlarmKind kind, std::uint16_t usi, std::span<const st
   n.subslot = io->subslot;
   n.module_ident = mod->module_ident;
   n.submodule_ident = io->submodule_ident;
-  ar.alarm_sequence = static_cast<std::uint16_t>((ar.alarm_sequence + 1) & alarm_specifier::kSequenceMask);
+  ar.alarm_sequence =
+      static_cast<std::uint16_t>((ar.alarm_sequence + 1) & alarm_specifier::kSequenceMask);
   n.alarm_specifier = ar.alarm_sequence;
   n.user_structure_identifier = usi;
   if (!data.empty()) {
@@ -850,7 +885,7 @@ bool PnDevice::raise_alarm(AlarmKind kind, std::uint16_t usi, std::span<const st
   ch.transport_acked = false;
   ch.retries_left = ar.req.alarm_cr.rta_retries;
   ch.specifier = n.alarm_specifier;
-  ch.next_retry = last_step_ + milliseconds(100) * ar.req.alarm_cr.rta_timeout_factor;
+  ch.next_retry = now_ + milliseconds(100) * ar.req.alarm_cr.rta_timeout_factor;
   send_eth(ch.frame);
   ++counters_.alarms_sent;
   return true;

@@ -21,10 +21,14 @@ PnioStatus record_status(io::RecordError e, bool write) {
     return {code, pnio_error::kDecodeManufacturer, static_cast<std::uint8_t>(v >> 8),
             static_cast<std::uint8_t>(v)};
   switch (e) {
-    case io::RecordError::InvalidIndex: return {code, pnio_error::kDecodePnioRw, kInvalidIndex, 0};
-    case io::RecordError::InvalidLength: return {code, pnio_error::kDecodePnioRw, kWriteLength, 0};
-    case io::RecordError::InvalidState: return {code, pnio_error::kDecodePnioRw, kStateConflict, 0};
-    case io::RecordError::DeviceBusy: return {code, pnio_error::kDecodePnioRw, kResourceBusy, 0};
+    case io::RecordError::InvalidIndex:
+      return {code, pnio_error::kDecodePnioRw, kInvalidIndex, 0};
+    case io::RecordError::InvalidLength:
+      return {code, pnio_error::kDecodePnioRw, kWriteLength, 0};
+    case io::RecordError::InvalidState:
+      return {code, pnio_error::kDecodePnioRw, kStateConflict, 0};
+    case io::RecordError::DeviceBusy:
+      return {code, pnio_error::kDecodePnioRw, kResourceBusy, 0};
     default:
       return {code, pnio_error::kDecodePnioRw, write ? kAppWriteError : kAppReadError,
               static_cast<std::uint8_t>(v)};
@@ -43,16 +47,21 @@ io::RecordError record_error_from(const PnioStatus& s) {
   if (s.error_decode == pnio_error::kDecodePnioRw) {
     switch (s.error_code1) {
       case kInvalidIndex:
-      case kInvalidSlot: return io::RecordError::InvalidIndex;
-      case kWriteLength: return io::RecordError::InvalidLength;
-      case kStateConflict: return io::RecordError::InvalidState;
+      case kInvalidSlot:
+        return io::RecordError::InvalidIndex;
+      case kWriteLength:
+        return io::RecordError::InvalidLength;
+      case kStateConflict:
+        return io::RecordError::InvalidState;
       case kResourceBusy:
-      case kAppBusy: return io::RecordError::DeviceBusy;
+      case kAppBusy:
+        return io::RecordError::DeviceBusy;
       case kAppReadError:
       case kAppWriteError:
         if (s.error_code2 != 0) return static_cast<io::RecordError>(s.error_code2);
         break;
-      default: break;
+      default:
+        break;
     }
   }
   return io::RecordError::InvalidState;

@@ -86,28 +86,13 @@ std::unique_ptr<EthernetPort> MemoryEthernet::port(Mac mac) {
   return std::make_unique<MemoryEthernetPort>(impl_, mac);
 }
 
-void MemoryEthernet::drop_next(const Mac& from, int n) {
-  std::lock_guard lock(impl_->mutex);
-  impl_->faults[from].drop = n;
-}
-
+void MemoryEthernet::drop_next(const Mac& from, int n) { impl_->drop_next(from, n); }
 void MemoryEthernet::delay_next(const Mac& from, int n, std::chrono::nanoseconds d) {
-  std::lock_guard lock(impl_->mutex);
-  impl_->faults[from].delay = n;
-  impl_->faults[from].delay_by = d;
+  impl_->delay_next(from, n, d);
 }
-
 void MemoryEthernet::set_link_up(const Mac& port, bool up) { impl_->set_down(port, !up); }
 void MemoryEthernet::set_time(std::chrono::nanoseconds now) { impl_->set_time(now); }
-
-std::chrono::nanoseconds MemoryEthernet::time() const {
-  std::lock_guard lock(impl_->mutex);
-  return impl_->now;
-}
-
-std::uint64_t MemoryEthernet::frames_carried() const {
-  std::lock_guard lock(impl_->mutex);
-  return impl_->carried;
-}
+std::chrono::nanoseconds MemoryEthernet::time() const { return impl_->time(); }
+std::uint64_t MemoryEthernet::frames_carried() const { return impl_->carried_count(); }
 
 }  // namespace plc::profinet

@@ -101,6 +101,23 @@ class MemorySegment {
     arrived.notify_all();
     return true;
   }
+  void drop_next(const Sender& s, int n) {
+    std::lock_guard lock(mutex);
+    faults[s].drop = n;
+  }
+  void delay_next(const Sender& s, int n, std::chrono::nanoseconds d) {
+    std::lock_guard lock(mutex);
+    faults[s].delay = n;
+    faults[s].delay_by = d;
+  }
+  std::chrono::nanoseconds time() {
+    std::lock_guard lock(mutex);
+    return now;
+  }
+  std::uint64_t carried_count() {
+    std::lock_guard lock(mutex);
+    return carried;
+  }
   void set_down(const Sender& s, bool down) {
     {
       std::lock_guard lock(mutex);

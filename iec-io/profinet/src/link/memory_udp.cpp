@@ -91,28 +91,13 @@ std::unique_ptr<UdpPort> MemoryUdp::port(Ipv4 ip, std::uint16_t port) {
   return std::make_unique<MemoryUdpPort>(impl_, ip, port);
 }
 
-void MemoryUdp::drop_next(Ipv4 from, int n) {
-  std::lock_guard lock(impl_->mutex);
-  impl_->faults[from].drop = n;
-}
-
+void MemoryUdp::drop_next(Ipv4 from, int n) { impl_->drop_next(from, n); }
 void MemoryUdp::delay_next(Ipv4 from, int n, std::chrono::nanoseconds d) {
-  std::lock_guard lock(impl_->mutex);
-  impl_->faults[from].delay = n;
-  impl_->faults[from].delay_by = d;
+  impl_->delay_next(from, n, d);
 }
-
-void MemoryUdp::set_link_up(Ipv4 host, bool up) { impl_->set_down(host, !up); }
+void MemoryUdp::set_link_up(Ipv4 port, bool up) { impl_->set_down(port, !up); }
 void MemoryUdp::set_time(std::chrono::nanoseconds now) { impl_->set_time(now); }
-
-std::chrono::nanoseconds MemoryUdp::time() const {
-  std::lock_guard lock(impl_->mutex);
-  return impl_->now;
-}
-
-std::uint64_t MemoryUdp::datagrams_carried() const {
-  std::lock_guard lock(impl_->mutex);
-  return impl_->carried;
-}
+std::chrono::nanoseconds MemoryUdp::time() const { return impl_->time(); }
+std::uint64_t MemoryUdp::datagrams_carried() const { return impl_->carried_count(); }
 
 }  // namespace plc::profinet

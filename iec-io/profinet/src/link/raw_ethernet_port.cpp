@@ -1,6 +1,7 @@
 #include "plc/profinet/link/raw_ethernet_port.hpp"
 
 #include <arpa/inet.h>
+#include <linux/filter.h>
 #include <linux/if_packet.h>
 #include <net/ethernet.h>
 #include <net/if.h>
@@ -36,7 +37,8 @@ RawEthernetPort::RawEthernetPort(const std::string& interface, RawEthernetOption
   ifindex_ = static_cast<int>(::if_nametoindex(interface.c_str()));
   if (ifindex_ == 0)
     fail(-1, where + ": no such interface in this network namespace (`ip link` lists them)");
-  fd_ = ::socket(AF_PACKET, SOCK_RAW | SOCK_CLOEXEC | SOCK_NONBLOCK, htons(kEtherTypeProfinet));
+  // Protocol 0 until the filter is on, so nothing else queues up first.
+  fd_ = ::socket(AF_PACKET, SOCK_RAW | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
   if (fd_ < 0) {
     const int e = errno;
     if (e == EPERM || e == EACCES)
@@ -50,24 +52,46 @@ RawEthernetPort::RawEthernetPort(const std::string& interface, RawEthernetOption
   if (::ioctl(fd_, SIOCGIFHWADDR, &ifr) != 0) fail(fd_, where + ": no MAC address: " + why(errno));
   if (ifr.ifr_hwaddr.sa_family != ARPHRD_ETHER) fail(fd_, where + ": not an Ethernet interface");
   std::memcpy(mac_.data(), ifr.ifr_hwaddr.sa_data, 6);
+  const int one = 1;
 
+  // Bound to every protocol, not to 0x8892: the kernel strips a VLAN tag
+  // on receive and, with no VLAN device to take the frame, clears it before
+  // handing the frame to sockets bound to one EtherType; only "all"
+  // sockets still see the tag in their auxdata. A classic BPF filter keeps
+  // the rest out of the socket: EtherType 0x8892 at byte 12 (untagged, or
+  // tag already taken off) or behind a tag still in the frame.
+  sock_filter code[] = {
+      {BPF_LD | BPF_H | BPF_ABS, 0, 0, 12},
+      {BPF_JMP | BPF_JEQ | BPF_K, 4, 0, kEtherTypeProfinet},
+      {BPF_JMP | BPF_JEQ | BPF_K, 0, 2, kEtherTypeVlan},
+      {BPF_LD | BPF_H | BPF_ABS, 0, 0, 16},
+      {BPF_JMP | BPF_JEQ | BPF_K, 1, 0, kEtherTypeProfinet},
+      {BPF_RET | BPF_K, 0, 0, 0},
+      {BPF_RET | BPF_K, 0, 0, 0x40000},
+  };
+  sock_fprog prog{static_cast<unsigned short>(sizeof code / sizeof code[0]), code};
+  if (::setsockopt(fd_, SOL_SOCKET, SO_ATTACH_FILTER, &prog, sizeof prog) != 0)
+    fail(fd_, where + ": cannot attach the 0x8892 filter: " + why(errno));
+  // Our own frames are not for us (an "all" socket sees them go out).
+  (void)::setsockopt(fd_, SOL_PACKET, PACKET_IGNORE_OUTGOING, &one, sizeof one);
   sockaddr_ll sll{};
   sll.sll_family = AF_PACKET;
-  sll.sll_protocol = htons(kEtherTypeProfinet);
+  sll.sll_protocol = htons(ETH_P_ALL);
   sll.sll_ifindex = ifindex_;
   if (::bind(fd_, reinterpret_cast<sockaddr*>(&sll), sizeof sll) != 0)
     fail(fd_, where + ": bind: " + why(errno));
   // The kernel takes VLAN tags off received frames and reports them here.
-  const int one = 1;
   if (::setsockopt(fd_, SOL_PACKET, PACKET_AUXDATA, &one, sizeof one) != 0)
     fail(fd_, where + ": PACKET_AUXDATA: " + why(errno));
-  packet_mreq mr{};
-  mr.mr_ifindex = ifindex_;
-  mr.mr_type = PACKET_MR_MULTICAST;
-  mr.mr_alen = 6;
-  std::memcpy(mr.mr_address, kDcpIdentifyMulticast.data(), 6);
-  if (::setsockopt(fd_, SOL_PACKET, PACKET_ADD_MEMBERSHIP, &mr, sizeof mr) != 0)
-    fail(fd_, where + ": cannot join the DCP multicast 01:0e:cf:00:00:00: " + why(errno));
+  for (const Mac& group : {kDcpIdentifyMulticast, kDcpHelloMulticast}) {
+    packet_mreq mr{};
+    mr.mr_ifindex = ifindex_;
+    mr.mr_type = PACKET_MR_MULTICAST;
+    mr.mr_alen = 6;
+    std::memcpy(mr.mr_address, group.data(), 6);
+    if (::setsockopt(fd_, SOL_PACKET, PACKET_ADD_MEMBERSHIP, &mr, sizeof mr) != 0)
+      fail(fd_, where + ": cannot join the DCP multicast " + to_string(group) + ": " + why(errno));
+  }
   if (options.promiscuous) {
     packet_mreq pr{};
     pr.mr_ifindex = ifindex_;
@@ -122,6 +146,7 @@ std::size_t RawEthernetPort::receive(std::span<std::uint8_t> buf,
         continue;
       tpacket_auxdata aux;
       std::memcpy(&aux, CMSG_DATA(c), sizeof aux);
+
       if (aux.tp_status & TP_STATUS_VLAN_VALID) {
         tagged = true;
         tci = aux.tp_vlan_tci;

@@ -70,23 +70,30 @@ struct PnDeviceConfig {
 
 // Fault switches (pndevsim: by config and at run time).
 struct PnDeviceFaults {
-  bool silent = false;         // answer nothing, send nothing (a pulled plug)
-  std::uint64_t drop_cyclic = 0;  // drop this many of our next cyclic frames
-  bool drop_all_cyclic = false;   // ... or all of them while set
+  bool silent = false;                       // answer nothing, send nothing (a pulled plug)
+  std::uint64_t drop_cyclic = 0;             // drop this many of our next cyclic frames
+  bool drop_all_cyclic = false;              // ... or all of them while set
   std::chrono::nanoseconds delay_cyclic{0};  // send each cyclic frame this much late
   std::optional<PnioStatus> refuse_connect;  // answer every Connect with this status
 };
 
 enum class PnDeviceState : std::uint8_t {
-  Idle,          // no AR: waiting for Connect
+  Idle,            // no AR: waiting for Connect
   Parameterizing,  // Connect answered, waiting for PrmEnd (records being written)
-  AppReady,      // PrmEnd answered, ApplicationReady sent, waiting for DONE
-  DataExchange,  // ApplicationReady confirmed, outputs taken
+  AppReady,        // PrmEnd answered, ApplicationReady sent, waiting for DONE
+  DataExchange,    // ApplicationReady confirmed, outputs taken
 };
 [[nodiscard]] const char* to_string(PnDeviceState s);
 
 // Why an AR ended (pndevsim prints it).
-enum class ArEnd : std::uint8_t { Released, DataHoldExpired, StartupTimeout, AlarmTimeout, AppReadyTimeout, Aborted };
+enum class ArEnd : std::uint8_t {
+  Released,
+  DataHoldExpired,
+  StartupTimeout,
+  AlarmTimeout,
+  AppReadyTimeout,
+  Aborted
+};
 [[nodiscard]] const char* to_string(ArEnd e);
 
 struct PnDeviceCounters {
@@ -97,7 +104,7 @@ struct PnDeviceCounters {
   std::uint64_t app_ready_sent = 0;
   std::uint64_t frames_sent = 0, frames_dropped_by_fault = 0;
   std::uint64_t frames_received = 0, frames_unknown = 0;  // to us / with an unknown FrameID
-  std::uint64_t frames_bad = 0;  // undecodable DCP, RTA or Ethernet header
+  std::uint64_t frames_bad = 0;                           // undecodable DCP, RTA or Ethernet header
   std::uint64_t data_hold_expired = 0;
   std::uint64_t alarms_sent = 0, alarm_repeats = 0, alarms_acked = 0;
   std::uint64_t releases = 0;
@@ -105,7 +112,16 @@ struct PnDeviceCounters {
 
 // What the device reports to its host (one line per change in pndevsim).
 struct PnDeviceEvent {
-  enum class Kind : std::uint8_t { Connected, Refused, DataExchange, Lost, Released, AlarmAcked, NameSet, IpSet };
+  enum class Kind : std::uint8_t {
+    Connected,
+    Refused,
+    DataExchange,
+    Lost,
+    Released,
+    AlarmAcked,
+    NameSet,
+    IpSet
+  };
   Kind kind;
   PnioStatus status{};  // Refused: the status sent
   ArEnd end = ArEnd::Released;
@@ -189,7 +205,8 @@ class PnDevice {
   PnioStatus serve_read(std::span<const std::uint8_t> args, std::uint16_t opnum,
                         std::vector<std::uint8_t>& out);
   PnioStatus write_one(const RecordRequestHeader& h, std::span<const std::uint8_t> data);
-  [[nodiscard]] bool has_subslot(std::uint32_t api, std::uint16_t slot, std::uint16_t subslot) const;
+  [[nodiscard]] bool has_subslot(std::uint32_t api, std::uint16_t slot,
+                                 std::uint16_t subslot) const;
   [[nodiscard]] bool ar_matches(const Uuid& ar_uuid) const;
   void maybe_enter_data_exchange(std::chrono::nanoseconds now);
   void timers(std::chrono::nanoseconds now);
@@ -233,6 +250,7 @@ class PnDevice {
   std::uint32_t last_seq_ = 0;
   bool started_ = false;
   std::chrono::nanoseconds last_step_{0};
+  std::chrono::nanoseconds now_{0};  // of the last poll (raise_alarm has no clock)
   std::chrono::nanoseconds next_idle_step_{0};
 };
 

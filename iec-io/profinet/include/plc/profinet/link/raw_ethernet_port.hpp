@@ -6,7 +6,8 @@
 // a tagged frame is seen as it was on the wire (devices may send priority-6
 // tagged frames, fieldbus-masters.md §1 item 6). A frame given to send()
 // with a tag goes out tagged.
-// Membership: the DCP multicast 01:0E:CF:00:00:00 always; the whole
+// Membership: the DCP multicasts 01:0E:CF:00:00:00 (Identify) and :01
+// (Hello) always; the whole
 // interface in promiscuous mode when asked (both end with the socket).
 // Needs CAP_NET_RAW: without it, or without the interface, the constructor
 // throws LinkError saying so.
