@@ -32,13 +32,12 @@ std::string config_error(const io::ModelParams& p) {
 
 TEST(ProfinetPlugin, ConfigErrorsNameTheKey) {
   EXPECT_NE(config_error(params({})).find("interface: "), std::string::npos);
-  EXPECT_NE(config_error(params({{"interface", "mem:x"}, {"send_clock", "3ms"}}))
-                .find("send_clock: "),
-            std::string::npos);
+  EXPECT_NE(
+      config_error(params({{"interface", "mem:x"}, {"send_clock", "3ms"}})).find("send_clock: "),
+      std::string::npos);
   EXPECT_NE(config_error(params({{"interface", "mem:x"}, {"ip", "1.2.3"}})).find("ip: "),
             std::string::npos);
-  EXPECT_NE(config_error(params({{"interface", "eth0"}, {"simulate", "true"}}))
-                .find("simulate: "),
+  EXPECT_NE(config_error(params({{"interface", "eth0"}, {"simulate", "true"}})).find("simulate: "),
             std::string::npos);
   EXPECT_NE(config_error(params({{"interface", "mem:x"}, {"bogus", "1"}})).find("bogus"),
             std::string::npos);
@@ -48,9 +47,9 @@ TEST(ProfinetPlugin, ConfigErrorsNameTheKey) {
 TEST(ProfinetPlugin, DeviceErrorsNameTheKey) {
   ProfinetPlugin plugin;
   plugin.configure(params({{"interface", "mem:plugin-dev-errors"}, {"simulate", "true"}}));
-  io::DeviceSpec d{"conveyor", "hiwin_e1",
-                   params({{"telegram", "111"}, {"station_name", "conveyor"},
-                           {"ip", "192.168.0.10"}})};
+  io::DeviceSpec d{
+      "conveyor", "hiwin_e1",
+      params({{"telegram", "111"}, {"station_name", "conveyor"}, {"ip", "192.168.0.10"}})};
   EXPECT_EQ(plugin.add_device(d).input_bytes, 24u);
   io::DeviceSpec same_ip{"other", "hiwin_e1",
                          params({{"station_name", "other"}, {"ip", "192.168.0.10"}})};
@@ -74,11 +73,11 @@ TEST(ProfinetPlugin, DeviceErrorsNameTheKey) {
 // and exchanges data while this thread latches and publishes like a scan.
 TEST(ProfinetPlugin, RealTimeThreadExchangesDataWhileTheScanCopies) {
   ProfinetPlugin plugin;
-  plugin.configure(params({{"interface", "mem:plugin-rt"}, {"simulate", "true"},
-                           {"log", "false"}, {"retry", "10ms"}}));
-  plugin.add_device({"conveyor", "hiwin_e1",
-                     params({{"telegram", "111"}, {"station_name", "conveyor"},
-                             {"ip", "192.168.0.10"}})});
+  plugin.configure(params(
+      {{"interface", "mem:plugin-rt"}, {"simulate", "true"}, {"log", "false"}, {"retry", "10ms"}}));
+  plugin.add_device(
+      {"conveyor", "hiwin_e1",
+       params({{"telegram", "111"}, {"station_name", "conveyor"}, {"ip", "192.168.0.10"}})});
   plugin.start(io::ClockMode::RealTime);
   std::array<std::uint8_t, 24> in{}, out{};
   bool online = false;

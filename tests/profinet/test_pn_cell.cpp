@@ -48,13 +48,15 @@ std::string value_of(const std::string& out, const std::string& var) {
 }
 
 TEST(PnCell, VirtualTimeFillsTheSameContainersAsTheSimCell) {
-  const std::string vars = " --for 2m --print-vars Cell.containers,Cell.dose.InTolCount,"
-                           "Cell.dose.OutTolCount";
-  const auto sim = plctest::run_command(
-      plctest::plcrun_path() + " " + plctest::source_path("programs/filling_cell/cell.yaml") + vars);
-  const auto pn = plctest::run_command(
-      plctest::plcrun_path() + " " +
-      plctest::source_path("programs/filling_cell/cell_profinet.yaml") + vars);
+  const std::string vars =
+      " --for 2m --print-vars Cell.containers,Cell.dose.InTolCount,"
+      "Cell.dose.OutTolCount";
+  const auto sim =
+      plctest::run_command(plctest::plcrun_path() + " " +
+                           plctest::source_path("programs/filling_cell/cell.yaml") + vars);
+  const auto pn =
+      plctest::run_command(plctest::plcrun_path() + " " +
+                           plctest::source_path("programs/filling_cell/cell_profinet.yaml") + vars);
   ASSERT_EQ(sim.exit_code, 0) << sim.output;
   ASSERT_EQ(pn.exit_code, 0) << pn.output;
   const std::string containers = value_of(sim.output, "Cell.containers");
@@ -133,7 +135,8 @@ TEST_F(PnCellNetns, RealTimeCellFillsSurvivesAPndevsimKillAndReconnects) {
   // 32 ms data hold (both sides): a loaded 2-core CI machine delays
   // wake-ups by several ms now and then, which must not read as a loss.
   cell = replace_all(cell, "data_hold_factor: 3 ", "data_hold_factor: 32 ");
-  cell = replace_all(cell, "      scale.BusType: 1", "      target_kg: 5.0\n      scale.BusType: 1");
+  cell =
+      replace_all(cell, "      scale.BusType: 1", "      target_kg: 5.0\n      scale.BusType: 1");
   const std::string cell_file = plctest::write_temp("pn_cell.yaml", cell);
   const std::string trace = plctest::temp_path("pn_cell.csv");
   const std::string pcap = plctest::temp_path("pn_cell.pcap");
@@ -150,8 +153,7 @@ TEST_F(PnCellNetns, RealTimeCellFillsSurvivesAPndevsimKillAndReconnects) {
   auto dev = pair().start(b(), plctest::bin_dir() + "/pndevsim " + sim_file);
   ASSERT_TRUE(dev);
   auto plc = pair().start(
-      a(), plctest::plcrun_path() + " " + cell_file +
-               " --realtime --for 35s -q --trace " + trace +
+      a(), plctest::plcrun_path() + " " + cell_file + " --realtime --for 35s -q --trace " + trace +
                " --trace-vars Cell.step,Cell.containers,Cell.power.Enable,Cell.guard.QBAD,"
                "Cell.guard.ACK_REQ,Cell.conveyor.CommOk --print-vars Cell.containers");
   ASSERT_TRUE(plc);
