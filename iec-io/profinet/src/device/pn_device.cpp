@@ -141,6 +141,9 @@ PnDevice::PnDevice(PnDeviceConfig cfg, std::unique_ptr<io::DeviceModel> model, E
   from_plc_.assign(model_->output_size(), 0);
   to_plc_.assign(model_->input_size(), 0);
   udp_rx_.resize(kMaxDatagram);
+  // Opened here, so that a missing address is an error of the host's set-up
+  // (pndevsim: exit 2 with the reason), not of a poll.
+  udp_ = open_udp_(ip_);
   delayed_.resize(kDelayRing);
 }
 
@@ -168,7 +171,6 @@ void PnDevice::poll(nanoseconds now) {
     started_ = true;
     last_step_ = now;
     next_idle_step_ = now;
-    udp_ = open_udp_(ip_);
     if (cfg_.hello_at_start) send_eth(encode_dcp_hello(mac_, 1, identity()));
   }
   if (!shared_port_) read_ethernet(now);
@@ -308,7 +310,11 @@ void PnDevice::on_dcp(std::uint16_t frame_id, const Mac& src, std::span<const st
             udp_ = open_udp_(Ipv4{req.ip->ip});
           } catch (const std::exception&) {
             ok = false;
-            udp_ = open_udp_(ip_);
+            try {
+              udp_ = open_udp_(ip_);
+            } catch (const std::exception&) {
+              udp_.reset();  // no RPC until the next successful Set IP
+            }
           }
         }
         results.push_back(
