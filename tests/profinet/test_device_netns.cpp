@@ -68,6 +68,10 @@ class DeviceNetns : public plctest::NetnsTest {
     if (res && ndr.status.ok()) EXPECT_TRUE(pn::decode_connect_response(ndr.args, *res));
     return ndr.status;
   }
+  static pn::PnioStatus connect(pn::UdpPort& udp, pn::Ipv4 to, const pn::ConnectRequest& req,
+                                std::uint32_t activity, pn::ConnectResponse* res = nullptr) {
+    return call(udp, to, pn::rpc::kOpConnect, pn::encode_connect_request(req), activity, res);
+  }
   static pn::ConnectRequest e1_request(const pn::Mac& ctl) {
     plc::io::ModelParams p;
     p.set("telegram", "111");
@@ -168,17 +172,7 @@ TEST_F(DeviceNetns, ControlFifoSwitchesRefuseConnectAtRunTime) {
       c.ar_uuid = req.ar.ar_uuid;
       c.session_key = req.ar.session_key;
       c.command = pn::control::kRelease;
-      pn::RpcHeader h;
-      h.interface = pn::kPnioDeviceInterface;
-      h.activity = pn::Uuid{0xF2F00000 + i, 1, 2, {}};
-      h.opnum = pn::rpc::kOpRelease;
-      udp->send_to(
-          dev, pn::kRpcUdpPort,
-          pn::encode_rpc(h, pn::encode_ndr_request(pn::rpc::kMaxArgs, pn::encode_control(c))));
-      std::vector<std::uint8_t> d(pn::kMaxDatagram);
-      pn::Ipv4 from;
-      std::uint16_t port = 0;
-      (void)udp->receive_from(d, from, port, 1s);
+      (void)call(*udp, dev, pn::rpc::kOpRelease, pn::encode_control(c), 0xF2F00000 + i);
     }
   }
   EXPECT_EQ(st.value(), 0xDB810107u);

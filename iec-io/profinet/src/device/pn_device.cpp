@@ -20,6 +20,17 @@ using std::chrono::milliseconds;
 using std::chrono::nanoseconds;
 
 namespace {
+// A record response header: the addressing fields echoed from the request.
+RecordResponseHeader record_response_for(const RecordRequestHeader& h) {
+  RecordResponseHeader r;
+  r.seq_number = h.seq_number;
+  r.ar_uuid = h.ar_uuid;
+  r.api = h.api;
+  r.slot = h.slot;
+  r.subslot = h.subslot;
+  r.index = h.index;
+  return r;
+}
 constexpr std::uint16_t kOurAlarmReference = 0x0001;
 constexpr int kMaxDatagramsPerPoll = 16;
 constexpr int kMaxFramesPerPoll = 256;
@@ -628,13 +639,7 @@ PnioStatus PnDevice::serve_write(std::span<const std::uint8_t> args,
             connect_error::kCmrpcArUuidUnknown};
   WriteResponse res;
   auto result_for = [](const RecordRequestHeader& h, const PnioStatus& s) {
-    RecordResponseHeader r;
-    r.seq_number = h.seq_number;
-    r.ar_uuid = h.ar_uuid;
-    r.api = h.api;
-    r.slot = h.slot;
-    r.subslot = h.subslot;
-    r.index = h.index;
+    RecordResponseHeader r = record_response_for(h);
     r.record_data_length = s.ok() ? h.record_data_length : 0;
     r.status = s;
     return r;
@@ -665,13 +670,7 @@ PnioStatus PnDevice::serve_read(std::span<const std::uint8_t> args, std::uint16_
   if (opnum == rpc::kOpRead && !ar_matches(h.ar_uuid))
     return {pnio_error::kCodeRead, pnio_error::kDecodePnio, connect_error::kCmrpc,
             connect_error::kCmrpcArUuidUnknown};
-  RecordResponseHeader r;
-  r.seq_number = h.seq_number;
-  r.ar_uuid = h.ar_uuid;
-  r.api = h.api;
-  r.slot = h.slot;
-  r.subslot = h.subslot;
-  r.index = h.index;
+  RecordResponseHeader r = record_response_for(h);
   PnioStatus s;
   std::array<std::uint8_t, io::kRecordMaxBytes> buf{};
   std::size_t len = 0;
