@@ -45,17 +45,17 @@ class DeviceNetns : public plctest::NetnsTest {
     }
     return std::nullopt;
   }
-  // One Connect over UDP; the PNIO status (0xFFFFFFFF: no answer in 1 s).
-  static pn::PnioStatus connect(pn::UdpPort& udp, pn::Ipv4 to, const pn::ConnectRequest& req,
-                                std::uint32_t activity, pn::ConnectResponse* res = nullptr) {
+  // One RPC call over UDP; the PNIO status (0xFFFFFFFF: no answer in 1 s).
+  static pn::PnioStatus call(pn::UdpPort& udp, pn::Ipv4 to, std::uint16_t opnum,
+                             const std::vector<std::uint8_t>& args, std::uint32_t activity,
+                             pn::ConnectResponse* res = nullptr) {
     pn::RpcHeader h;
     h.object = pn::pnio_object_uuid(1, pn::kHiwinE1DeviceId, pn::kOurVendorId);
     h.interface = pn::kPnioDeviceInterface;
     h.activity = pn::Uuid{activity, 1, 2, {3, 4, 5, 6, 7, 8, 9, 10}};
-    h.opnum = pn::rpc::kOpConnect;
+    h.opnum = opnum;
     udp.send_to(to, pn::kRpcUdpPort,
-                pn::encode_rpc(
-                    h, pn::encode_ndr_request(pn::rpc::kMaxArgs, pn::encode_connect_request(req))));
+                pn::encode_rpc(h, pn::encode_ndr_request(pn::rpc::kMaxArgs, args)));
     std::vector<std::uint8_t> d(pn::kMaxDatagram);
     pn::Ipv4 from;
     std::uint16_t port = 0;
