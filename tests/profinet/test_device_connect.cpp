@@ -66,6 +66,8 @@ struct Refusal {
   std::uint8_t code1, code2;
 };
 
+void PrintTo(const Refusal& r, std::ostream* os) { *os << r.name; }
+
 const std::vector<Refusal>& refusals() {
   static const std::vector<Refusal> r = {
       // pf_cmdev_check_ar_param

@@ -20,6 +20,17 @@ using std::chrono::milliseconds;
 using std::chrono::nanoseconds;
 
 namespace {
+// A record response header: the addressing fields echoed from the request.
+RecordResponseHeader record_response_for(const RecordRequestHeader& h) {
+  RecordResponseHeader r;
+  r.seq_number = h.seq_number;
+  r.ar_uuid = h.ar_uuid;
+  r.api = h.api;
+  r.slot = h.slot;
+  r.subslot = h.subslot;
+  r.index = h.index;
+  return r;
+}
 constexpr std::uint16_t kOurAlarmReference = 0x0001;
 constexpr int kMaxDatagramsPerPoll = 16;
 constexpr int kMaxFramesPerPoll = 256;
@@ -141,6 +152,9 @@ PnDevice::PnDevice(PnDeviceConfig cfg, std::unique_ptr<io::DeviceModel> model, E
   from_plc_.assign(model_->output_size(), 0);
   to_plc_.assign(model_->input_size(), 0);
   udp_rx_.resize(kMaxDatagram);
+  // Opened here, so that a missing address is an error of the host's set-up
+  // (pndevsim: exit 2 with the reason), not of a poll.
+  udp_ = open_udp_(ip_);
   delayed_.resize(kDelayRing);
 }
 
@@ -168,7 +182,6 @@ void PnDevice::poll(nanoseconds now) {
     started_ = true;
     last_step_ = now;
     next_idle_step_ = now;
-    udp_ = open_udp_(ip_);
     if (cfg_.hello_at_start) send_eth(encode_dcp_hello(mac_, 1, identity()));
   }
   if (!shared_port_) read_ethernet(now);
@@ -308,7 +321,11 @@ void PnDevice::on_dcp(std::uint16_t frame_id, const Mac& src, std::span<const st
             udp_ = open_udp_(Ipv4{req.ip->ip});
           } catch (const std::exception&) {
             ok = false;
-            udp_ = open_udp_(ip_);
+            try {
+              udp_ = open_udp_(ip_);
+            } catch (const std::exception&) {
+              udp_.reset();  // no RPC until the next successful Set IP
+            }
           }
         }
         results.push_back(
@@ -622,13 +639,7 @@ PnioStatus PnDevice::serve_write(std::span<const std::uint8_t> args,
             connect_error::kCmrpcArUuidUnknown};
   WriteResponse res;
   auto result_for = [](const RecordRequestHeader& h, const PnioStatus& s) {
-    RecordResponseHeader r;
-    r.seq_number = h.seq_number;
-    r.ar_uuid = h.ar_uuid;
-    r.api = h.api;
-    r.slot = h.slot;
-    r.subslot = h.subslot;
-    r.index = h.index;
+    RecordResponseHeader r = record_response_for(h);
     r.record_data_length = s.ok() ? h.record_data_length : 0;
     r.status = s;
     return r;
@@ -659,13 +670,7 @@ PnioStatus PnDevice::serve_read(std::span<const std::uint8_t> args, std::uint16_
   if (opnum == rpc::kOpRead && !ar_matches(h.ar_uuid))
     return {pnio_error::kCodeRead, pnio_error::kDecodePnio, connect_error::kCmrpc,
             connect_error::kCmrpcArUuidUnknown};
-  RecordResponseHeader r;
-  r.seq_number = h.seq_number;
-  r.ar_uuid = h.ar_uuid;
-  r.api = h.api;
-  r.slot = h.slot;
-  r.subslot = h.subslot;
-  r.index = h.index;
+  RecordResponseHeader r = record_response_for(h);
   PnioStatus s;
   std::array<std::uint8_t, io::kRecordMaxBytes> buf{};
   std::size_t len = 0;
