@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "controller_device.hpp"
+#include "plc/profinet/device/record_status.hpp"
 #include "plc/profinet/wire/dcp.hpp"
 #include "plc/profinet/wire/ethernet.hpp"
 #include "plc/profinet/wire/rpc.hpp"
@@ -62,6 +63,15 @@ const char* to_string(BadFrame b) {
 namespace {
 void bad(DeviceCounters& c, BadFrame b) { ++c.bad[static_cast<int>(b)]; }
 
+// A RecordError of 0x100 and above is a device code (RecordRequest::fail).
+void fail_record(io::RecordRequest* r, io::RecordError e) {
+  const auto v = static_cast<std::uint16_t>(e);
+  if (v >= 0x100)
+    r->fail(io::RecordError::InvalidIndex, v);
+  else
+    r->fail(e == io::RecordError::None ? io::RecordError::InvalidState : e);
+}
+
 std::string status_text(const PnioStatus& s) {
   char b[64];
   std::snprintf(b, sizeof b, "PNIO status %02X %02X %02X %02X", s.error_code, s.error_decode,
@@ -69,32 +79,10 @@ std::string status_text(const PnioStatus& s) {
   return b;
 }
 
-// PNIORW ErrorCode1 (IEC 61158-6-10 "ErrorCode1" for ErrorDecode PNIORW):
-// class in the high nibble, code in the low one. Back to the RecordError
-// the FBs know from the sim plugin.
-io::RecordError record_error_of(const PnioStatus& s) {
-  if (s.error_decode != pnio_error::kDecodePnioRw) return io::RecordError::InvalidIndex;
-  switch (s.error_code1) {
-    case 0xB0:  // access: invalid index
-      return io::RecordError::InvalidIndex;
-    case 0xB1:  // access: write length error
-    case 0xB8:  // access: invalid range / length
-      return io::RecordError::InvalidLength;
-    case 0xB5:  // access: state conflict
-      return io::RecordError::InvalidState;
-    case 0xC0:  // resource: read constrain conflict
-    case 0xC1:  // resource: write constrain conflict
-    case 0xC2:  // resource: busy
-    case 0xC3:  // resource: unavailable
-      return io::RecordError::DeviceBusy;
-    default:
-      return io::RecordError::InvalidIndex;
-  }
-}
 }  // namespace
 
 Controller::Controller(const ControllerConfig& cfg, EthernetPort* eth, UdpPort* udp)
-    : cfg_(cfg), eth_(eth), udp_(udp), rx_(kMaxFrameLength > kMaxDatagram ? 2048 : 2048) {}
+    : cfg_(cfg), eth_(eth), udp_(udp), rx_(std::max(kMaxFrameLength, kMaxDatagram)) {}
 Controller::~Controller() = default;
 
 void Controller::attach(EthernetPort* eth, UdpPort* udp) {
@@ -467,8 +455,9 @@ void Controller::on_rpc_response(Device& d, RpcCall call, const NdrResponse& res
       if (!r) return;
       if (!res.status.ok()) {
         ++d.counters.records_error;
-        return r->fail(record_error_of(res.status),
-                       static_cast<std::uint16_t>(res.status.error_code1 >= 0xB0 ? 0 : 0));
+        // The device's refusal, as the FBs know it from the sim plugin
+        // (record_status.hpp: the PNIORW codes both ends use).
+        return fail_record(r, record_error_from(res.status));
       }
       if (call == RpcCall::RecordWrite) {
         WriteResponse wr;
@@ -479,7 +468,7 @@ void Controller::on_rpc_response(Device& d, RpcCall call, const NdrResponse& res
         }
         if (!wr.header.status.ok()) {
           ++d.counters.records_error;
-          return r->fail(record_error_of(wr.header.status));
+          return fail_record(r, record_error_from(wr.header.status));
         }
         ++d.counters.records_ok;
         return r->complete(r->data().size());
