@@ -11,7 +11,7 @@
 // built against another version (plc/cell_library.hpp).
 #pragma once
 
-#define PLC_ABI_VERSION 1
+#define PLC_ABI_VERSION 2  // 2: plc::io::DeviceLink holds the last alarm (issue 11) and its last state change (issue 13)
 
 // The exported symbol's name, for dlsym.
 #define PLC_CELL_ABI_SYMBOL "softplc_cell_abi_version"

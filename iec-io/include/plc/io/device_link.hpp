@@ -15,6 +15,18 @@
 
 namespace plc::io {
 
+// The last alarm a device reported (PROFINET alarm notification: type,
+// where, and the user structure identifier with the first 4 data bytes, e.g.
+// a channel diagnosis' error type). Plugins without alarms leave it empty.
+struct DeviceAlarm {
+  std::uint32_t count = 0;  // alarms reported since start; 0 = none yet
+  std::uint16_t type = 0;   // AlarmType (1 = diagnosis, 2 = process, ...)
+  std::uint16_t slot = 0, subslot = 0;
+  std::uint16_t usi = 0;   // user structure identifier (0x8000 = channel diagnosis)
+  std::uint32_t data = 0;  // first 4 bytes of the alarm item after the USI, big-endian
+  bool appears = true;     // false: the diagnosis disappeared (alarm specifier)
+};
+
 enum class DeviceState : std::uint8_t {
   Offline,  // not started, or stopped answering
   Online,   // cyclic data is valid
@@ -111,6 +123,21 @@ class DeviceLink {
   [[nodiscard]] std::uint32_t last_seq() const;
   void set_last_seq(std::uint32_t seq);
 
+  // The device's last alarm (live, not latched: an alarm is an event, FBs
+  // compare count with the one they saw). Plugin side: post_alarm().
+  [[nodiscard]] DeviceAlarm last_alarm() const {
+    lock();
+    const DeviceAlarm a = alarm_;
+    unlock();
+    return a;
+  }
+  void post_alarm(DeviceAlarm a) {
+    lock();
+    a.count = alarm_.count + 1;
+    alarm_ = a;
+    unlock();
+  }
+
  private:
   void lock() const {
     while (lock_.test_and_set(std::memory_order_acquire)) {
@@ -137,6 +164,7 @@ class DeviceLink {
   std::atomic<std::uint8_t> change_from_{0}, change_to_{0};
   std::atomic<std::uint64_t> change_scan_{0};
   std::atomic<std::int64_t> change_time_ns_{0};
+  DeviceAlarm alarm_{};  // under lock_
 };
 
 }  // namespace plc::io

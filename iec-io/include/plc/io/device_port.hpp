@@ -31,6 +31,10 @@ class DevicePort {
 
   [[nodiscard]] DeviceState state() const { return link_ ? link_->state() : DeviceState::Offline; }
   [[nodiscard]] bool online() const { return state() == DeviceState::Online; }
+  // The device's last alarm (count 0: none; DeviceLink::last_alarm).
+  [[nodiscard]] DeviceAlarm last_alarm() const {
+    return link_ ? link_->last_alarm() : DeviceAlarm{};
+  }
 
   // Queue an acyclic request; poll r.status() in later scans.
   bool submit(RecordRequest& r) {

@@ -1,0 +1,136 @@
+// RT_CLASS_1 cyclic frames (IEC 61158-6-10 §4.7 "RT", "C_SDU"; the IO data
+// object layout of §5.2.2.3 / the IOCRBlockReq):
+//   Ethernet header [VLAN] 0x8892 | FrameID | C_SDU (40..1440 bytes) |
+//   CycleCounter (2) | DataStatus (1) | TransferStatus (1)
+// The C_SDU holds, per submodule, its IO data followed by its IOPS (an
+// "IO data object"), and the IOCS the producer returns for the other
+// direction's submodules; unused bytes up to the 40-byte minimum are zero.
+// Encoding and decoding work on caller buffers and never allocate.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "plc/profinet/wire/blocks.hpp"
+#include "plc/profinet/wire/codec.hpp"
+#include "plc/profinet/wire/ethernet.hpp"
+
+namespace plc::profinet {
+
+namespace data_status {
+// DataStatus bits (IEC 61158-6-10 Table "DataStatus").
+inline constexpr std::uint8_t kStatePrimary = 0x01;  // bit 0 State (1 = primary)
+inline constexpr std::uint8_t kRedundancy = 0x02;
+inline constexpr std::uint8_t kDataValid = 0x04;
+inline constexpr std::uint8_t kProviderRun = 0x10;       // bit 4 ProviderState (1 = run)
+inline constexpr std::uint8_t kStationProblemOk = 0x20;  // bit 5 (1 = normal operation)
+inline constexpr std::uint8_t kIgnore = 0x80;            // bit 7 (1 = ignore)
+inline constexpr std::uint8_t kGood =
+    kStatePrimary | kDataValid | kProviderRun | kStationProblemOk;  // 0x35
+}  // namespace data_status
+
+// Where one submodule's bytes are in one IOCR's C_SDU.
+struct IoDataObject {
+  std::uint32_t api = 0;
+  std::uint16_t slot = 0;
+  std::uint16_t subslot = 0;
+  std::uint16_t offset = 0;  // first data byte
+  std::uint16_t length = 0;  // data bytes (0 for NO_IO submodules)
+  [[nodiscard]] std::uint16_t iops_offset() const { return offset + length; }
+};
+struct IocsSlot {
+  std::uint32_t api = 0;
+  std::uint16_t slot = 0;
+  std::uint16_t subslot = 0;
+  std::uint16_t offset = 0;
+};
+// The layout of one IOCR (one direction).
+struct IocrLayout {
+  std::vector<IoDataObject> data;  // in expected-submodule order
+  std::vector<IocsSlot> iocs;
+  std::uint16_t c_sdu_length = iocr::kMinCSduLength;  // padded to >= 40
+  [[nodiscard]] const IoDataObject* find(std::uint32_t api, std::uint16_t slot,
+                                         std::uint16_t subslot) const;
+  [[nodiscard]] const IocsSlot* find_iocs(std::uint32_t api, std::uint16_t slot,
+                                          std::uint16_t subslot) const;
+};
+// Both directions. Input CR (device -> controller): an IO data object for
+// every submodule with input data or no IO data at all (NO_IO submodules,
+// e.g. the DAP, interface and port, get a lone IOPS), and an IOCS for every
+// submodule with output data. Output CR (controller -> device): an IO data
+// object for every submodule with output data, an IOCS for every submodule
+// of the input CR. Data objects first, in expected order, then the IOCS.
+struct CyclicLayout {
+  IocrLayout input;
+  IocrLayout output;
+};
+// Computes the layout; refuses (BadLength) a C_SDU above 1440 bytes.
+WireStatus compute_layout(std::span<const ExpectedSubmoduleBlockReq> expected, CyclicLayout& out);
+// The IOCRBlockReq API lists (IODataObjectFrameOffset, IOCSFrameOffset)
+// and DataLength of `layout` written into `req` (its other fields kept).
+void apply_layout(const IocrLayout& layout, IocrBlockReq& req);
+// The layout an IOCRBlockReq describes, given the expected submodules (for
+// their lengths): what a device does with a Connect request. Refuses
+// offsets that overlap or run past DataLength, and submodules missing from
+// either list.
+WireStatus layout_from_iocr(const IocrBlockReq& req,
+                            std::span<const ExpectedSubmoduleBlockReq> expected, IocrLayout& out);
+
+// Frame length with the given C_SDU length (header 14/18 + FrameID + C_SDU + 4).
+[[nodiscard]] constexpr std::size_t cyclic_frame_length(std::size_t c_sdu_length, bool vlan) {
+  return kEthernetHeaderLength + (vlan ? kVlanTagLength : 0) + 2 + c_sdu_length + 4;
+}
+
+struct CyclicHeader {
+  Mac dst{};
+  Mac src{};
+  std::optional<std::uint16_t> vlan_tci;
+  std::uint16_t frame_id = 0;
+  std::uint16_t cycle_counter = 0;
+  std::uint8_t data_status = data_status::kGood;
+  std::uint8_t transfer_status = 0;
+};
+// Writes the whole frame into `out`: header, `c_sdu` (copied, then zero
+// padding up to 40 bytes), APDU status. Returns the frame length, 0 if `out`
+// is too small or c_sdu is longer than 1440 bytes.
+std::size_t encode_cyclic(std::span<std::uint8_t> out, const CyclicHeader& h,
+                          std::span<const std::uint8_t> c_sdu);
+// Zero-copy variant: the C_SDU of a frame of this layout lives at
+// cyclic_c_sdu(frame, ...); write the IO data there, then finish_cyclic()
+// writes the header and APDU status around it. Both return empty / 0 when
+// `frame` is too small.
+std::span<std::uint8_t> cyclic_c_sdu(std::span<std::uint8_t> frame, std::size_t c_sdu_length,
+                                     bool vlan);
+std::size_t finish_cyclic(std::span<std::uint8_t> frame, const CyclicHeader& h,
+                          std::size_t c_sdu_length);
+
+// A received cyclic frame; c_sdu views into the caller's buffer.
+struct CyclicView {
+  CyclicHeader header;
+  std::span<const std::uint8_t> c_sdu;
+};
+// Parses a frame whose C_SDU has `c_sdu_length` bytes (known from the
+// Connect); a frame with padding beyond the APDU status (short frames on
+// some NICs) is accepted, a shorter one refused. `c_sdu_length` 0: takes
+// everything up to the last 4 bytes.
+WireStatus decode_cyclic(std::span<const std::uint8_t> frame, std::size_t c_sdu_length,
+                         CyclicView& out);
+
+// Cycle counter rule of p-net/IEC 61158-6-10: a new frame's counter is
+// ahead of the previous one by 1..61440 (mod 65536); equal = duplicate.
+[[nodiscard]] constexpr bool cycle_counter_advanced(std::uint16_t previous, std::uint16_t now) {
+  const auto d = static_cast<std::uint16_t>(now - previous);
+  return d >= 1 && d <= 61440;
+}
+
+// Accessors of one IO data object inside a C_SDU (no bounds beyond the
+// layout's own: the layout is checked once when computed).
+void put_io_data(std::span<std::uint8_t> c_sdu, const IoDataObject& o,
+                 std::span<const std::uint8_t> data, std::uint8_t iops);
+std::span<const std::uint8_t> io_data(std::span<const std::uint8_t> c_sdu, const IoDataObject& o);
+std::uint8_t iops(std::span<const std::uint8_t> c_sdu, const IoDataObject& o);
+
+}  // namespace plc::profinet

@@ -1,0 +1,98 @@
+#include "plc/profinet/link/memory_ethernet.hpp"
+
+#include "memory_segment.hpp"
+
+namespace plc::profinet {
+
+namespace {
+
+std::uint64_t key_of(const Mac& m) {
+  std::uint64_t k = 0;
+  for (auto b : m) k = k << 8 | b;
+  return k;
+}
+
+struct NoExtra {};
+
+}  // namespace
+
+struct MemoryEthernet::Impl : detail::MemorySegment<Mac, NoExtra> {
+  std::uint64_t next_mac = 1;
+};
+
+namespace {
+
+class MemoryEthernetPort final : public EthernetPort {
+ public:
+  MemoryEthernetPort(std::shared_ptr<MemoryEthernet::Impl> hub, Mac mac)
+      : hub_(std::move(hub)), mac_(mac), key_(key_of(mac)) {
+    std::lock_guard lock(hub_->mutex);
+    if (hub_->endpoints.count(key_) != 0)
+      throw LinkError("memory hub: MAC " + to_string(mac) + " is already on the hub");
+    auto& ep = hub_->endpoints[key_];
+    ep.address = mac;
+    ep.counters = &counters_;
+  }
+  ~MemoryEthernetPort() override {
+    std::lock_guard lock(hub_->mutex);
+    hub_->endpoints.erase(key_);
+  }
+  Mac mac() const override { return mac_; }
+  bool send(std::span<const std::uint8_t> frame) override {
+    if (frame.size() < 14 || frame.size() > kMaxFrameLength) {
+      counters_.send_failed.fetch_add(1, std::memory_order_relaxed);
+      return false;
+    }
+    Seg::Message m;
+    m.bytes.assign(frame.begin(), frame.end());
+    // Every port takes only PROFINET frames (as the raw port's binding
+    // does): others are carried but reach nobody.
+    const bool deliver = is_profinet(frame);
+    const bool ok =
+        hub_->send(mac_, key_, std::move(m), [&](std::uint64_t, auto&) { return deliver; });
+    (ok ? counters_.sent : counters_.send_failed).fetch_add(1, std::memory_order_relaxed);
+    return ok;
+  }
+  std::size_t receive(std::span<std::uint8_t> buf, std::chrono::nanoseconds timeout) override {
+    return hub_->take(key_, buf, timeout, nullptr);
+  }
+
+ private:
+  using Seg = detail::MemorySegment<Mac, NoExtra>;
+  static bool is_profinet(std::span<const std::uint8_t> f) {  // f.size() >= 14
+    auto type_at = [&](std::size_t o) { return std::uint16_t(f[o] << 8 | f[o + 1]); };
+    if (type_at(12) == kEtherTypeProfinet) return true;
+    return f.size() >= 18 && type_at(12) == kEtherTypeVlan && type_at(16) == kEtherTypeProfinet;
+  }
+  std::shared_ptr<MemoryEthernet::Impl> hub_;
+  Mac mac_;
+  std::uint64_t key_;
+};
+
+}  // namespace
+
+MemoryEthernet::MemoryEthernet() : impl_(std::make_shared<Impl>()) {}
+
+std::unique_ptr<EthernetPort> MemoryEthernet::port(Mac mac) {
+  if (mac == Mac{}) {
+    std::lock_guard lock(impl_->mutex);
+    do {
+      const std::uint64_t n = impl_->next_mac++;
+      mac = {
+          0x02,           0x00, std::uint8_t(n >> 24), std::uint8_t(n >> 16), std::uint8_t(n >> 8),
+          std::uint8_t(n)};
+    } while (impl_->endpoints.count(key_of(mac)) != 0);
+  }
+  return std::make_unique<MemoryEthernetPort>(impl_, mac);
+}
+
+void MemoryEthernet::drop_next(const Mac& from, int n) { impl_->drop_next(from, n); }
+void MemoryEthernet::delay_next(const Mac& from, int n, std::chrono::nanoseconds d) {
+  impl_->delay_next(from, n, d);
+}
+void MemoryEthernet::set_link_up(const Mac& port, bool up) { impl_->set_down(port, !up); }
+void MemoryEthernet::set_time(std::chrono::nanoseconds now) { impl_->set_time(now); }
+std::chrono::nanoseconds MemoryEthernet::time() const { return impl_->time(); }
+std::uint64_t MemoryEthernet::frames_carried() const { return impl_->carried_count(); }
+
+}  // namespace plc::profinet

@@ -1,0 +1,172 @@
+// The in-memory transports (lockstep tests in virtual time): a frame sent is
+// receivable at once by every other port, only EtherType 0x8892 (tagged or
+// not) is delivered (the contract of EthernetPort, as on AF_PACKET), and the
+// fault hooks drop / delay / cut what a port sends.
+#include <gtest/gtest.h>
+
+#include <thread>
+#include <vector>
+
+#include "plc/profinet/link/open_link.hpp"
+
+namespace pn = plc::profinet;
+using namespace std::chrono_literals;
+
+namespace {
+
+std::vector<std::uint8_t> frame(const pn::Mac& dst, const pn::Mac& src, std::uint8_t tag_byte,
+                                bool vlan = false, std::uint16_t type = 0x8892) {
+  std::vector<std::uint8_t> f(dst.begin(), dst.end());
+  f.insert(f.end(), src.begin(), src.end());
+  if (vlan) f.insert(f.end(), {0x81, 0x00, 0xC0, 0x00});  // priority 6, VLAN 0
+  f.push_back(static_cast<std::uint8_t>(type >> 8));
+  f.push_back(static_cast<std::uint8_t>(type));
+  f.insert(f.end(), {0xFE, 0xFE, tag_byte});
+  f.resize(std::max<std::size_t>(f.size(), 60), 0);
+  return f;
+}
+
+std::vector<std::uint8_t> take(pn::EthernetPort& p) {
+  std::vector<std::uint8_t> buf(pn::kMaxFrameLength);
+  buf.resize(p.receive(buf, 0ns));
+  return buf;
+}
+
+}  // namespace
+
+TEST(LinkMemoryEthernet, FrameIsAtOnceAtEveryOtherPortNotTheSender) {
+  pn::MemoryEthernet hub;
+  auto a = hub.port(), b = hub.port(), c = hub.port();
+  EXPECT_NE(a->mac(), b->mac());
+  EXPECT_EQ(a->mac()[0] & 0x03, 0x02);  // locally administered unicast
+  const auto f = frame(pn::kDcpIdentifyMulticast, a->mac(), 1);
+  ASSERT_TRUE(a->send(f));
+  EXPECT_EQ(take(*b), f);
+  EXPECT_EQ(take(*c), f);
+  EXPECT_TRUE(take(*a).empty());
+  EXPECT_TRUE(take(*b).empty());
+  EXPECT_EQ(a->counters().sent.load(), 1u);
+  EXPECT_EQ(b->counters().received.load(), 1u);
+}
+
+// fieldbus-masters.md §1 item 6: 0x8892 with and without a VLAN tag.
+TEST(LinkMemoryEthernet, DeliversProfinetTaggedAndUntaggedOnly) {
+  pn::MemoryEthernet hub;
+  auto a = hub.port(), b = hub.port();
+  const auto tagged = frame(b->mac(), a->mac(), 2, true);
+  ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 9, false, 0x0800)));  // IPv4: not ours
+  ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 8, true, 0x88CC)));   // tagged LLDP: not ours
+  ASSERT_TRUE(a->send(tagged));
+  EXPECT_EQ(take(*b), tagged);
+  EXPECT_TRUE(take(*b).empty());
+}
+
+TEST(LinkMemoryEthernet, FrameLongerThanTheBufferIsDroppedAndCounted) {
+  pn::MemoryEthernet hub;
+  auto a = hub.port(), b = hub.port();
+  ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 1)));
+  std::vector<std::uint8_t> small(20);
+  EXPECT_EQ(b->receive(small, 0ns), 0u);
+  EXPECT_EQ(b->counters().rx_dropped.load(), 1u);
+}
+
+TEST(LinkMemoryEthernet, DropNextAndDelayNextInHubTime) {
+  pn::MemoryEthernet hub;
+  auto a = hub.port(), b = hub.port();
+  hub.drop_next(a->mac(), 2);
+  for (std::uint8_t i = 1; i <= 3; ++i) ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), i)));
+  auto got = take(*b);
+  ASSERT_FALSE(got.empty());
+  EXPECT_EQ(got[16], 3);  // the first two were lost
+  EXPECT_TRUE(take(*b).empty());
+
+  hub.set_time(10ms);
+  hub.delay_next(a->mac(), 1, 3ms);
+  ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 4)));
+  EXPECT_TRUE(take(*b).empty());
+  hub.set_time(12ms);
+  EXPECT_TRUE(take(*b).empty());
+  hub.set_time(13ms);
+  got = take(*b);
+  ASSERT_FALSE(got.empty());
+  EXPECT_EQ(got[16], 4);
+}
+
+TEST(LinkMemoryEthernet, LinkDownSendsNothingAndReceivesNothing) {
+  pn::MemoryEthernet hub;
+  auto a = hub.port(), b = hub.port();
+  hub.set_link_up(b->mac(), false);
+  EXPECT_FALSE(b->send(frame(a->mac(), b->mac(), 1)));
+  EXPECT_EQ(b->counters().send_failed.load(), 1u);
+  EXPECT_TRUE(take(*a).empty());
+  ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 2)));
+  EXPECT_TRUE(take(*b).empty());
+  hub.set_link_up(b->mac(), true);
+  EXPECT_TRUE(take(*b).empty());  // what came while down is lost
+  ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 3)));
+  EXPECT_FALSE(take(*b).empty());
+}
+
+TEST(LinkMemoryEthernet, NamedHubsAndDuplicateMac) {
+  pn::forget_memory_link("t1");
+  auto a = pn::open_ethernet("mem:t1");
+  auto b = pn::open_ethernet("mem:t1", pn::Mac{0x02, 0, 0, 0, 0, 0x77});
+  EXPECT_THROW(pn::open_ethernet("mem:t1", pn::Mac{0x02, 0, 0, 0, 0, 0x77}), pn::LinkError);
+  EXPECT_THROW(pn::open_ethernet("mem:"), pn::LinkError);
+  ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 5)));
+  EXPECT_FALSE(take(*b).empty());
+  pn::memory_ethernet("t1").set_link_up(b->mac(), false);
+  ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 6)));
+  EXPECT_TRUE(take(*b).empty());
+  pn::forget_memory_link("t1");
+}
+
+TEST(LinkMemoryUdp, DatagramToTheBoundPortWithItsSource) {
+  pn::forget_memory_link("u1");
+  const pn::Ipv4 ctrl = *pn::parse_ipv4("10.0.0.1"), dev = *pn::parse_ipv4("10.0.0.2");
+  auto c = pn::open_udp("mem:u1", ctrl, pn::kPnioRpcPort);
+  auto d = pn::open_udp("mem:u1", dev, pn::kPnioRpcPort);
+  EXPECT_THROW(pn::open_udp("mem:u1", dev, pn::kPnioRpcPort), pn::LinkError);
+  const std::vector<std::uint8_t> msg{1, 2, 3};
+  ASSERT_TRUE(c->send_to(dev, pn::kPnioRpcPort, msg));
+  std::vector<std::uint8_t> buf(pn::kMaxDatagram);
+  pn::Ipv4 from;
+  std::uint16_t port = 0;
+  EXPECT_EQ(c->receive_from(buf, from, port, 0ns), 0u);
+  ASSERT_EQ(d->receive_from(buf, from, port, 0ns), 3u);
+  EXPECT_EQ(from, ctrl);
+  EXPECT_EQ(port, pn::kPnioRpcPort);
+  // Nobody bound there: lost, as on a network.
+  EXPECT_TRUE(c->send_to(*pn::parse_ipv4("10.0.0.9"), 1, msg));
+  pn::memory_udp("u1").drop_next(ctrl, 1);
+  ASSERT_TRUE(c->send_to(dev, pn::kPnioRpcPort, msg));
+  EXPECT_EQ(d->receive_from(buf, from, port, 0ns), 0u);
+  pn::forget_memory_link("u1");
+}
+
+TEST(LinkAddress, MacAndIpv4TextForms) {
+  EXPECT_EQ(pn::to_string(pn::kDcpIdentifyMulticast), "01:0e:cf:00:00:00");
+  EXPECT_EQ(pn::parse_mac("01-0E-CF-00-00-00"), pn::kDcpIdentifyMulticast);
+  EXPECT_FALSE(pn::parse_mac("01:0e:cf:00:00"));
+  EXPECT_EQ(pn::parse_ipv4("192.168.0.1")->host_order, 0xC0A80001u);
+  EXPECT_EQ(pn::to_string(pn::Ipv4{0x0A580001}), "10.88.0.1");
+  EXPECT_FALSE(pn::parse_ipv4("192.168.0"));
+  EXPECT_FALSE(pn::parse_ipv4("192.168.0.256"));
+}
+
+// A real-time thread may wait on a memory port (receive with a timeout):
+// a frame sent from another thread wakes it. Bounded: the wait is at most
+// 10 s, the frame is sent right after the receiver started.
+TEST(LinkMemoryEthernet, ReceiveWithTimeoutWakesOnAFrameFromAnotherThread) {
+  pn::MemoryEthernet hub;
+  auto a = hub.port(), b = hub.port();
+  std::size_t got = 0;
+  std::thread rx([&] {
+    std::vector<std::uint8_t> buf(pn::kMaxFrameLength);
+    got = b->receive(buf, 10s);
+  });
+  ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 1)));
+  rx.join();
+  EXPECT_EQ(got, 60u);
+  EXPECT_EQ(b->counters().received.load(), 1u);
+}
