@@ -2,11 +2,16 @@
 
 # plc_configure DIR [cmake options...]: configures DIR with Ninja; uses
 # ccache when it is installed (developers' machines), never needs it (CI).
+# Without ccache the build uses precompiled headers instead
+# (cmake/precompiled_headers.cmake). PLC_CCACHE=0 builds as CI does on a
+# machine that has ccache.
 plc_configure() {
   local dir="$1"
   shift
-  local launcher=()
-  if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+  local launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=)
+  if [ "${PLC_CCACHE:-1}" != 0 ] && command -v ccache >/dev/null; then
+    launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  fi
   cmake -S . -B "$dir" -G Ninja "${launcher[@]}" "$@" >/dev/null
 }
 
