@@ -66,10 +66,7 @@ std::vector<std::uint8_t> encode_alarm_ack(const Mac& dst, const Mac& src, const
   b.u16(a.slot);
   b.u16(a.subslot);
   b.u16(a.alarm_specifier);
-  b.u8(a.status.error_code);
-  b.u8(a.status.error_decode);
-  b.u8(a.status.error_code1);
-  b.u8(a.status.error_code2);
+  put_pnio_status(b, a.status);
   end_block(b, s);
   RtaHeader hh = h;
   hh.pdu_type = rta::kTypeData;
@@ -119,12 +116,7 @@ WireStatus decode_rta(std::uint16_t fid, std::span<const std::uint8_t> pdu, RtaP
     case rta::kTypeErr: {
       if (var_len < 4) return wire_fail(WireError::BadLength, "ERR-RTA without PNIOStatus");
       ByteReader e(sdu);
-      PnioStatus s;
-      s.error_code = e.u8();
-      s.error_decode = e.u8();
-      s.error_code1 = e.u8();
-      s.error_code2 = e.u8();
-      out.error = s;
+      out.error = get_pnio_status(e);
       return kWireOk;
     }
     default:
@@ -167,10 +159,7 @@ WireStatus decode_rta(std::uint16_t fid, std::span<const std::uint8_t> pdu, RtaP
     a.slot = b.u16();
     a.subslot = b.u16();
     a.alarm_specifier = b.u16();
-    a.status.error_code = b.u8();
-    a.status.error_decode = b.u8();
-    a.status.error_code1 = b.u8();
-    a.status.error_code2 = b.u8();
+    a.status = get_pnio_status(b);
     if (b.failed()) return wire_fail(WireError::Truncated, "AlarmAck truncated");
     out.ack = a;
   } else {

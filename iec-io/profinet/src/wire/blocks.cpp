@@ -32,21 +32,6 @@ std::string get_text(ByteReader& r, std::size_t n) {
   const auto d = r.bytes(n);
   return {d.begin(), d.end()};
 }
-void put_status(ByteBuilder& b, const PnioStatus& s) {
-  b.u8(s.error_code);
-  b.u8(s.error_decode);
-  b.u8(s.error_code1);
-  b.u8(s.error_code2);
-}
-PnioStatus get_status(ByteReader& r) {
-  PnioStatus s;
-  s.error_code = r.u8();
-  s.error_decode = r.u8();
-  s.error_code1 = r.u8();
-  s.error_code2 = r.u8();
-  return s;
-}
-
 }  // namespace
 
 WireStatus read_block(ByteReader& r, BlockView& out) {
@@ -484,8 +469,8 @@ WireStatus decode_connect_request(std::span<const std::uint8_t> args, ConnectReq
         st = decode_block(v, out.expected.emplace_back());
         break;
       default:
-        // Optional blocks we do not use (ARRPCBlockReq 0x0110? no: PrmServer,
-        // MCR, ARVendor, IRInfo...) are refused: we never send them.
+        // Optional request blocks (PrmServer, MCR, ARRPC, ARVendor, IRInfo,
+        // ...) are refused: neither our controller nor our device uses them.
         return wire_fail(WireError::BadBlockType, "unexpected block in a Connect request");
     }
     if (!st) return st;
@@ -583,7 +568,7 @@ void encode_block(ByteBuilder& b, std::uint16_t type, const RecordResponseHeader
   b.u16(h.additional_value1);
   b.u16(h.additional_value2);
   if (type == block::kWriteResHeader) {
-    put_status(b, h.status);
+    put_pnio_status(b, h.status);
     b.zeros(16);
   } else {
     b.zeros(20);
@@ -608,7 +593,7 @@ WireStatus decode_block(const BlockView& v, RecordResponseHeader& out) {
   out.record_data_length = r.u32();
   out.additional_value1 = r.u16();
   out.additional_value2 = r.u16();
-  out.status = v.type == block::kWriteResHeader ? get_status(r) : PnioStatus{};
+  out.status = v.type == block::kWriteResHeader ? get_pnio_status(r) : PnioStatus{};
   return finish(r, "record response header truncated");
 }
 

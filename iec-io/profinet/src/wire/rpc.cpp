@@ -76,6 +76,22 @@ Uuid pnio_object_uuid(std::uint16_t instance, std::uint16_t device_id, std::uint
        static_cast<std::uint8_t>(vendor_id >> 8), static_cast<std::uint8_t>(vendor_id)}};
 }
 
+void put_pnio_status(ByteBuilder& b, const PnioStatus& s) {
+  b.u8(s.error_code);
+  b.u8(s.error_decode);
+  b.u8(s.error_code1);
+  b.u8(s.error_code2);
+}
+
+PnioStatus get_pnio_status(ByteReader& r) {
+  PnioStatus s;
+  s.error_code = r.u8();
+  s.error_decode = r.u8();
+  s.error_code1 = r.u8();
+  s.error_code2 = r.u8();
+  return s;
+}
+
 WireStatus decode_rpc(std::span<const std::uint8_t> d, RpcPdu& out) {
   if (d.size() < rpc::kHeaderLength) return wire_fail(WireError::Truncated, "RPC header truncated");
   ByteReader r(d);
@@ -175,11 +191,7 @@ WireStatus decode_ndr_request(std::span<const std::uint8_t> body, bool le, NdrRe
 
 WireStatus decode_ndr_response(std::span<const std::uint8_t> body, bool le, NdrResponse& out) {
   ByteReader r(body);
-  // PNIOStatus is four single octets, so drep does not apply to it.
-  out.status.error_code = r.u8();
-  out.status.error_decode = r.u8();
-  out.status.error_code1 = r.u8();
-  out.status.error_code2 = r.u8();
+  out.status = get_pnio_status(r);
   NdrArray a;
   a.length = r.u32(le);
   a.max_count = r.u32(le);
@@ -208,10 +220,7 @@ std::vector<std::uint8_t> encode_ndr_response(const PnioStatus& s, std::uint32_t
   std::vector<std::uint8_t> out;
   ByteBuilder b(out);
   const auto len = static_cast<std::uint32_t>(args.size());
-  b.u8(s.error_code);
-  b.u8(s.error_decode);
-  b.u8(s.error_code1);
-  b.u8(s.error_code2);
+  put_pnio_status(b, s);
   b.u32(len, le);
   b.u32(args_maximum, le);
   b.u32(0, le);

@@ -128,6 +128,10 @@ struct PnioStatus {
   }
   friend bool operator==(const PnioStatus&, const PnioStatus&) = default;
 };
+// PNIOStatus on the wire: four single octets (so drep does not apply).
+void put_pnio_status(ByteBuilder& b, const PnioStatus& s);
+PnioStatus get_pnio_status(ByteReader& r);
+
 namespace pnio_error {
 // ErrorCode
 inline constexpr std::uint8_t kCodePnio = 0x81;      // IODConnectRes etc.
