@@ -176,3 +176,14 @@ TEST_F(LinkNetns, StartedChildRunsInItsNamespaceUntilStopped) {
   EXPECT_TRUE(sleeper->running());
   EXPECT_EQ(sleeper->stop(), 128 + SIGTERM);
 }
+
+TEST(LinkNetnsFixture, NamespacesAndVethAreGoneWhenThePairEnds) {
+  std::string why;
+  auto p = plctest::NetnsPair::create(why);
+  if (!p) GTEST_SKIP() << "network namespaces unavailable, test skipped: " << why;
+  const std::string na = p->a().ns, nb = p->b().ns;
+  ASSERT_EQ(::access(("/run/netns/" + na).c_str(), F_OK), 0);
+  p.reset();
+  EXPECT_NE(::access(("/run/netns/" + na).c_str(), F_OK), 0);
+  EXPECT_NE(::access(("/run/netns/" + nb).c_str(), F_OK), 0);
+}
