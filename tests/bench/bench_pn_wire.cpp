@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "plc/profinet/wire/cyclic.hpp"
+#include "plc_bench/collector.hpp"
 
 namespace {
 
@@ -72,30 +73,12 @@ void BM_DecodeCyclicFrame(benchmark::State& state) {
 }
 BENCHMARK(BM_DecodeCyclicFrame)->MinTime(0.2);
 
-class Collector : public benchmark::ConsoleReporter {
- public:
-  void ReportRuns(const std::vector<Run>& runs) override {
-    ConsoleReporter::ReportRuns(runs);
-    for (const Run& r : runs) cpu[r.benchmark_name()] = r.GetAdjustedCPUTime();
-  }
-  std::map<std::string, double> cpu;
-};
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  Collector c;
-  c.SetOutputStream(&std::cerr);
-  c.SetErrorStream(&std::cerr);
-  benchmark::RunSpecifiedBenchmarks(&c);
-  benchmark::Shutdown();
-  auto get = [&](const std::string& prefix) {
-    for (const auto& [k, v] : c.cpu)
-      if (k.rfind(prefix, 0) == 0) return v;
-    return 0.0;
-  };
-  std::printf("pn_cyclic_frame_encode: %.0f ns\n", get("BM_EncodeCyclicFrame"));
-  std::printf("pn_cyclic_frame_decode: %.0f ns\n", get("BM_DecodeCyclicFrame"));
+  plc::bench::Collector c;
+  if (!plc::bench::run_benchmarks(argc, argv, c)) return 1;
+  std::printf("pn_cyclic_frame_encode: %.0f ns\n", c.cpu("BM_EncodeCyclicFrame"));
+  std::printf("pn_cyclic_frame_decode: %.0f ns\n", c.cpu("BM_DecodeCyclicFrame"));
   return 0;
 }
