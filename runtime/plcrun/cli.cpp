@@ -13,7 +13,9 @@
 #include <iostream>
 #include <memory>
 #include <sstream>
+#include <string_view>
 #include <thread>
+#include <vector>
 
 #include "debug_console.hpp"
 #include "new_cell.hpp"
@@ -22,6 +24,7 @@
 #include "plc/debug/trace.hpp"
 #include "plc/hmi/bridge.hpp"
 #include "plc/iec_literal.hpp"
+#include "plc/profinet/controller/dcp_tool.hpp"
 #include "plc/retain/retain_manager.hpp"
 #include "plc/runtime.hpp"
 
@@ -229,6 +232,9 @@ int plcrun_main(int argc, char** argv) {
     ("reset-retain", "remove the retain file first: every variable at its initial value")
     ("quiet,q", "no live status line")
     ("new-cell", po::value<std::string>()->value_name("DIR"), "write a new cell project (CMake, one program, cell.yaml, a test) into DIR, then exit")
+    ("pn-scan", po::value<std::string>()->value_name("IFACE"), "list the PROFINET devices on IFACE (DCP Identify All, 1 s window; needs CAP_NET_RAW), then exit")
+    ("pn-set-name", po::value<std::vector<std::string>>()->multitoken()->value_name("IFACE MAC NAME"), "set the NameOfStation of the device with MAC (DCP Set, permanent), then exit")
+    ("pn-set-ip", po::value<std::vector<std::string>>()->multitoken()->value_name("IFACE MAC IP[/PREFIX[/GATEWAY]]"), "set the IP suite of the device with MAC (prefix 24, no gateway by default; DCP Set, permanent), then exit")
     ("config", po::value<std::string>()->value_name("FILE"), "the cell config (YAML)");
   // clang-format on
   po::positional_options_description pos;
@@ -254,6 +260,20 @@ int plcrun_main(int argc, char** argv) {
     }
     std::cout << "plcrun: wrote a cell project into " << dir << " (see its CMakeLists.txt)\n";
     return 0;
+  }
+  if (vm.count("pn-scan"))
+    return profinet::pn_scan_command(vm["pn-scan"].as<std::string>(), std::cout, std::cerr);
+  for (const char* opt : {"pn-set-name", "pn-set-ip"}) {
+    if (!vm.count(opt)) continue;
+    const auto& a = vm[opt].as<std::vector<std::string>>();
+    const bool set_name = std::string_view(opt) == "pn-set-name";
+    if (a.size() != 3) {
+      std::cerr << "plcrun: --" << opt << " takes IFACE MAC " << (set_name ? "NAME" : "IP")
+                << " (plcrun --help for usage)\n";
+      return 2;
+    }
+    return set_name ? profinet::pn_set_name_command(a[0], a[1], a[2], std::cout, std::cerr)
+                    : profinet::pn_set_ip_command(a[0], a[1], a[2], std::cout, std::cerr);
   }
   if (!vm.count("config")) {
     std::cerr << "plcrun: missing CONFIG (plcrun --help for usage)\n";
