@@ -65,7 +65,9 @@ class DeviceNetns : public plctest::NetnsTest {
     if (!pn::decode_rpc(d, pdu) ||
         !pn::decode_ndr_response(pdu.body, pdu.header.little_endian, ndr))
       return pn::PnioStatus::from(0xFFFFFFFF);
-    if (res && ndr.status.ok()) EXPECT_TRUE(pn::decode_connect_response(ndr.args, *res));
+    if (res && ndr.status.ok()) {
+      EXPECT_TRUE(pn::decode_connect_response(ndr.args, *res));
+    }
     return ndr.status;
   }
   static pn::PnioStatus connect(pn::UdpPort& udp, pn::Ipv4 to, const pn::ConnectRequest& req,
