@@ -123,6 +123,13 @@ TEST_F(PnCellNetns, RealTimeCellFillsSurvivesAPndevsimKillAndReconnects) {
   sim = replace_all(sim, "control: stdin", "control: none");
   sim = replace_all(sim, "10.88.0.2", b().ip);
   sim = replace_all(sim, "10.88.0.3", safety_ip);
+  // The wire check's alarm: the conveyor raises a diagnosis alarm 1 s into
+  // data exchange (pndevsim's scheduled `alarm` fault, README "pndevsim");
+  // the controller answers ACK-RTA + AlarmAck (no FB acts on it).
+  const std::string telegram = "    params: {telegram: 111}\n";
+  ASSERT_NE(sim.find(telegram), std::string::npos);
+  sim =
+      replace_all(sim, telegram, telegram + "    faults: {alarm: {kind: diagnosis, after: 1s}}\n");
   const std::string sim_file = plctest::write_temp("pn_cell_pndevsim.yaml", sim);
 
   std::string cell =
@@ -159,6 +166,9 @@ TEST_F(PnCellNetns, RealTimeCellFillsSurvivesAPndevsimKillAndReconnects) {
   ASSERT_TRUE(plc);
   ASSERT_TRUE(wait_log(*plc, "profinet: conveyor (conveyor): online", 1, 15s)) << plc->output();
   ASSERT_TRUE(wait_log(*plc, "profinet: safety (safety): online", 1, 15s)) << plc->output();
+
+  // The alarm went out and the controller's AlarmAck came back.
+  ASSERT_TRUE(wait_log(*dev, "pndevsim: conveyor: alarm acknowledged", 1, 10s)) << dev->output();
 
   // Fill for a while (the scenario's own time), then kill the devices.
   wait_log(*plc, "\x01never\x01", 1, 10s);
@@ -227,6 +237,23 @@ TEST_F(PnCellNetns, RealTimeCellFillsSurvivesAPndevsimKillAndReconnects) {
   for (const char* what : {"ARBlockReq", "IOCRBlockReq", "AlarmCRBlockReq", "IODWriteReqHeader",
                            "PrmEnd", "ApplicationReady", "Release"})
     EXPECT_NE(v.output.find(what), std::string::npos) << what;
+  // The alarm round trip on the low-priority alarm FrameID 0xFE01 (IEC
+  // 61158-6-10 block types): the device's AlarmNotification-Low (0x0002)
+  // in a DATA-RTA, the controller's ACK-RTA and its AlarmAck-Low (0x8002)
+  // in a DATA-RTA, which the device ACKs. tshark's own names; its stderr
+  // (a warning when run as root) is left out.
+  for (const char* block : {"0x0002", "0x8002"}) {
+    const auto f = plctest::run_command(
+        "(tshark -n -r " + pcap + " -Y 'pn_rt.frame_id == 0xfe01 && pn_io.block_type == " + block +
+        "' -T fields -e frame.number 2>/dev/null)");
+    EXPECT_EQ(f.exit_code, 0) << f.output;
+    EXPECT_NE(f.output.find_first_of("0123456789"), std::string::npos)
+        << "no alarm block " << block << " in the capture";
+  }
+  const auto al =
+      plctest::run_command("(tshark -n -r " + pcap + " -Y 'pn_rt.frame_id == 0xfe01' 2>/dev/null)");
+  for (const char* what : {"Alarm Notification Low", "Alarm Ack Low", "ACK-RTA"})
+    EXPECT_NE(al.output.find(what), std::string::npos) << what << "\n" << al.output;
   const auto e = plctest::run_command("tshark -n -r " + pcap + " -q -z expert,error 2>&1");
   EXPECT_EQ(e.output.find("Errors ("), std::string::npos) << e.output.substr(0, 4000);
 }
