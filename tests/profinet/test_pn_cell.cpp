@@ -159,10 +159,21 @@ TEST_F(PnCellNetns, RealTimeCellFillsSurvivesAPndevsimKillAndReconnects) {
   }
   auto dev = pair().start(b(), plctest::bin_dir() + "/pndevsim " + sim_file);
   ASSERT_TRUE(dev);
+  // The operator's acknowledgement, given by plcrun's debugger from a
+  // command file: once the F-host asks for it after the devices came back
+  // (and not at start-up: a container must have been filled first), write
+  // ACK_REI (PROFIsafe: reintegration only on the operator's request).
+  const std::string commands =
+      plctest::write_temp("pn_cell_ack.txt",
+                          "run until Cell.guard.FMOD.ACK_REQ = TRUE AND Cell.containers >= 1\n"
+                          "write Cell.guard.FMOD.ACK_REI TRUE\n"
+                          "continue\n");
   auto plc = pair().start(
-      a(), plctest::plcrun_path() + " " + cell_file + " --realtime --for 35s -q --trace " + trace +
+      a(), plctest::plcrun_path() + " " + cell_file + " --realtime --for 45s -q --commands " +
+               commands + " --trace " + trace +
                " --trace-vars Cell.step,Cell.containers,Cell.power.Enable,Cell.guard.QBAD,"
-               "Cell.guard.ACK_REQ,Cell.conveyor.CommOk --print-vars Cell.containers");
+               "Cell.guard.ACK_REQ,Cell.guard.FMOD.ACK_REI,Cell.conveyor.CommOk"
+               " --print-vars Cell.containers");
   ASSERT_TRUE(plc);
   ASSERT_TRUE(wait_log(*plc, "profinet: conveyor (conveyor): online", 1, 15s)) << plc->output();
   ASSERT_TRUE(wait_log(*plc, "profinet: safety (safety): online", 1, 15s)) << plc->output();
@@ -215,9 +226,14 @@ TEST_F(PnCellNetns, RealTimeCellFillsSurvivesAPndevsimKillAndReconnects) {
   EXPECT_GE(std::stoi(rows[passivated].v["Cell.containers"]), 1) << "filled before the kill";
   // From then on: conveyor power off, and no reintegration without the
   // operator's acknowledgement, which the F-host asks for once the safety
-  // module is back.
+  // module is back; after it, the F-host runs again and the cell fills on.
   bool ack_req = false;
+  std::size_t acked = 0;
   for (std::size_t i = passivated; i < rows.size(); ++i) {
+    if (rows[i].v["Cell.guard.FMOD.ACK_REI"] == "TRUE") {
+      acked = i;
+      break;
+    }
     ASSERT_EQ(rows[i].v["Cell.guard.QBAD"], "TRUE") << "reintegrated without ACK at row " << i;
     ASSERT_EQ(rows[i].v["Cell.power.Enable"], "FALSE") << "row " << i;
     ack_req |= rows[i].v["Cell.guard.ACK_REQ"] == "TRUE";
@@ -225,6 +241,14 @@ TEST_F(PnCellNetns, RealTimeCellFillsSurvivesAPndevsimKillAndReconnects) {
   }
   EXPECT_TRUE(ack_req);
   EXPECT_GT(back, passivated) << "the conveyor is back on line";
+  ASSERT_GT(acked, back) << "acknowledged after the devices came back";
+  std::size_t reintegrated = 0;
+  for (std::size_t i = acked; i < rows.size() && !reintegrated; ++i)
+    if (rows[i].v["Cell.guard.QBAD"] == "FALSE") reintegrated = i;
+  ASSERT_GT(reintegrated, 0u) << "the F-host reintegrates after the acknowledgement";
+  EXPECT_GT(std::stoi(rows.back().v["Cell.containers"]),
+            std::stoi(rows[reintegrated].v["Cell.containers"]))
+      << "the cell fills again after the acknowledgement";
 
   if (!have_tshark) GTEST_SKIP() << "tshark not installed (scripts/setup installs it)";
   const auto t = plctest::run_command("tshark -n -r " + pcap + " 2>&1");
