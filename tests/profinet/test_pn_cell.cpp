@@ -162,18 +162,22 @@ TEST_F(PnCellNetns, RealTimeCellFillsSurvivesAPndevsimKillAndReconnects) {
   // The operator's acknowledgement, given by plcrun's debugger from a
   // command file: once the F-host asks for it after the devices came back
   // (and not at start-up: a container must have been filled first), write
-  // ACK_REI (PROFIsafe: reintegration only on the operator's request).
-  const std::string commands =
-      plctest::write_temp("pn_cell_ack.txt",
-                          "run until Cell.guard.FMOD.ACK_REQ = TRUE AND Cell.containers >= 1\n"
-                          "write Cell.guard.FMOD.ACK_REI TRUE\n"
-                          "continue\n");
-  auto plc = pair().start(
-      a(), plctest::plcrun_path() + " " + cell_file + " --realtime --for 45s -q --commands " +
-               commands + " --trace " + trace +
-               " --trace-vars Cell.step,Cell.containers,Cell.power.Enable,Cell.guard.QBAD,"
-               "Cell.guard.ACK_REQ,Cell.guard.FMOD.ACK_REI,Cell.conveyor.CommOk"
-               " --print-vars Cell.containers");
+  // ACK_REI (PROFIsafe: reintegration only on the operator's request), then
+  // run on for 20 s. The trace is the debugger's (a command-file session
+  // ends with the file).
+  const std::string commands = plctest::write_temp(
+      "pn_cell_ack.txt",
+      "trace add Cell.step Cell.containers Cell.power.Enable Cell.guard.QBAD Cell.guard.ACK_REQ "
+      "Cell.guard.FMOD.ACK_REI Cell.conveyor.CommOk\n"
+      "trace start " +
+          trace +
+          "\n"
+          "run until Cell.guard.FMOD.ACK_REQ = TRUE AND Cell.containers >= 1\n"
+          "write Cell.guard.FMOD.ACK_REI TRUE\n"
+          "continue for T#20s\n"
+          "trace stop\n");
+  auto plc = pair().start(a(), plctest::plcrun_path() + " " + cell_file +
+                                   " --realtime --for 60s -q --commands " + commands);
   ASSERT_TRUE(plc);
   ASSERT_TRUE(wait_log(*plc, "profinet: conveyor (conveyor): online", 1, 15s)) << plc->output();
   ASSERT_TRUE(wait_log(*plc, "profinet: safety (safety): online", 1, 15s)) << plc->output();
