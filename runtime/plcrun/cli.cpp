@@ -372,6 +372,14 @@ int plcrun_main(int argc, char** argv) {
   // --debug asks for one.
   const bool hmi = cfg.hmi.present;
   const bool console = vm.count("debug") || vm.count("commands");
+  if (console && vm.count("trace")) {
+    // A debugger session's trace is the debugger's own; --trace would be
+    // silently left out.
+    std::cerr << "plcrun: --trace applies to a plain run or a cell with an hmi: section; in a "
+                 "--debug or --commands session use the debugger's trace (trace add NAME..., "
+                 "trace start FILE)\n";
+    return 2;
+  }
   if (start_mode_given && (vm.count("replay") || console)) {
     // A replay and a console session (goto and restart re-run from the
     // start) need the initial values; they neither load nor save retain data.

@@ -35,6 +35,17 @@ TEST(PlcrunCli, SummaryGivesEachDevicesPluginDiagnostics) {
   EXPECT_NE(r.output.find("device tank1      (sim): online\n"), std::string::npos) << r.output;
 }
 
+TEST(PlcrunCli, TraceInADebuggerSessionIsRefusedNotLeftOut) {
+  // A --commands or --debug session takes its trace from the debugger's
+  // commands; --trace there used to be ignored without a word.
+  const std::string cmds = plctest::write_temp("cli_trace_cmds.txt", "continue for T#10ms\n");
+  const std::string csv = plctest::temp_path("cli_trace.csv");
+  const auto r = plctest::run_command(plctest::plcrun_path() + " " + demo() + " --commands " +
+                                      cmds + " --trace " + csv + " --trace-vars Tank.level");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--trace applies to a plain run"), std::string::npos) << r.output;
+}
+
 TEST(PlcrunCli, StatsJsonHasEveryTask) {
   const std::string file = plctest::temp_path("stats.json");
   const auto r = plctest::run_command(plctest::plcrun_path() + " " + demo() +
