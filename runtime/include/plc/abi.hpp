@@ -11,7 +11,9 @@
 // built against another version (plc/cell_library.hpp).
 #pragma once
 
-#define PLC_ABI_VERSION 2  // 2: plc::io::DeviceLink holds the last alarm (issue 11) and its last state change (issue 13)
+// 2: plc::io::DeviceLink holds the last alarm (issue 11) and its last state
+// change (issue 13).
+#define PLC_ABI_VERSION 2
 
 // The exported symbol's name, for dlsym.
 #define PLC_CELL_ABI_SYMBOL "softplc_cell_abi_version"
