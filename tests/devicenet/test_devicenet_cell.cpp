@@ -30,6 +30,7 @@
 
 #include "child_process.hpp"
 #include "runtime/test_helpers.hpp"
+#include "trace_csv.hpp"
 
 using dntest::Child;
 using dntest::free_udp_port;
@@ -40,31 +41,6 @@ std::string replace_all(std::string s, const std::string& from, const std::strin
   for (auto p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size()))
     s.replace(p, from.size(), to);
   return s;
-}
-
-struct Row {
-  std::int64_t t_ns;
-  std::map<std::string, std::string> v;
-};
-
-std::vector<Row> read_trace(const std::string& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::vector<std::string> head;
-  std::vector<Row> rows;
-  for (int n = 0; n < 10'000'000 && std::getline(in, line); ++n) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
-    if (head.empty()) {
-      head = cells;
-      continue;
-    }
-    Row r{std::stoll(cells.at(0)), {}};
-    for (std::size_t i = 2; i < cells.size() && i < head.size(); ++i) r.v[head[i]] = cells[i];
-    rows.push_back(std::move(r));
-  }
-  return rows;
 }
 
 }  // namespace
@@ -121,7 +97,7 @@ TEST(DeviceNetCell, BatchWeighingOverDeviceNetSurvivesASlaveKillAndRestart) {
   EXPECT_LE(silent_ms, 200 + 300) << "declared lost at the first bus-thread wake-up after the "
                                      "4 x EPR timeout";
 
-  const auto rows = read_trace(trace);
+  const auto rows = plctest::read_trace_csv(trace);
   ASSERT_GT(rows.size(), 1000u);
   // The loss in the trace: Online TRUE -> FALSE -> TRUE.
   std::size_t lost = 0, back = 0;
@@ -196,7 +172,7 @@ TEST(DeviceNetCell, AcConveyorCellTripsOnFault18AndRecovers) {
   ASSERT_TRUE(plc.wait_for("conveyor (MAC 7): online", 10000)) << plc.all;
   ASSERT_EQ(plc.finish(40000), 0) << plc.all;
 
-  const auto rows = read_trace(trace);
+  const auto rows = plctest::read_trace_csv(trace);
   ASSERT_GT(rows.size(), 1000u);
   std::size_t lost = 0, back = 0, faulted = 0, running_again = 0;
   for (std::size_t i = 1; i < rows.size(); ++i) {

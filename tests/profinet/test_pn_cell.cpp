@@ -29,6 +29,7 @@
 
 #include "netns.hpp"
 #include "runtime/test_helpers.hpp"
+#include "trace_csv.hpp"
 
 namespace {
 
@@ -70,29 +71,6 @@ TEST(PnCell, VirtualTimeFillsTheSameContainersAsTheSimCell) {
       << pn.output;
   EXPECT_EQ(pn.output.find("losses 1"), std::string::npos) << pn.output;
   EXPECT_NE(pn.output.find("connects 1 (refused 0) losses 0"), std::string::npos) << pn.output;
-}
-
-struct Row {
-  std::map<std::string, std::string> v;
-};
-std::vector<Row> read_trace(const std::string& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::vector<std::string> head;
-  std::vector<Row> rows;
-  for (int n = 0; n < 10'000'000 && std::getline(in, line); ++n) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
-    if (head.empty()) {
-      head = cells;
-      continue;
-    }
-    Row r;
-    for (std::size_t i = 0; i < cells.size() && i < head.size(); ++i) r.v[head[i]] = cells[i];
-    rows.push_back(std::move(r));
-  }
-  return rows;
 }
 
 // Waits until the process' log holds `text` at least `count` times.
@@ -216,7 +194,7 @@ TEST_F(PnCellNetns, RealTimeCellFillsSurvivesAPndevsimKillAndReconnects) {
   dev2->stop();
   if (cap) cap->stop();
 
-  auto rows = read_trace(trace);
+  auto rows = plctest::read_trace_csv(trace);
   ASSERT_GT(rows.size(), 10000u);
   // The F-host runs, then passivates after the kill (the drive's FBs may
   // see the missing sign of life a little earlier: CommOk is no marker).
