@@ -207,6 +207,7 @@ int cmd_trend(Client& c, const std::vector<std::string>& patterns, const std::st
     if (matches_any(patterns, d->vars[std::size_t(i)]) && d->vars[std::size_t(i)].published) {
       col[i] = tr.names.size();
       tr.names.push_back(d->vars[std::size_t(i)].path);
+      tr.types.push_back(d->vars[std::size_t(i)].type);
     }
   if (tr.names.empty()) {
     std::cerr << "plcctl: trend: no published variable matches\n";

@@ -1,6 +1,7 @@
 // `plcctl trend`: samples of some variables over time, written as CSV (a
 // header row, then time in seconds and one column per variable: any
-// spreadsheet or gnuplot plots it directly) or drawn into a PNG with PLplot.
+// spreadsheet or gnuplot plots it directly) or drawn into a PNG with PLplot,
+// one panel per type class over a common time axis (trend_layout.hpp).
 #pragma once
 
 #include <string>
@@ -10,6 +11,7 @@ namespace plc::hmi {
 
 struct Trend {
   std::vector<std::string> names;
+  std::vector<std::string> types;          // IEC type names, as var_desc_t gives them
   std::vector<double> t;                   // seconds of PLC time
   std::vector<std::vector<double>> value;  // [variable][sample]
 };

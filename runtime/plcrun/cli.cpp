@@ -95,14 +95,17 @@ std::vector<std::string> split_csv(const std::string& s) {
 // A one-line live status (checked every 256 scans so the clock read stays
 // off the hot path). In real time every task's thread calls the observer:
 // the count is atomic, one thread at a time prints (the others skip, never
-// wait), and the figures are snapshots of the tasks' statistics.
+// wait), and the figures are snapshots of the tasks' statistics. The time
+// shown is that of the scan that prints: Runtime::now() follows the
+// virtual clock only (in real time it is set when the run ends, and read
+// 0 all along).
 class StatusLine {
  public:
   StatusLine(Runtime& rt, bool tty) : rt_(rt), tty_(tty), t0_(std::chrono::steady_clock::now()) {
-    rt.add_scan_observer([this](const TaskRuntime&, const ScanContext&) {
+    rt.add_scan_observer([this](const TaskRuntime&, const ScanContext& ctx) {
       if (((calls_.fetch_add(1, std::memory_order_relaxed) + 1) & 255) == 0 &&
           !printing_.test_and_set(std::memory_order_acquire)) {
-        maybe_print();
+        maybe_print(ctx.now);
         printing_.clear(std::memory_order_release);
       }
     });
@@ -112,7 +115,7 @@ class StatusLine {
   }
 
  private:
-  void maybe_print() {
+  void maybe_print(TIME scan_time) {
     const auto now = std::chrono::steady_clock::now();
     // A terminal gets a fresh line ten times a second; a log once a second.
     if (now - last_ < (tty_ ? std::chrono::milliseconds(100) : std::chrono::milliseconds(1000)))
@@ -120,7 +123,7 @@ class StatusLine {
     last_ = now;
     printed_ = true;
     const double wall = std::chrono::duration<double>(now - t0_).count();
-    const double sim = std::chrono::duration<double>(rt_.now()).count();
+    const double sim = std::chrono::duration<double>(scan_time).count();
     // Built piecewise: GCC 12 warns falsely (-Wrestrict) on a chain of '+'.
     std::string line = "[";
     line += rt_.mode() == io::ClockMode::Virtual ? "virtual" : "realtime";
@@ -183,6 +186,16 @@ void print_summary(const Runtime& rt) {
     if (d.plugin)
       std::printf("device %-10s (%s): %s\n", d.name.c_str(), d.plugin_name.c_str(),
                   d.plugin->diagnostics(d.index).c_str());
+}
+
+// --print-vars: the chosen variables' values after the last scan.
+void print_final_values(const Runtime& rt, const std::string& paths) {
+  std::printf("final values:\n");
+  for (const auto& p : split_csv(paths)) {
+    const VarInfo* v = rt.vars().find(p);
+    std::printf("  %s = %s\n", p.c_str(),
+                v ? VarRegistry::format(*v).c_str() : "<unknown variable>");
+  }
 }
 
 // A controlled stop saves the last state (the scans are over) and says
@@ -380,6 +393,13 @@ int plcrun_main(int argc, char** argv) {
                  "trace start FILE)\n";
     return 2;
   }
+  if (console && vm.count("print-vars")) {
+    // A session can goto, restart and run on after its last command: it
+    // has no "final" values; the debugger prints them when asked.
+    std::cerr << "plcrun: --print-vars applies to a plain run or a cell with an hmi: section; in "
+                 "a --debug or --commands session use the debugger's print (print NAME...)\n";
+    return 2;
+  }
   if (start_mode_given && (vm.count("replay") || console)) {
     // A replay and a console session (goto and restart re-run from the
     // start) need the initial values; they neither load nor save retain data.
@@ -508,6 +528,8 @@ int plcrun_main(int argc, char** argv) {
         retain_failed = !finish_retain();
         std::fflush(stdout);
         print_summary(dbg->runtime());
+        if (vm.count("print-vars"))
+          print_final_values(dbg->runtime(), vm["print-vars"].as<std::string>());
       }
     } else if (!run_debug_session(*dbg, file, g_console)) {
       std::cerr << "plcrun: cannot read command file '" << file << "'\n";
@@ -533,6 +555,8 @@ int plcrun_main(int argc, char** argv) {
     finish_retain();
     std::fflush(stdout);
     print_summary(dbg->runtime());
+    if (vm.count("print-vars"))  // only an HMI session gets here with it
+      print_final_values(dbg->runtime(), vm["print-vars"].as<std::string>());
     g_debugger = nullptr;
     dbg.reset();
     std::printf("stopped by %s; outputs at their safe values\n",
@@ -648,14 +672,7 @@ int plcrun_main(int argc, char** argv) {
   if (status) status->done();
   if (trace) trace->stop();
   print_summary(*rt);
-  if (vm.count("print-vars")) {
-    std::printf("final values:\n");
-    for (const auto& p : split_csv(vm["print-vars"].as<std::string>())) {
-      const VarInfo* v = rt->vars().find(p);
-      std::printf("  %s = %s\n", p.c_str(),
-                  v ? VarRegistry::format(*v).c_str() : "<unknown variable>");
-    }
-  }
+  if (vm.count("print-vars")) print_final_values(*rt, vm["print-vars"].as<std::string>());
   if (rt->stop_requested()) std::printf("stopped by signal; outputs at their safe values\n");
   for (const auto& t : rt->tasks())
     if (!t->stats.snapshot().stop_reason.empty()) rc = 1;

@@ -245,3 +245,35 @@ TEST(HmiConfig, ErrorsAreLocated) {
   EXPECT_FALSE(cfg.hmi.stop_commands.value);
   EXPECT_EQ(parse_cell_config(base, "x.yaml").hmi.url.value, kDefaultHmiUrl);
 }
+
+// Issue 21 point 6: an index in a pattern is written as --list-vars prints
+// it. Patterns used to go to fnmatch(3) as they were, which reads `[0]` as
+// a set of one character: `S.arr[1]` matched "S.arr1" and no variable,
+// and only the undocumented `S.arr\[1\]` worked (it still does).
+TEST(HmiConfig, PatternWithAnIndexMatchesThePathListVarsPrints) {
+  EXPECT_TRUE(hmi::pattern_matches("S.arr[1]", "S.arr[1]"));
+  EXPECT_FALSE(hmi::pattern_matches("S.arr[1]", "S.arr1"));
+  EXPECT_FALSE(hmi::pattern_matches("S.arr[12]", "S.arr[1]"));
+  EXPECT_TRUE(hmi::pattern_matches("S.arr[*]", "S.arr[12]"));
+  EXPECT_TRUE(hmi::pattern_matches("S.arr[?]", "S.arr[2]"));
+  EXPECT_TRUE(hmi::pattern_matches("S.arr\\[1\\]", "S.arr[1]"));
+  EXPECT_TRUE(hmi::pattern_matches("Tank.*", "Tank.hold.ET"));
+  // Shapes (tests/runtime/test_programs.hpp) has `arr` (INT[3]) and
+  // `inner.timers` (TON[2]).
+  const std::string cell =
+      "cell: shapes\ntasks: [{name: m, period: 1ms, programs: [S]}]\n"
+      "programs: [{name: S, type: Shapes}]\n";
+  HmiCell h(
+      "\nhmi:\n  url: memq://\n  publish: [\"S.arr[1]\", \"S.inner.timers[0].*\"]\n"
+      "  writable: [\"S.arr[2]\"]\n",
+      "", cell);
+  std::map<std::string, softplc_hmi::var_desc_t> d;
+  for (const auto& v : h.bridge->description().vars) d[v.path] = v;
+  ASSERT_EQ(d.count("S.arr[1]"), 1U);
+  EXPECT_TRUE(d["S.arr[1]"].published);
+  EXPECT_FALSE(d["S.arr[0]"].published);
+  EXPECT_FALSE(d["S.arr[1]"].writable);
+  EXPECT_TRUE(d["S.arr[2]"].writable);
+  EXPECT_TRUE(d["S.inner.timers[0].ET"].published);
+  EXPECT_FALSE(d["S.inner.timers[1].ET"].published);
+}

@@ -70,8 +70,10 @@ hmi:
   writable: ["Tank.high_level"]
 )");
   const std::string bin = plctest::bin_dir();
-  // Every wait is bounded: plcrun runs 8 s at most, each plcctl call has a
-  // timeout, the poll for the bridge tries 40 times.
+  // Every wait is bounded: plcrun runs 45 s at most (the script stops it
+  // when done: a shorter span would be a window that a loaded machine's
+  // slow start could miss), each plcctl call has a timeout, the poll for
+  // the bridge tries 100 times (20 s), the whole script has 60 s.
   const std::string script =
       R"(
 set -u
@@ -80,9 +82,9 @@ cd )" +
 ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 90
 lcm-logger -f -q session.lcm > logger.out 2>&1 & LOGGER=$!
 )" + bin +
-      R"(/plcrun cell.yaml --realtime --for 8s --trace trace.csv --trace-vars Tank.level,Tank.high_level > plcrun.out 2>&1 & PLC=$!
+      R"(/plcrun cell.yaml --realtime --for 45s --trace trace.csv --trace-vars Tank.level,Tank.high_level > plcrun.out 2>&1 & PLC=$!
 up=0
-for i in $(seq 1 40); do
+for i in $(seq 1 100); do
   if )" +
       bin + R"(/plcctl --timeout 200 read Tank.level > /dev/null 2>&1; then up=1; break; fi
 done
@@ -198,9 +200,9 @@ hmi:
   const std::string watch = bin + "/plcctl watch Tank.level Tank.step --count 6 --for 5s";
   std::ofstream(dir + "/run.sh") << "set -u\ncd " << dir << R"(
 ip link set lo up && ip route add 224.0.0.0/4 dev lo || exit 90
-)" << bin << R"(/plcrun cell.yaml --realtime --for 8s > plcrun.out 2>&1 & PLC=$!
+)" << bin << R"(/plcrun cell.yaml --realtime --for 45s > plcrun.out 2>&1 & PLC=$!
 up=0
-for i in $(seq 1 40); do
+for i in $(seq 1 100); do
   if )" << bin << R"(/plcctl --timeout 200 read Tank.level > /dev/null 2>&1; then up=1; break; fi
 done
 [ $up = 1 ] || { kill $PLC; exit 91; }

@@ -35,10 +35,11 @@ constexpr std::int64_t kSavePeriodScans = 100 + 1;
 // The snapshots are taken early by the recent write time, so the newest
 // complete copy stays within kSavePeriodScans (measured: max 100 in two
 // passes of 200 runs). A write much slower than the recent ones (a loaded
-// shared VM: 0.1-10 ms and more) can still exceed it by its excess: allowed
-// here so that CI does not fail on a slow fsync; the figure printed at the
-// end says how close the run came.
-constexpr std::int64_t kWriteAllowanceScans = 100;
+// shared VM: 0.1-10 ms and more, and a writer thread stalled for 100 ms
+// while the SCHED_FIFO scan goes on) can still exceed it by its excess:
+// allowed here, with as much again to spare, so that CI does not fail on a
+// slow fsync; the figure printed at the end says how close the run came.
+constexpr std::int64_t kWriteAllowanceScans = 200;
 
 pid_t spawn(const std::string& exe, const std::string& cfg, const std::string& log,
             const std::string& probe) {

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -16,6 +17,20 @@
 namespace {
 
 std::string demo() { return plctest::source_path("programs/demo/cell.yaml"); }
+
+// The demo cell without watchdogs: the real-time tests here are about the
+// command line, and a loaded machine that stalls a scan for more than 10
+// periods must not stop them (exit 1).
+std::string realtime_demo() {
+  std::string cell = plctest::read_file(demo());
+  const auto wd = cell.find("    watchdog: 10 ");
+  EXPECT_NE(wd, std::string::npos);
+  if (wd != std::string::npos) cell.replace(wd, 17, "    watchdog: 0  ");
+  const auto slow = cell.find("    priority: 5\n");
+  EXPECT_NE(slow, std::string::npos);
+  if (slow != std::string::npos) cell.insert(slow + 16, "    watchdog: 0\n");
+  return plctest::write_temp("cli_realtime_demo.yaml", cell);
+}
 
 }  // namespace
 
@@ -78,6 +93,7 @@ TEST(PlcrunCli, UsageErrorsExitWithTwo) {
 }
 
 TEST(PlcrunCli, SigintStopsARealTimeRunCleanly) {
+  const std::string cfg = realtime_demo();
   int out_pipe[2];
   ASSERT_EQ(pipe(out_pipe), 0);
   const pid_t pid = fork();
@@ -87,7 +103,6 @@ TEST(PlcrunCli, SigintStopsARealTimeRunCleanly) {
     dup2(out_pipe[1], STDERR_FILENO);
     close(out_pipe[0]);
     const std::string bin = plctest::plcrun_path();
-    const std::string cfg = demo();
     execl(bin.c_str(), bin.c_str(), cfg.c_str(), "--realtime", "--for", "60s",
           static_cast<char*>(nullptr));
     _exit(127);
@@ -313,5 +328,55 @@ TEST(PlcrunCli, SigtermEndsARealTimeDebugSession) {
   EXPECT_EQ(c.finish(), 143) << c.output;
   EXPECT_NE(c.output.find("== summary: cell 'demo', real time"), std::string::npos) << c.output;
   EXPECT_NE(c.output.find("stopped by SIGTERM; outputs at their safe values"), std::string::npos)
+      << c.output;
+}
+
+// Issue 21 point 6: --print-vars in a cell with an hmi: section (a debugger
+// session without a console) was ignored without a word; it prints after
+// the summary, as in a plain run.
+TEST(PlcrunCli, PrintVarsInACellWithAnHmiSectionArePrinted) {
+  const std::string cfg = plctest::write_temp(
+      "cli_hmi_print.yaml",
+      plctest::read_file(demo()) + "\nhmi:\n  url: memq://\n  publish: [\"Tank.*\"]\n");
+  const auto r = plctest::run_command(plctest::plcrun_path() + " " + cfg +
+                                      " --for 1s -q --print-vars Tank.hold_time,Tank.nope");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto summary = r.output.find("== summary");
+  const auto values = r.output.find("final values:\n  Tank.hold_time = T#2s\n");
+  ASSERT_NE(summary, std::string::npos) << r.output;
+  ASSERT_NE(values, std::string::npos) << r.output;
+  EXPECT_GT(values, summary) << r.output;
+  EXPECT_NE(r.output.find("  Tank.nope = <unknown variable>\n"), std::string::npos) << r.output;
+}
+
+// ... and in a --commands or --debug session, which may goto, restart and
+// run on after its last command, it is refused with the way to print there.
+TEST(PlcrunCli, PrintVarsInADebuggerSessionIsRefusedNotLeftOut) {
+  const std::string cmds = plctest::write_temp("cli_print_cmds.txt", "continue for T#10ms\n");
+  const auto r = plctest::run_command(plctest::plcrun_path() + " " + demo() + " --commands " +
+                                      cmds + " --print-vars Tank.level");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--print-vars applies to a plain run or a cell with an hmi: section"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("continue for"), std::string::npos) << "nothing ran\n" << r.output;
+}
+
+// Issue 21 point 6: the live status line of a real-time run showed t=0.00 s
+// all along (it read the virtual clock). Piped, plcrun prints it as lines;
+// the first comes after 256 scans, so its time is past 0. No other figure
+// is checked: it depends on the machine.
+TEST(PlcrunCli, StatusLineInRealTimeShowsTheTimeOfTheScans) {
+  Child c({realtime_demo(), "--realtime", "--for", "60s"}, false);
+  ASSERT_GT(c.pid, 0);
+  ASSERT_TRUE(c.read_until("[realtime] t=")) << c.output;
+  const std::size_t at = c.output.find("[realtime] t=");
+  ASSERT_TRUE(c.read_until("\n", at)) << c.output;
+  double t = -1;
+  ASSERT_EQ(std::sscanf(c.output.c_str() + at, "[realtime] t=%lf s", &t), 1) << c.output;
+  EXPECT_GT(t, 0.0) << c.output.substr(at, c.output.find('\n', at) - at);
+  kill(c.pid, SIGINT);
+  EXPECT_EQ(c.finish(), 0) << c.output;
+  EXPECT_NE(c.output.find("stopped by signal; outputs at their safe values"), std::string::npos)
       << c.output;
 }

@@ -40,10 +40,13 @@ long value_of(const std::string& out, const std::string& name) {
 // scan between setting `first` and `second`) is usually in the middle of a
 // scan. What the console prints after the stop must come from settled
 // tasks: b's pair equal, and the located %QX8.0 read from the global image.
+// No watchdogs in these cells: b spends half its time inside a scan, so a
+// loaded machine that stalls the process for 100 ms would trip b's (10 x
+// 10 ms, wall time), and the tests here are not about it.
 const char* kTwoTasks = R"(
 tasks:
-  - {name: a, period: 1ms, programs: [A]}
-  - {name: b, period: 10ms, programs: [B, W]}
+  - {name: a, period: 1ms, watchdog: 0, programs: [A]}
+  - {name: b, period: 10ms, watchdog: 0, programs: [B, W]}
 programs:
   - {name: A, type: PairWriter, init: {work_us: 100}}
   - {name: B, type: PairWriter, init: {work_us: 5000}}
@@ -54,8 +57,8 @@ programs:
 // L.to_dev), so the global image changes at every merge of b.
 const char* kCounterTasks = R"(
 tasks:
-  - {name: a, period: 1ms, programs: [A]}
-  - {name: b, period: 2ms, programs: [L]}
+  - {name: a, period: 1ms, watchdog: 0, programs: [A]}
+  - {name: b, period: 2ms, watchdog: 0, programs: [L]}
 programs:
   - {name: A, type: PairWriter, init: {work_us: 50}}
   - {name: L, type: LoopCounter}
@@ -142,8 +145,10 @@ TEST(RealTimeSync, ContinueForRunsThatLongThenPauses) {
   d.execute("pause");
   const TaskRuntime& a = *d.runtime().task("a");
   const std::uint64_t before = a.stats.scans();
-  const std::string out = d.execute("continue for 50ms");
-  EXPECT_TRUE(has(out, "stopped: ran for T#50ms")) << out;
+  // Long enough that a stall of the whole machine (100 ms) cannot take all
+  // of it: the tasks must have scanned in it.
+  const std::string out = d.execute("continue for 500ms");
+  EXPECT_TRUE(has(out, "stopped: ran for T#500ms")) << out;
   EXPECT_TRUE(d.runtime().paused()) << "the session pauses at the end of the span";
   EXPECT_EQ(d.prompt(), "[realtime paused] > ");
   const std::uint64_t after = a.stats.scans();

@@ -41,7 +41,10 @@ struct BridgeCounters {
   std::uint64_t malformed = 0;  // did not decode as a command_t
 };
 
-// Shell-style pattern match (`*`, `?`, `[...]`), as fnmatch(3) without flags.
+// Pattern match over variable paths and addresses: `*` any run of
+// characters (dots included), `?` any one character; `[` and `]` are
+// literal, so `Cell.axes[0].*` matches the paths --list-vars prints for an
+// array element; `\` escapes the next character.
 bool pattern_matches(const std::string& pattern, const std::string& text);
 
 class Bridge {
