@@ -318,6 +318,31 @@ TEST(DeviceNetScanner, WrongSizeFragmentedResponsesAreDropped) {
       << r.scanner->diagnostics(d);
 }
 
+// One wrong-size poll response among good ones is dropped and counted; the
+// good ones after it make it history, so a later loss is reported as what
+// it is, a connection timeout, not as that old frame. (On vcan0 a 1-byte
+// response injected with cansend was named, seconds later, as the reason
+// for a timeout it had nothing to do with: tests/devicenet/vcan_vm.)
+TEST(DeviceNetScanner, AnOldWrongSizeResponseIsNotBlamedForALaterTimeout) {
+  Rig r;
+  const auto d = r.add_device(5, 8, 8, [](dn::ScanEntry& e) { e.epr = 20ms; });
+  auto& s = r.add_slave(5, 8, 8);
+  ASSERT_GE(r.run_until([&] { return online(r, d); }, 5s), 0ms);
+  auto rogue = r.wire->attach();
+  plc::can::Frame f;
+  f.id = dn::group1_id(dn::kG1PollResponse, 5);
+  f.len = 1;
+  rogue->send(f);
+  r.run(200ms);  // good responses go on
+  EXPECT_EQ(r.scanner->counters(d).wrong_size, 1u);
+  ASSERT_TRUE(online(r, d));
+  s.slave->faults().silent = true;
+  ASSERT_GE(r.run_until([&] { return !online(r, d); }, 1s), 0ms);
+  const std::string diag = r.scanner->diagnostics(d);
+  EXPECT_NE(diag.find("last: connection timed out"), std::string::npos) << diag;
+  EXPECT_EQ(diag.find("1 bytes"), std::string::npos) << diag;
+}
+
 // A configured size that differs from the slave's connection sizes
 // (Connection 2 attrs 7/8) is a configuration fault before any polling.
 TEST(DeviceNetScanner, SizeAndIdentityChecksAtStartup) {
