@@ -25,16 +25,16 @@ work="${PLC_VM_WORK:-$build/vcan-vm}"
 timeout_s="${PLC_VM_TIMEOUT:-300}"
 
 skip() {
-  echo "SKIP: $* (scripts/setup installs it)"
+  echo "SKIP: $*"
   exit 77
 }
 for tool in qemu-system-x86_64 candump cansend cpio objcopy python3; do
-  command -v "$tool" >/dev/null || skip "$tool is not installed"
+  command -v "$tool" >/dev/null || skip "$tool is not installed (scripts/setup installs it)"
 done
 busybox="$(command -v busybox || true)"
-[ -n "$busybox" ] || skip "busybox (busybox-static) is not installed"
+[ -n "$busybox" ] || skip "busybox is not installed (scripts/setup installs busybox-static)"
 if ldd "$busybox" >/dev/null 2>&1; then skip "$busybox is not the static one (busybox-static)"; fi
-[ -e "$kernel_dir/current" ] || skip "no VM kernel in $kernel_dir (scripts/vm-kernel fetches it)"
+[ -e "$kernel_dir/current" ] || skip "no VM kernel in $kernel_dir (scripts/setup or scripts/vm-kernel fetches it)"
 kver="$(readlink "$kernel_dir/current")"
 kroot="$kernel_dir/$kver"
 vmlinuz="$kroot/boot/vmlinuz-$kver"
