@@ -11,7 +11,7 @@
 #
 # Environment: PLC_VM_ACCEL=kvm|tcg (default: kvm where the CPU has
 # hardware virtualisation and /dev/kvm opens, else tcg), PLC_VM_TIMEOUT
-# (seconds for the whole boot-to-poweroff, default 300), PLC_VM_KERNEL_DIR
+# (seconds for the whole boot-to-poweroff, default 360), PLC_VM_KERNEL_DIR
 # (default build-vm/kernel), PLC_VM_WORK (default BUILD_DIR/vcan-vm: the
 # initramfs, console log, candump log, trace).
 # Exit 0: every check passed; 1: a check or the run failed; 77: skipped,
@@ -22,7 +22,7 @@ src="$(cd "$here/../../.." && pwd)"
 build="$(cd "${1:-$src/build}" && pwd)"
 kernel_dir="${PLC_VM_KERNEL_DIR:-$src/build-vm/kernel}"
 work="${PLC_VM_WORK:-$build/vcan-vm}"
-timeout_s="${PLC_VM_TIMEOUT:-300}"
+timeout_s="${PLC_VM_TIMEOUT:-360}"
 
 skip() {
   echo "SKIP: $*"
@@ -95,8 +95,8 @@ printf '%s\n' "${order[@]}" >"$root/vm/modules.list"
 # that containers count within the run, and with
 # times an emulated CPU keeps: under TCG (no KVM) the guest runs 20-100x
 # slower than the host, a 1 ms scan and a 200 ms connection timeout do
-# not hold there. Scan 10 ms (watchdog 1 s), poll cycle 50 ms, EPR 250 ms
-# (connection timeout 1 s), explicit timeout 2 s, the safety module's
+# not hold there. Scan 10 ms (watchdog 1 s), poll cycle 50 ms, EPR 500 ms
+# (connection timeout 2 s), explicit timeout 4 s, the safety module's
 # PROFIsafe watchdog F_WD_Time 1 s (100 ms in the cell), and the drive's
 # fault reset pulse 500 ms (100 ms): a pulse shorter than the gap between
 # two polls, which a late tick stretches to 200 ms and more here, may
@@ -104,17 +104,17 @@ printf '%s\n' "${order[@]}" >"$root/vm/modules.list"
 sed -e 's|bus: "udp:127.0.0.1:47800"|bus: "socketcan:vcan0"|' -e 's|hub: true|hub: false|' \
   -e 's|      scale.BusType: 1|      target_kg: 2.5\n      guard.FMOD.F_WD_Time: 1000\n      conveyor.ResetPulse: T#500ms\n      scale.BusType: 1|' \
   -e 's|    period: 1ms|    period: 10ms\n    watchdog: 100|' \
-  -e 's|      poll_cycle: 10ms|      poll_cycle: 50ms\n      explicit_timeout: 2s|' \
-  -e 's|epr: 50ms|epr: 250ms|' \
+  -e 's|      poll_cycle: 10ms|      poll_cycle: 50ms\n      explicit_timeout: 4s|' \
+  -e 's|epr: 50ms|epr: 500ms|' \
   "$src/programs/filling_cell/cell_vf66b_devicenet.yaml" >"$root/vm/cell/cell.yaml"
 sed -e 's|bus: "udp:127.0.0.1:47800"|bus: "socketcan:vcan0"|' \
   "$src/programs/filling_cell/dnslave_vf66b.yaml" >"$root/vm/cell/dnslave.yaml"
 for edit in 'socketcan:vcan0' 'hub: false' 'target_kg: 2.5' 'F_WD_Time: 1000' 'ResetPulse: T#500ms' \
-  'period: 10ms' 'explicit_timeout: 2s'; do
+  'period: 10ms' 'explicit_timeout: 4s'; do
   grep -q "$edit" "$root/vm/cell/cell.yaml" ||
     { echo "FAILED: the cell config has changed ($edit); adapt run_vcan_vm.sh's edits"; exit 1; }
 done
-if [ "$(grep -c 'epr: 250ms' "$root/vm/cell/cell.yaml")" -ne 2 ] || ! grep -q 'socketcan:vcan0' "$root/vm/cell/dnslave.yaml"; then
+if [ "$(grep -c 'epr: 500ms' "$root/vm/cell/cell.yaml")" -ne 2 ] || ! grep -q 'socketcan:vcan0' "$root/vm/cell/dnslave.yaml"; then
   echo "FAILED: the cell configs have changed; adapt run_vcan_vm.sh's edits"
   exit 1
 fi
