@@ -318,6 +318,31 @@ TEST(DeviceNetScanner, WrongSizeFragmentedResponsesAreDropped) {
       << r.scanner->diagnostics(d);
 }
 
+// One wrong-size poll response among good ones is dropped and counted; the
+// good ones after it make it history, so a later loss is reported as what
+// it is, a connection timeout, not as that old frame. (On vcan0 a 1-byte
+// response injected with cansend was named, seconds later, as the reason
+// for a timeout it had nothing to do with: tests/devicenet/vcan_vm.)
+TEST(DeviceNetScanner, AnOldWrongSizeResponseIsNotBlamedForALaterTimeout) {
+  Rig r;
+  const auto d = r.add_device(5, 8, 8, [](dn::ScanEntry& e) { e.epr = 20ms; });
+  auto& s = r.add_slave(5, 8, 8);
+  ASSERT_GE(r.run_until([&] { return online(r, d); }, 5s), 0ms);
+  auto rogue = r.wire->attach();
+  plc::can::Frame f;
+  f.id = dn::group1_id(dn::kG1PollResponse, 5);
+  f.len = 1;
+  rogue->send(f);
+  r.run(200ms);  // good responses go on
+  EXPECT_EQ(r.scanner->counters(d).wrong_size, 1u);
+  ASSERT_TRUE(online(r, d));
+  s.slave->faults().silent = true;
+  ASSERT_GE(r.run_until([&] { return !online(r, d); }, 1s), 0ms);
+  const std::string diag = r.scanner->diagnostics(d);
+  EXPECT_NE(diag.find("last: connection timed out"), std::string::npos) << diag;
+  EXPECT_EQ(diag.find("1 bytes"), std::string::npos) << diag;
+}
+
 // A configured size that differs from the slave's connection sizes
 // (Connection 2 attrs 7/8) is a configuration fault before any polling.
 TEST(DeviceNetScanner, SizeAndIdentityChecksAtStartup) {
@@ -411,6 +436,39 @@ TEST(DeviceNetScanner, BadFramesAreCountedAndDropped) {
   r.run(5ms);
   EXPECT_EQ(r.scanner->counters(d).bad_frames, 2u);
   EXPECT_TRUE(std::equal(before.begin(), before.end(), r.scanner->inputs(d).begin()));
+}
+
+// A second master (MAC 10) asks our slave for its connections on the
+// unconnected port. The slave refuses (Error Response, object state
+// conflict 0x0C/0x01) and addresses the refusal to the master that asked:
+// the header carries that master's MAC ID (toyo-vf66-devicenet.md §1.4
+// [std]). Addressed to MAC 0 instead, it read to our scanner as an answer
+// to its own request (a bad frame, or a record request failing with it).
+// Found by cansend on vcan0 (tests/devicenet/vcan_vm).
+TEST(DeviceNetScanner, SecondMastersAllocateIsRefusedToThatMaster_Section1_4) {
+  Rig r;
+  const auto d = r.add_device(5, 8, 8);
+  r.add_slave(5, 8, 8);
+  ASSERT_GE(r.run_until([&] { return online(r, d); }, 5s), 0ms);
+  auto other = r.wire->attach();
+  const std::uint8_t allocate[] = {em::kAllocateMasterSlave, dn::kClassDeviceNet, 1,
+                                   dn::kAllocExplicit | dn::kAllocPoll, 10};
+  dn::ExplicitFrames req;
+  ASSERT_TRUE(dn::build_explicit(dn::group2_id(5, dn::kG2Unconnected), 10, false, allocate, req));
+  other->send(req.frames[0]);
+  r.run(5ms);
+  std::vector<plc::can::Frame> answers;
+  plc::can::Frame f;
+  for (int i = 0; i < 4096 && other->receive(f); ++i)
+    if (f.id == dn::group2_id(5, dn::kG2ExplicitResponse) && f.len >= 2 &&
+        f.data[1] == (em::kErrorResponse | dn::kResponseBit))
+      answers.push_back(f);
+  ASSERT_EQ(answers.size(), 1u);
+  EXPECT_EQ(answers[0].data[0], 10) << "the header names the master that asked";
+  EXPECT_EQ(answers[0].data[2], em::kObjectStateConflict);
+  EXPECT_EQ(answers[0].data[3], 0x01);
+  EXPECT_EQ(r.scanner->counters(d).bad_frames, 0u);
+  EXPECT_TRUE(online(r, d));
 }
 
 // Bus-off (SocketCAN error frames, can/socketcan_bus.hpp): every device is

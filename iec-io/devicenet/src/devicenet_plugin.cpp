@@ -153,6 +153,13 @@ void DeviceNetPlugin::tick(TIME now) {
   std::lock_guard<std::mutex> lock(mutex_);
   tap_->set_time(now);
   scanner_->tick(now);
+  // The controller's state from its error frames (SocketCAN): error-passive
+  // warns before bus-off, bus-off takes every device with it.
+  const can::BusState s = bus_->state();
+  if (s != bus_state_) {
+    bus_state_ = s;
+    if (log_) std::fprintf(stderr, "devicenet: bus %s\n", can::to_string(s));
+  }
 }
 
 void DeviceNetPlugin::step(TIME now, TIME) {
@@ -199,7 +206,8 @@ std::string DeviceNetPlugin::diagnostics(std::size_t device) const {
     const auto& c = bus_->counters();
     s += "; bus " + std::string(can::to_string(bus_->state())) + " tx " + std::to_string(c.tx) +
          " rx " + std::to_string(c.rx) + " rx-bad " + std::to_string(c.rx_bad) + " tx-dropped " +
-         std::to_string(c.tx_dropped);
+         std::to_string(c.tx_dropped) + " error-frames " + std::to_string(c.error_frames) +
+         " bus-bad-frames " + std::to_string(scanner_->bad_frames());
   }
   if (scanner_->duplicate_mac()) s += "; DUPLICATE MAC ID: the master stays off the bus";
   return s;

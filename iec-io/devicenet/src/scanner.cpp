@@ -144,6 +144,10 @@ void Scanner::on_poll_response(Device& d, const can::Frame& f, TIME now) {
   std::copy(data.begin(), data.end(), d.in.begin());
   d.last_response = now;
   ++d.counters.responses;
+  // An earlier bad response is history now: a later loss is a timeout of
+  // its own and must not be reported as that frame (clear() keeps the
+  // string's storage: no allocation on the bus thread).
+  d.last_error.clear();
 }
 
 void Scanner::on_explicit_response(Device& d, const can::Frame& f, TIME now) {

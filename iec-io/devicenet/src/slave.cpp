@@ -179,8 +179,12 @@ void Slave::on_explicit(const can::Frame& f, bool unconnected, TIME now) {
 }
 
 void Slave::send_response(std::span<const std::uint8_t> msg) {
-  if (!build_explicit(group2_id(cfg_.mac, kG2ExplicitResponse),
-                      master_ == kUnallocated ? rx_.header_mac() : master_, false, msg, tx_))
+  // The header names the client that asked (toyo-vf66-devicenet.md §1.4
+  // [std]: the master's MAC ID in both directions): on the explicit
+  // connection that is our master, on the unconnected port anyone, e.g. a
+  // second master whose Allocate we refuse; that refusal addressed to our
+  // own master would read to it as an answer to its own request.
+  if (!build_explicit(group2_id(cfg_.mac, kG2ExplicitResponse), rx_.header_mac(), false, msg, tx_))
     return;
   bus_.send(tx_.frames[0]);
   tx_next_ = 1;

@@ -55,6 +55,7 @@ class DeviceNetPlugin final : public io::Plugin {
   std::unique_ptr<CapturingBus> tap_;
   std::unique_ptr<can::PcapWriter> pcap_;
   std::unique_ptr<Scanner> scanner_;
+  can::BusState bus_state_ = can::BusState::ErrorActive;  // the last one logged
   mutable std::mutex mutex_;
   std::thread thread_;
   std::atomic<bool> running_{false};

@@ -99,6 +99,8 @@ class Scanner {
   [[nodiscard]] bool on_line() const { return phase_ == Phase::Online; }
   [[nodiscard]] bool duplicate_mac() const { return phase_ == Phase::Duplicate; }
   [[nodiscard]] std::size_t size() const { return devices_.size(); }
+  // Malformed frames that belong to no device: an invalid identifier
+  // (0x7F0..0x7FF), a duplicate MAC ID message for our MAC of the wrong size.
   [[nodiscard]] std::uint64_t bad_frames() const { return bad_frames_; }
   // Called on every change of a device's state (the plugin logs them).
   std::function<void(std::size_t device, ScanState state, const std::string& why)> on_change;
