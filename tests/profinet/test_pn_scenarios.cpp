@@ -5,7 +5,9 @@
 // frames and every record as RPC Write/Read (lockstep virtual time).
 //   E1: MDI positioning (test_sina_pos RelativeAndAbsolute...), parameter
 //       access (test_sina_para), absolute-encoder init with the 3215h reset
-//       (test_abs_encoder ClearsMultiTurnAndResetsDrive).
+//       (test_abs_encoder ClearsMultiTurnAndResetsDrive), two faults each
+//       reset with MC_Reset while Enable is held (test_plcopen
+//       StateDiagram_TwoFaultsInARow...).
 //   NORD: F-parameters at start-up and automatic reintegration
 //       (test_startup), an acknowledgeable device fault (test_fault_matrix
 //       DeviceFault_Acknowledgeable), and the device lost on the bus: the
@@ -174,6 +176,41 @@ TEST(PnScenarios, E1_AbsoluteEncoderInitAcrossTheResetOverProfinet) {
   power.Enable = true;
   ASSERT_TRUE(b.until(
       body, [&] { return power.Status; }, 200));
+}
+
+// tests/drive/test_plcopen.cpp StateDiagram_TwoFaultsInARow_EachNeedsItsOwnReset
+// (PLCopen state diagram; hiwin §5 Fault -> S1, §10.2 STW1.7 edge): over
+// PROFINET each MC_Reset acknowledges its fault with its own STW1.7 edge and
+// MC_Power, Enable held, walks the drive S1 -> S2 -> S4 back to Standstill.
+TEST(PnScenarios, E1_FaultThenMcResetWithEnableHeldBackToStandstillOverProfinet) {
+  E1OverPn b;
+  ASSERT_TRUE(b.online);
+  drive::MC_Power power;
+  drive::MC_Reset reset;
+  auto body = [&] {
+    power(b.ctx, b.axis);
+    reset(b.ctx, b.axis);
+  };
+  power.Enable = true;
+  ASSERT_TRUE(b.until(
+      body, [&] { return power.Status; }, 200));
+  for (const std::uint16_t alarm : {0x710, 0xD00}) {
+    b.model->trip_alarm(alarm);
+    ASSERT_TRUE(b.until(
+        body, [&] { return b.axis.State == drive::AxisState::ErrorStop; }, 50));
+    b.run(body, 100);
+    EXPECT_EQ(b.model->state(), plc::sim::HiwinE1Model::State::Fault) << "not before MC_Reset";
+    EXPECT_EQ(b.axis.STW1 & (drive::Stw1Pos::kOn | drive::Stw1Pos::kEnableOperation), 0);
+    reset.Execute = false;
+    b.run(body, 1);
+    reset.Execute = true;
+    ASSERT_TRUE(b.until(
+        body, [&] { return b.axis.State == drive::AxisState::Standstill && power.Status; }, 200))
+        << std::hex << alarm << " " << power.ErrorID.value;
+    EXPECT_TRUE(reset.Done);
+    EXPECT_FALSE(power.Error);
+  }
+  EXPECT_EQ(b.loop.ctrl->counters(0).bad_total(), 0u);
 }
 
 // ---- NORD PROFIsafe over PROFINET ------------------------------------------------
