@@ -530,6 +530,30 @@ TEST_F(PlcopenTest, StateDiagram_PlcSignOfLifeLoss_StandstillAfterResetWithEnabl
   EXPECT_EQ(b.power_in_error_stop, 0);
 }
 
+// The drive's counter stands still first (16#8002), then the device goes
+// offline (a pulled cable seen first as a frozen input image). The
+// connection after it is watched afresh (spec §10.1), so CommOk shows the
+// drive is back, while the axis stays in ErrorStop, off, until MC_Reset.
+TEST_F(PlcopenTest, StateDiagram_SignOfLifeThenOffline_CommOkWhenBack_StandstillAfterReset) {
+  enable();
+  b.model->freeze_sign_of_life(true);
+  run(8);
+  EXPECT_EQ(power.ErrorID, kErrSignOfLife);
+  b.model->set_answering(false);
+  run(5);
+  EXPECT_EQ(b.axis.CommError, kErrOffline);
+  b.model->freeze_sign_of_life(false);
+  b.model->set_answering(true);
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 300));
+  EXPECT_TRUE(b.axis.CommOk);
+  EXPECT_EQ(b.axis.State, AxisState::ErrorStop);
+  EXPECT_EQ(power.ErrorID, kErrSignOfLife) << "the first error stays latched";
+  reset.Execute = true;
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100));
+  EXPECT_FALSE(power.Error) << std::hex << power.ErrorID.value;
+  EXPECT_EQ(b.power_in_error_stop, 0);
+}
+
 // RequireEnableEdgeAfterReset = TRUE (sites that want a new enable command
 // after every reset): MC_Reset clears the error, but power stays off with
 // 16#8006 until Enable is given again (FALSE for a scan, then TRUE); after

@@ -111,8 +111,16 @@ void DriveAxis::begin(const ScanContext& ctx) {
   }
 
   // Drive sign-of-life: the counter must move; standing still for more
-  // than SignOfLifeTolerance scans is a loss (latched until a reset).
-  if (SignOfLifeCheck && online && shape_ok) {
+  // than SignOfLifeTolerance scans is a loss (latched until a reset, or
+  // until the device goes offline). An offline device has no counter to
+  // watch, and the connection after it counts anew: monitoring starts again
+  // from its first non-zero value (spec §10.1), as the drive does with ours.
+  // The loss stays latched as the axis error (ErrorStop) until a reset.
+  if (!online) {
+    SignOfLifeLost = false;
+    sol_seen_ = false;
+    sol_stall_ = 0;
+  } else if (SignOfLifeCheck && shape_ok) {
     const auto s = static_cast<std::uint8_t>((ZSW2.value >> 12) & 0xF);
     if (!sol_seen_) {
       if (s != 0) {

@@ -11,7 +11,9 @@
 //   watches the drive's in ZSW2.12-15: a counter that does not move for more
 //   than SignOfLifeTolerance scans (like PNU 925 on the drive side) is a
 //   loss of sign-of-life, and every block on the axis reports kErrSignOfLife
-//   until MC_Reset (or AckError) once the counter runs again;
+//   until MC_Reset (or AckError) once the counter runs again; while the
+//   device is offline the monitoring starts over (the next connection
+//   counts anew), the latched axis error stays;
 // * runs the traversing-task handshake of spec §7.6/§10.1: STW1.6 is raised
 //   only after ZSW1.12 was seen 0, held until ZSW1.12 rises (the drive's
 //   acknowledgement, "rising edge active"), then dropped; the task is done
