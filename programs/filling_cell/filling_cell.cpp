@@ -47,8 +47,10 @@ void FillingCell::cycle(const ScanContext& ctx) {
       break;
     case Step::Fault:
       // Acknowledge the axis error (drive fault or lost communication) and
-      // start over once the safety is good again. Power was taken away here
-      // (Enable FALSE), so the next Enable edge powers the conveyor again.
+      // start over once the safety is good again. Enable is FALSE in this
+      // step, so MC_Reset leaves the conveyor Disabled and the sequence
+      // powers it again from WaitSafety, after the safety and scale checks
+      // (an Enable held through MC_Reset would re-enable it at once).
       reset.Execute = safe;
       if (reset.Done || conveyor.State != drive::AxisState::ErrorStop) {
         reset.Execute = false;

@@ -83,9 +83,13 @@ TEST_F(AbsInitTest, RefusedWhileEnabled) {
 // Spec §7.10 step 4: the 3215h reset restarts the drive (the connection
 // drops and comes back in S1). With AllowDisable the block took power away
 // from an enabled axis; after the reset the axis must not power up by itself
-// (no automatic restart, PLCopen state diagram): MC_Power shows 16#8006 until
-// Enable is given again. Before, the drive came back on at once.
-TEST_F(AbsInitTest, Spec7_10_AfterDriveResetNoRestartUntilEnableGivenAgain) {
+// (PLCopen state diagram: no restart without an explicit reset; the
+// multi-turn reference just changed): MC_Power, Enable held, shows 16#8006
+// until MC_Reset, and then goes to Standstill without an Enable toggle.
+using DrvState = sim::HiwinE1Model::State;
+using Path = std::vector<DrvState>;
+
+TEST_F(AbsInitTest, Spec7_10_AfterDriveResetStandstillAfterMcResetWithEnableHeld) {
   power.Enable = true;
   ASSERT_TRUE(until([&] { return power.Status; }, 100));
   fb.AllowDisable = true;
@@ -95,6 +99,30 @@ TEST_F(AbsInitTest, Spec7_10_AfterDriveResetNoRestartUntilEnableGivenAgain) {
   EXPECT_TRUE(b.stays_off([&] { body(); }, 300));
   EXPECT_FALSE(power.Status);
   EXPECT_TRUE(power.Error);
+  EXPECT_EQ(power.ErrorID, kErrRestartInhibit);
+  reset.Execute = true;
+  Path path;
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100, &path));
+  // The restarted drive went S1 -> S2 already: OFF1 while power was off.
+  EXPECT_EQ(path, (Path{DrvState::S2, DrvState::S4}));
+  EXPECT_TRUE(reset.Done);
+  EXPECT_FALSE(power.Error) << std::hex << power.ErrorID.value;
+  EXPECT_EQ(b.power_in_error_stop, 0);
+}
+
+// RequireEnableEdgeAfterReset: the same, but only a new Enable edge powers
+// the drive (MC_Reset does not).
+TEST_F(AbsInitTest, Spec7_10_RequireEnableEdgeAfterReset_NoRestartUntilEnableGivenAgain) {
+  power.RequireEnableEdgeAfterReset = true;
+  power.Enable = true;
+  ASSERT_TRUE(until([&] { return power.Status; }, 100));
+  fb.AllowDisable = true;
+  start();
+  ASSERT_TRUE(until([&] { return fb.Done || fb.Error; }));
+  ASSERT_TRUE(fb.Done) << std::hex << fb.ErrorID.value;
+  reset.Execute = true;
+  ASSERT_TRUE(until([&] { return reset.Done; }, 100));
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 300));
   EXPECT_EQ(power.ErrorID, kErrRestartInhibit);
   power.Enable = false;
   run(1);

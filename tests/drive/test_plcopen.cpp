@@ -45,7 +45,7 @@ struct PlcopenTest : ::testing::Test {
     ASSERT_TRUE(until([&] { return power.Status; }, 100));
     EXPECT_EQ(b.axis.State, AxisState::Standstill);
   }
-  // After an error and MC_Reset: Enable FALSE for a scan, then TRUE again.
+  // With RequireEnableEdgeAfterReset: Enable FALSE for a scan, then TRUE.
   void enable_again() {
     power.Enable = false;
     run(1);
@@ -390,12 +390,93 @@ TEST_F(PlcopenTest, Table3_1_1_HomePositionOutsideInt32IsRefused) {
 }
 
 // PLCopen MC Part 1 state diagram (softplc-anchors §3.2): an axis error puts
-// the axis in ErrorStop, left only through MC_Reset; no automatic restart
-// (ISO 13849-1 §5.2.2: a reset must not start the machine). After the drive
-// answers again, STW1 must not ask for ON / enable operation, MC_Power must
-// not show Status with Error, and even after MC_Reset the drive stays off
-// until Enable is given again.
-TEST_F(PlcopenTest, StateDiagram_CommLossNoRestartUntilResetAndNewEnable) {
+// the axis in ErrorStop, left only through MC_Reset, "which leads to
+// Standstill if power is on". MC_Power is level-controlled (as in TIA): with
+// Enable held through the error, MC_Reset brings the axis back to
+// Standstill by itself. The safety side is kept: no restart without the
+// explicit reset (ISO 13849-1 §5.2.2), also when the drive simply answers
+// again; no ON and no enable operation in STW1 while in ErrorStop
+// (b.power_in_error_stop); a new STW1.7 edge per reset; and the drive's
+// switching on inhibited after the acknowledge (spec §5: Fault -> S1) is
+// left through OFF1 (S1 -> S2) by the block, before ON (S2 -> S4).
+using DrvState = sim::HiwinE1Model::State;
+using Path = std::vector<DrvState>;
+
+TEST_F(PlcopenTest, StateDiagram_FaultWhileEnabled_StandstillAfterResetWithEnableHeld) {
+  enable();
+  b.model->trip_alarm(0x710);  // AL.710, its cause gone at once
+  run(2);
+  EXPECT_EQ(b.axis.State, AxisState::ErrorStop);
+  EXPECT_EQ(power.ErrorID, kErrDriveFault);
+  // Never before MC_Reset: the fault stays, and so does ErrorStop.
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 300));
+  EXPECT_EQ(b.axis.State, AxisState::ErrorStop);
+  EXPECT_EQ(b.ack_edges, 0);
+  reset.Execute = true;
+  Path path;
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100, &path));
+  EXPECT_TRUE(reset.Done);
+  EXPECT_EQ(path, (Path{DrvState::Fault, DrvState::S1, DrvState::S2, DrvState::S4}));
+  EXPECT_EQ(b.ack_edges, 1);
+  EXPECT_EQ(b.axis.STW1 & Stw1Pos::kFaultAck, 0) << "dropped once the drive acknowledged";
+  EXPECT_TRUE(power.Status);
+  EXPECT_TRUE(power.Valid);
+  EXPECT_FALSE(power.Error) << std::hex << power.ErrorID.value;
+  EXPECT_TRUE(rs.Standstill);
+  EXPECT_EQ(b.power_in_error_stop, 0);
+}
+
+// Enable FALSE when the fault comes, TRUE while the axis is still in
+// ErrorStop: nothing happens until MC_Reset, then Standstill.
+TEST_F(PlcopenTest, StateDiagram_FaultWhileDisabled_EnableGivenAfterFault_StandstillAfterReset) {
+  run(2);
+  b.model->trip_alarm(0x710);
+  run(2);
+  EXPECT_EQ(b.axis.State, AxisState::ErrorStop);
+  power.Enable = true;
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 300));
+  EXPECT_TRUE(power.Error);
+  EXPECT_EQ(power.ErrorID, kErrDriveFault);
+  reset.Execute = true;
+  Path path;
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100, &path));
+  EXPECT_EQ(path, (Path{DrvState::Fault, DrvState::S1, DrvState::S2, DrvState::S4}));
+  EXPECT_FALSE(power.Error) << std::hex << power.ErrorID.value;
+  EXPECT_EQ(b.power_in_error_stop, 0);
+}
+
+// Every fault needs its own MC_Reset edge and its own STW1.7 edge (spec
+// §10.2: a bit held at 1 acknowledges no later fault): with Execute still
+// TRUE from the first reset, the second fault stays.
+TEST_F(PlcopenTest, StateDiagram_TwoFaultsInARow_EachNeedsItsOwnReset) {
+  enable();
+  b.model->trip_alarm(0x710);
+  run(2);
+  reset.Execute = true;
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100));
+  EXPECT_EQ(b.ack_edges, 1);
+  b.model->trip_alarm(0xD00);  // the second fault, Execute still TRUE
+  run(2);
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 300));
+  EXPECT_EQ(b.axis.State, AxisState::ErrorStop);
+  EXPECT_EQ(b.model->state(), DrvState::Fault);
+  EXPECT_EQ(b.ack_edges, 1);
+  reset.Execute = false;
+  run(1);
+  reset.Execute = true;
+  Path path;
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100, &path));
+  EXPECT_EQ(path, (Path{DrvState::Fault, DrvState::S1, DrvState::S2, DrvState::S4}));
+  EXPECT_EQ(b.ack_edges, 2);
+  EXPECT_FALSE(power.Error) << std::hex << power.ErrorID.value;
+  EXPECT_EQ(b.power_in_error_stop, 0);
+}
+
+// Communication lost while moving: ErrorStop, power off (the drive ramps to
+// S2); the drive answers again and stays off, with the error latched, until
+// MC_Reset; then Standstill with Enable held. The drive had no fault: no
+// acknowledge goes out.
+TEST_F(PlcopenTest, StateDiagram_CommLoss_StandstillAfterResetWithEnableHeld_NeverBefore) {
   enable();
   mvel.Velocity = 50000;
   mvel.Execute = true;
@@ -417,7 +498,73 @@ TEST_F(PlcopenTest, StateDiagram_CommLossNoRestartUntilResetAndNewEnable) {
   EXPECT_EQ(b.axis.State, AxisState::ErrorStop);
   EXPECT_TRUE(power.Error);
   EXPECT_EQ(power.ErrorID, kErrOffline);  // latched until MC_Reset
-  // MC_Reset clears the error; Enable held through it does not restart.
+  EXPECT_TRUE(mvel.Error);
+  reset.Execute = true;
+  Path path;
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100, &path));
+  EXPECT_EQ(path, (Path{DrvState::S2, DrvState::S4}));
+  EXPECT_EQ(b.ack_edges, 0);
+  EXPECT_FALSE(power.Error) << std::hex << power.ErrorID.value;
+  EXPECT_TRUE(power.Valid);
+  EXPECT_EQ(b.power_in_error_stop, 0);
+}
+
+// The PLC's sign-of-life stops (a breakpoint: no block called, STW2 frozen):
+// the drive trips AL.FB1 after PNU 925 failures (spec §10.1). When the
+// program runs again the axis is in ErrorStop and stays there until
+// MC_Reset; then Standstill with Enable held.
+TEST_F(PlcopenTest, StateDiagram_PlcSignOfLifeLoss_StandstillAfterResetWithEnableHeld) {
+  enable();
+  b.run([] {}, 10);
+  ASSERT_EQ(b.model->fault_code(), 0xFB1);
+  run(2);
+  EXPECT_EQ(b.axis.State, AxisState::ErrorStop);
+  EXPECT_EQ(power.ErrorID, kErrDriveFault);
+  EXPECT_EQ(b.axis.FAULT_CODE, 0xFB1);
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 300));
+  reset.Execute = true;
+  Path path;
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100, &path));
+  EXPECT_EQ(path, (Path{DrvState::Fault, DrvState::S1, DrvState::S2, DrvState::S4}));
+  EXPECT_FALSE(power.Error) << std::hex << power.ErrorID.value;
+  EXPECT_EQ(b.power_in_error_stop, 0);
+}
+
+// The drive's counter stands still first (16#8002), then the device goes
+// offline (a pulled cable seen first as a frozen input image). The
+// connection after it is watched afresh (spec §10.1), so CommOk shows the
+// drive is back, while the axis stays in ErrorStop, off, until MC_Reset.
+TEST_F(PlcopenTest, StateDiagram_SignOfLifeThenOffline_CommOkWhenBack_StandstillAfterReset) {
+  enable();
+  b.model->freeze_sign_of_life(true);
+  run(8);
+  EXPECT_EQ(power.ErrorID, kErrSignOfLife);
+  b.model->set_answering(false);
+  run(5);
+  EXPECT_EQ(b.axis.CommError, kErrOffline);
+  b.model->freeze_sign_of_life(false);
+  b.model->set_answering(true);
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 300));
+  EXPECT_TRUE(b.axis.CommOk);
+  EXPECT_EQ(b.axis.State, AxisState::ErrorStop);
+  EXPECT_EQ(power.ErrorID, kErrSignOfLife) << "the first error stays latched";
+  reset.Execute = true;
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100));
+  EXPECT_FALSE(power.Error) << std::hex << power.ErrorID.value;
+  EXPECT_EQ(b.power_in_error_stop, 0);
+}
+
+// RequireEnableEdgeAfterReset = TRUE (sites that want a new enable command
+// after every reset): MC_Reset clears the error, but power stays off with
+// 16#8006 until Enable is given again (FALSE for a scan, then TRUE); after
+// a communication loss and after a drive fault.
+TEST_F(PlcopenTest, RequireEnableEdgeAfterReset_PowerOffWith8006UntilEnableGivenAgain) {
+  power.RequireEnableEdgeAfterReset = true;
+  enable();
+  b.model->set_answering(false);
+  run(10);
+  b.model->set_answering(true);
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 100));
   reset.Execute = true;
   ASSERT_TRUE(until([&] { return reset.Done; }, 100));
   EXPECT_TRUE(b.stays_off([&] { body(); }, 300));
@@ -425,26 +572,22 @@ TEST_F(PlcopenTest, StateDiagram_CommLossNoRestartUntilResetAndNewEnable) {
   EXPECT_FALSE(power.Status);
   EXPECT_TRUE(power.Error);
   EXPECT_EQ(power.ErrorID, kErrRestartInhibit);
-  // Enable given again: power comes back, no error.
   enable_again();
   EXPECT_FALSE(power.Error);
   EXPECT_TRUE(power.Valid);
-}
 
-// Same rule for a drive fault: acknowledging it (MC_Reset) must not power
-// the drive again while Enable was held through the fault.
-TEST_F(PlcopenTest, StateDiagram_DriveFaultResetNoRestartUntilNewEnable) {
-  enable();
   b.model->trip_alarm(0x710);
   run(2);
   EXPECT_EQ(b.axis.State, AxisState::ErrorStop);
+  reset.Execute = false;
+  run(1);
   reset.Execute = true;
   ASSERT_TRUE(until([&] { return reset.Done; }, 100));
   EXPECT_TRUE(b.stays_off([&] { body(); }, 300));
-  EXPECT_FALSE(power.Status);
   EXPECT_EQ(power.ErrorID, kErrRestartInhibit);
   enable_again();
   EXPECT_EQ(b.axis.State, AxisState::Standstill);
+  EXPECT_EQ(b.power_in_error_stop, 0);
 }
 
 // Enable FALSE before the reset: the reset alone clears everything and the
@@ -462,6 +605,52 @@ TEST_F(PlcopenTest, StateDiagram_EnableDroppedBeforeResetRestartsOnNextEnable) {
   EXPECT_EQ(b.axis.State, AxisState::Disabled);
   enable();
   EXPECT_FALSE(power.Error);
+}
+
+// Spec §10.2: STW1.7 is an edge, and the drive must see the 0 before the 1.
+// On a bus slower than the scan (one exchange every second scan here; the
+// drive's sign-of-life monitoring is off, as the PLC counts per scan), a
+// reset started again while the previous acknowledge was still held must
+// keep STW1.7 at 0 until the drive has answered once, or the drive sees
+// 1, 1 and acknowledges nothing.
+TEST_F(PlcopenTest, Spec10_2_EachResetGivesAnAckEdgeTheDriveSeesOnABusSlowerThanTheScan) {
+  sim::HiwinE1Config cfg;
+  cfg.sign_of_life_monitoring = false;
+  b = Bench(cfg);
+  auto slow_scan = [&] {
+    body();
+    b.ctx.now += 1ms;
+    ++b.ctx.cycle;
+    if (b.ctx.cycle % 2 == 0) b.dev->step(b.ctx.now, 2ms);
+  };
+  auto slow_until = [&](const std::function<bool()>& pred, int n) {
+    for (int i = 0; i < n; ++i) {
+      slow_scan();
+      if (pred()) return true;
+    }
+    return false;
+  };
+  power.Enable = true;
+  ASSERT_TRUE(slow_until([&] { return power.Status; }, 100));
+  b.model->trip_alarm(0x710, true);  // the cause persists: the first reset holds STW1.7
+  reset.Execute = true;
+  ASSERT_TRUE(slow_until([&] { return (b.axis.STW1 & Stw1Pos::kFaultAck) != 0; }, 100));
+  for (int i = 0; i < 4; ++i) slow_scan();  // the drive has seen the 1 (and refused it)
+  b.model->clear_alarm_cause();
+  for (int i = 0; i < 4; ++i) slow_scan();
+  ASSERT_EQ(b.model->state(), DrvState::Fault) << "the held 1 is no new edge";
+  ASSERT_TRUE(reset.Busy);
+  // Again: Execute FALSE for a scan, then TRUE in a scan after which the
+  // drive does not take a telegram.
+  reset.Execute = false;
+  slow_scan();
+  if (b.ctx.cycle % 2 != 0) slow_scan();
+  reset.Execute = true;
+  ASSERT_TRUE(slow_until([&] { return reset.Done || reset.Error; }, 200));
+  EXPECT_TRUE(reset.Done) << std::hex << reset.ErrorID.value;
+  EXPECT_NE(b.model->state(), DrvState::Fault);
+  ASSERT_TRUE(slow_until([&] { return power.Status; }, 100));
+  EXPECT_FALSE(power.Error) << std::hex << power.ErrorID.value;
 }
 
 TEST_F(PlcopenTest, FaultDuringMoveAndReset) {
@@ -495,9 +684,8 @@ TEST_F(PlcopenTest, FaultDuringMoveAndReset) {
   reset.Execute = true;
   ASSERT_TRUE(until([&] { return reset.Done; }, 100));
   EXPECT_NE(b.axis.State, AxisState::ErrorStop);
-  // Enable given again: S1 -> S2 -> S4.
-  enable_again();
-  EXPECT_EQ(b.axis.State, AxisState::Standstill);
+  // Enable held: S1 -> S2 -> S4, Standstill.
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100));
   EXPECT_FALSE(power.Error);
   mabs.Execute = false;
   run(1);
@@ -525,7 +713,7 @@ TEST_F(PlcopenTest, SignOfLifeLossErrorsEveryBlock) {
   EXPECT_TRUE(power.Error);  // latched until reset
   reset.Execute = true;
   ASSERT_TRUE(until([&] { return reset.Done; }, 100));
-  enable_again();
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100));
   EXPECT_FALSE(power.Error);
 }
 
@@ -541,7 +729,7 @@ TEST_F(PlcopenTest, StopAnsweringErrorsEveryBlock) {
   EXPECT_FALSE(rp.Error);
   reset.Execute = true;
   ASSERT_TRUE(until([&] { return reset.Done; }, 100));
-  enable_again();
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100));
 }
 
 TEST_F(PlcopenTest, Telegram9MoveAbsolute) {

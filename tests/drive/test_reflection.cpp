@@ -56,8 +56,9 @@ TEST(Reflection, AllBlocksListTheirFields) {
 // and everything below them) is read-only for the debugger, the HMI and
 // init:, and so is the state a block runs on (the axis' PLCopen State,
 // AbsEncoderInit's Step) and the axis' RestartInhibit interlock (issue 9
-// point 6: no restart without MC_Reset and a new Enable); the rest of the interface stays writable,
-// and SinaPara's Count (a length) behind its range check.
+// point 6, issue 21 point 2: no restart without an explicit MC_Reset or
+// AckError); the rest of the interface stays writable, and SinaPara's Count
+// (a length) behind its range check.
 TEST(Reflection, InternalStateIsReadOnlyTheInterfaceWritable) {
   Cell c;
   const auto v = collect_fields("Cell", c);

@@ -208,6 +208,29 @@ TEST(Spec8, FaultCodeAndAcknowledgeOnRisingEdge) {
   EXPECT_EQ(e1_fault_number(0xFB2), 77);
 }
 
+// Spec §5 "Fault -> S1" and "S1 -> S2": after the acknowledge the drive is
+// switching on inhibited, and a PLC that keeps ON and enable operation set
+// (an enable held through the fault) stays there; one telegram with OFF1
+// (STW1.0 = 0) takes it to S2, then ON + enable operation to S4. MC_Power
+// and SinaPos rely on this when they re-enable after a reset.
+TEST(Spec5, AfterFaultAcknowledgeSwitchingOnInhibitedUntilOff1) {
+  RawDrive d(TelegramType::Hiwin111);
+  d.cycle(0x043E);
+  d.cycle(0x043F);
+  ASSERT_TRUE(d.m.trip_alarm(0x710));
+  d.cycle(0x043E);  // OFF1 (no ON, no enable operation) while faulted
+  EXPECT_EQ(d.m.state(), State::Fault);
+  d.cycle(0x04BE);  // acknowledge: rising edge of bit 7
+  EXPECT_EQ(d.m.state(), State::S1);
+  EXPECT_EQ(d.zsw1() & 0x004F, 0x0040);  // ZSW1.6 switching on inhibited, b0..b3 = 0
+  d.cycle(0x043F, 3);                    // ON + enable operation at once: no
+  EXPECT_EQ(d.m.state(), State::S1);
+  d.cycle(0x043E);  // OFF1 for one telegram
+  EXPECT_EQ(d.m.state(), State::S2);
+  d.cycle(0x043F);
+  EXPECT_EQ(d.m.state(), State::S4);
+}
+
 TEST(Spec10_1, ControllerSignOfLifeLossTripsFb1) {
   RawDrive d(TelegramType::Hiwin111);
   d.cycle(0x043E);

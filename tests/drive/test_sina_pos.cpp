@@ -22,7 +22,7 @@ struct SinaPosTest : ::testing::Test {
     ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));
     EXPECT_EQ(fb.Status, kStatusIdle);
   }
-  // After an acknowledged error: EnableAxis FALSE for a scan, then TRUE.
+  // With RequireEnableEdgeAfterReset: EnableAxis FALSE for a scan, then TRUE.
   void enable_again() {
     fb.EnableAxis = false;
     run(1);
@@ -224,7 +224,7 @@ TEST_F(SinaPosTest, FaultAndAckError) {
   EXPECT_TRUE(fb.AxisError);
   EXPECT_FALSE(fb.AxisEnabled);
   ack_error();
-  enable_again();
+  ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));  // EnableAxis held
   EXPECT_EQ(fb.Status, kStatusIdle);
   EXPECT_FALSE(fb.Error);
   execute(2);
@@ -244,15 +244,19 @@ TEST_F(SinaPosTest, CommunicationErrors) {
   EXPECT_EQ(fb.DiagID, kErrOffline);
   b.model->set_answering(true);
   ack_error();
-  enable_again();
+  ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));
   EXPECT_FALSE(fb.Error);
 }
 
-// No automatic restart (PLCopen state diagram, softplc-anchors §3.2; ISO
-// 13849-1 §5.2.2), SINA_POS style: after a communication loss the drive
-// stays off when it answers again, and after AckError it stays off with
-// Lockout (Status 16#8402, DiagID 16#8006) until EnableAxis is given again.
-TEST_F(SinaPosTest, NoRestart_AfterCommLossAndAckErrorUntilEnableAxisAgain) {
+// EnableAxis is level-controlled, as in the TIA SINA_POS: held through an
+// error, it powers the axis again after AckError, never before (PLCopen
+// state diagram, softplc-anchors §3.2; ISO 13849-1 §5.2.2: no restart
+// without an explicit reset). After a communication loss the drive stays
+// off when it answers again; AckError brings it back to operation.
+using DrvState = sim::HiwinE1Model::State;
+using Path = std::vector<DrvState>;
+
+TEST_F(SinaPosTest, StateDiagram_CommLoss_EnabledAgainAfterAckErrorWithEnableAxisHeld) {
   enable();
   fb.Velocity = 3000;
   fb.Positive = true;
@@ -263,6 +267,80 @@ TEST_F(SinaPosTest, NoRestart_AfterCommLossAndAckErrorUntilEnableAxisAgain) {
   b.model->set_answering(true);
   EXPECT_TRUE(b.stays_off([&] { body(); }, 200));
   EXPECT_TRUE(fb.Error);
+  EXPECT_EQ(b.axis.State, AxisState::ErrorStop);
+  fb.AckError = true;
+  Path path;
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100, &path));
+  EXPECT_EQ(path, (Path{DrvState::S2, DrvState::S4}));
+  EXPECT_TRUE(fb.AxisEnabled);
+  EXPECT_FALSE(fb.Lockout);
+  EXPECT_EQ(fb.Status, kStatusIdle);
+  EXPECT_EQ(b.power_in_error_stop, 0);
+}
+
+// A drive fault: AckError acknowledges it (one STW1.7 edge); the drive is
+// then switching on inhibited (S1), which the block leaves itself: OFF1
+// (S2), then ON and enable operation (S4).
+TEST_F(SinaPosTest, StateDiagram_DriveFault_EnabledAgainAfterAckErrorWithEnableAxisHeld) {
+  enable();
+  b.model->trip_alarm(0xD00);
+  run(2);
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 200));
+  EXPECT_EQ(fb.Status, kStatusDriveFault);
+  fb.AckError = true;
+  Path path;
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100, &path));
+  EXPECT_EQ(path, (Path{DrvState::Fault, DrvState::S1, DrvState::S2, DrvState::S4}));
+  EXPECT_EQ(b.ack_edges, 1);
+  EXPECT_EQ(b.axis.STW1 & Stw1Pos::kFaultAck, 0) << "dropped once the drive acknowledged";
+  EXPECT_TRUE(fb.AxisEnabled);
+  EXPECT_FALSE(fb.Error);
+  EXPECT_EQ(b.power_in_error_stop, 0);
+}
+
+// Each AckError edge is one acknowledge: AckError held TRUE from the first
+// fault acknowledges neither the next fault (spec §10.2: STW1.7 held at 1
+// acknowledges nothing) nor an error whose cause simply went away (the
+// communication coming back). A new edge does.
+TEST_F(SinaPosTest, StateDiagram_AckErrorHeld_EachFaultNeedsItsOwnAckErrorEdge) {
+  enable();
+  b.model->trip_alarm(0xD00);
+  run(2);
+  fb.AckError = true;
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100));
+  EXPECT_EQ(b.ack_edges, 1);
+  b.model->trip_alarm(0x710);  // AckError still TRUE
+  run(2);
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 200));
+  EXPECT_EQ(b.model->state(), DrvState::Fault);
+  EXPECT_EQ(b.ack_edges, 1);
+  fb.AckError = false;
+  run(1);
+  fb.AckError = true;
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100));
+  EXPECT_EQ(b.ack_edges, 2);
+  b.model->set_answering(false);  // AckError still TRUE
+  run(10);
+  b.model->set_answering(true);
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 200));
+  EXPECT_EQ(b.axis.State, AxisState::ErrorStop);
+  EXPECT_EQ(fb.Status, kStatusTaskError);
+  fb.AckError = false;
+  run(1);
+  fb.AckError = true;
+  ASSERT_TRUE(b.until_standstill([&] { body(); }, 100));
+  EXPECT_EQ(b.power_in_error_stop, 0);
+}
+
+// RequireEnableEdgeAfterReset = TRUE: after AckError the drive stays off
+// with Lockout (Status 16#8402, DiagID 16#8006) until EnableAxis is given
+// again; after a communication loss and after a drive fault.
+TEST_F(SinaPosTest, RequireEnableEdgeAfterReset_LockoutUntilEnableAxisGivenAgain) {
+  fb.RequireEnableEdgeAfterReset = true;
+  enable();
+  b.model->set_answering(false);
+  run(10);
+  b.model->set_answering(true);
   ack_error();
   EXPECT_TRUE(b.stays_off([&] { body(); }, 200));
   EXPECT_FALSE(fb.AxisEnabled);
@@ -272,11 +350,7 @@ TEST_F(SinaPosTest, NoRestart_AfterCommLossAndAckErrorUntilEnableAxisAgain) {
   enable_again();
   EXPECT_FALSE(fb.Lockout);
   EXPECT_EQ(fb.Status, kStatusIdle);
-}
 
-// The same after a drive fault acknowledged with AckError.
-TEST_F(SinaPosTest, NoRestart_AfterDriveFaultAckErrorUntilEnableAxisAgain) {
-  enable();
   b.model->trip_alarm(0xD00);
   run(2);
   ack_error();
@@ -284,6 +358,7 @@ TEST_F(SinaPosTest, NoRestart_AfterDriveFaultAckErrorUntilEnableAxisAgain) {
   EXPECT_FALSE(fb.AxisEnabled);
   EXPECT_EQ(fb.DiagID, kErrRestartInhibit);
   enable_again();
+  EXPECT_EQ(b.power_in_error_stop, 0);
 }
 
 TEST_F(SinaPosTest, BadModeAndSetpoint) {

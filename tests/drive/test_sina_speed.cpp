@@ -67,19 +67,15 @@ TEST_F(SinaSpeedTest, SpeedNear200PercentAndFaultAck) {
   run(2);
   EXPECT_EQ(fb.Status, kStatusDriveFault);
   EXPECT_TRUE(fb.Error);
+  // Off until AckError; then EnableAxis, held, powers the axis again.
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 100));
   fb.AckError = true;
   run(2);
   fb.AckError = false;
-  // No automatic restart: Lockout until EnableAxis is given again.
-  EXPECT_TRUE(b.stays_off([&] { body(); }, 100));
-  EXPECT_FALSE(fb.AxisEnabled);
-  EXPECT_TRUE(fb.Lockout);
-  EXPECT_EQ(fb.Status, kStatusLockout);
-  EXPECT_EQ(fb.DiagID, kErrRestartInhibit);
-  fb.EnableAxis = false;
-  run(1);
-  fb.EnableAxis = true;
   ASSERT_TRUE(until([&] { return fb.AxisEnabled && !fb.Error; }, 100));
+  EXPECT_EQ(fb.Status, kStatusRunning);
+  EXPECT_EQ(b.ack_edges, 1);
+  EXPECT_EQ(b.power_in_error_stop, 0);
 }
 
 // Table 3.1.1: NSOLL_B is Int32 with 0x40000000 = 100 %, so |SpeedSp| must
@@ -115,10 +111,30 @@ TEST_F(SinaSpeedTest, Table3_1_1_SpeedSetpointOutsideNsollBIsRefusedNotSaturated
   EXPECT_EQ(fb.Status, kStatusRunning);
 }
 
-// No automatic restart (PLCopen state diagram; ISO 13849-1 §5.2.2), SINA_SPEED
-// style: a communication loss leaves the drive off when it answers again, and
-// AckError alone does not power it: EnableAxis must be given again.
-TEST_F(SinaSpeedTest, NoRestart_AfterCommLossAndAckErrorUntilEnableAxisAgain) {
+// SINA_SPEED style, EnableAxis level-controlled: a communication loss leaves
+// the drive off when it answers again (PLCopen state diagram; ISO 13849-1
+// §5.2.2: no restart without an explicit reset), and AckError brings it back
+// with EnableAxis held. With RequireEnableEdgeAfterReset, AckError alone does
+// not: Lockout (16#8402, DiagID 16#8006) until EnableAxis is given again.
+TEST_F(SinaSpeedTest, StateDiagram_CommLoss_EnabledAgainAfterAckErrorWithEnableAxisHeld) {
+  fb.EnableAxis = true;
+  fb.SpeedSp = 1500;
+  ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));
+  b.model->set_answering(false);
+  run(10);
+  b.model->set_answering(true);
+  EXPECT_TRUE(b.stays_off([&] { body(); }, 200));
+  EXPECT_TRUE(fb.Error);
+  fb.AckError = true;
+  ASSERT_TRUE(until([&] { return fb.AxisEnabled && !fb.Error; }, 100));
+  fb.AckError = false;
+  run(300);
+  EXPECT_NEAR(fb.ActVelocity, 1500, 10);
+  EXPECT_EQ(b.power_in_error_stop, 0);
+}
+
+TEST_F(SinaSpeedTest, RequireEnableEdgeAfterReset_LockoutUntilEnableAxisGivenAgain) {
+  fb.RequireEnableEdgeAfterReset = true;
   fb.EnableAxis = true;
   fb.SpeedSp = 1500;
   ASSERT_TRUE(until([&] { return fb.AxisEnabled; }, 100));
@@ -131,6 +147,8 @@ TEST_F(SinaSpeedTest, NoRestart_AfterCommLossAndAckErrorUntilEnableAxisAgain) {
   fb.AckError = false;
   EXPECT_TRUE(b.stays_off([&] { body(); }, 200));
   EXPECT_FALSE(fb.AxisEnabled);
+  EXPECT_TRUE(fb.Lockout);
+  EXPECT_EQ(fb.Status, kStatusLockout);
   EXPECT_EQ(fb.DiagID, kErrRestartInhibit);
   fb.EnableAxis = false;
   run(1);

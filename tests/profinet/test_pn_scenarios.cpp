@@ -5,7 +5,9 @@
 // frames and every record as RPC Write/Read (lockstep virtual time).
 //   E1: MDI positioning (test_sina_pos RelativeAndAbsolute...), parameter
 //       access (test_sina_para), absolute-encoder init with the 3215h reset
-//       (test_abs_encoder ClearsMultiTurnAndResetsDrive).
+//       (test_abs_encoder ClearsMultiTurnAndResetsDrive), two faults each
+//       reset with MC_Reset while Enable is held (test_plcopen
+//       StateDiagram_TwoFaultsInARow...).
 //   NORD: F-parameters at start-up and automatic reintegration
 //       (test_startup), an acknowledgeable device fault (test_fault_matrix
 //       DeviceFault_Acknowledgeable), and the device lost on the bus: the
@@ -31,16 +33,18 @@ using namespace pntest;
 namespace io = plc::io;
 namespace drive = plc::drive;
 
-ControllerConfig quick_retry() {
+ControllerConfig quick_retry(std::uint16_t data_hold_factor = 3) {
   ControllerConfig c;
   c.retry = std::chrono::milliseconds(50);
+  c.data_hold_factor = data_hold_factor;
   return c;
 }
 
 // ---- E1 over PROFINET ----------------------------------------------------------
 
 struct E1OverPn {
-  explicit E1OverPn(plc::sim::HiwinE1Config cfg = {}) : loop(quick_retry()) {
+  explicit E1OverPn(plc::sim::HiwinE1Config cfg = {}, std::uint16_t data_hold_factor = 3)
+      : loop(quick_retry(data_hold_factor)) {
     io::ModelParams p;
     p.set("telegram", "111");
     auto m = std::make_unique<plc::sim::HiwinE1Model>(cfg);
@@ -174,6 +178,101 @@ TEST(PnScenarios, E1_AbsoluteEncoderInitAcrossTheResetOverProfinet) {
   power.Enable = true;
   ASSERT_TRUE(b.until(
       body, [&] { return power.Status; }, 200));
+}
+
+// tests/drive/test_plcopen.cpp StateDiagram_TwoFaultsInARow_EachNeedsItsOwnReset
+// (PLCopen state diagram; hiwin §5 Fault -> S1, §10.2 STW1.7 edge): over
+// PROFINET each MC_Reset acknowledges its fault with its own STW1.7 edge and
+// MC_Power, Enable held, walks the drive S1 -> S2 -> S4 back to Standstill.
+TEST(PnScenarios, E1_FaultThenMcResetWithEnableHeldBackToStandstillOverProfinet) {
+  E1OverPn b;
+  ASSERT_TRUE(b.online);
+  drive::MC_Power power;
+  drive::MC_Reset reset;
+  auto body = [&] {
+    power(b.ctx, b.axis);
+    reset(b.ctx, b.axis);
+  };
+  power.Enable = true;
+  ASSERT_TRUE(b.until(
+      body, [&] { return power.Status; }, 200));
+  for (const std::uint16_t alarm : {0x710, 0xD00}) {
+    b.model->trip_alarm(alarm);
+    ASSERT_TRUE(b.until(
+        body, [&] { return b.axis.State == drive::AxisState::ErrorStop; }, 50));
+    b.run(body, 100);
+    EXPECT_EQ(b.model->state(), plc::sim::HiwinE1Model::State::Fault) << "not before MC_Reset";
+    EXPECT_EQ(b.axis.STW1 & (drive::Stw1Pos::kOn | drive::Stw1Pos::kEnableOperation), 0);
+    reset.Execute = false;
+    b.run(body, 1);
+    reset.Execute = true;
+    ASSERT_TRUE(b.until(
+        body, [&] { return b.axis.State == drive::AxisState::Standstill && power.Status; }, 200))
+        << std::hex << alarm << " " << power.ErrorID.value;
+    EXPECT_TRUE(reset.Done);
+    EXPECT_FALSE(power.Error);
+  }
+  EXPECT_EQ(b.loop.ctrl->counters(0).bad_total(), 0u);
+}
+
+// tests/drive/test_plcopen.cpp StateDiagram_CommLoss... over PROFINET, the
+// cable pulled: with a data-hold time longer than the axis' sign-of-life
+// tolerance (32 ms here, as in cell_profinet.yaml, against 5 scans) the
+// axis sees the drive's counter stand still (16#8002) before the controller
+// declares the device lost (16#8001). When the link returns the controller
+// connects again and the counter of the new connection is watched afresh
+// (hiwin §10.1: from its first non-zero value): CommOk is TRUE again, while
+// the axis stays in ErrorStop, without power, until MC_Reset; then Enable,
+// held all along, brings it back to Standstill.
+TEST(PnScenarios, E1_DeviceLostOnTheBusOffUntilMcResetThenStandstillWithEnableHeld) {
+  E1OverPn b(plc::sim::HiwinE1Config{}, 32);
+  ASSERT_TRUE(b.online);
+  drive::MC_Power power;
+  drive::MC_Reset reset;
+  auto body = [&] {
+    power(b.ctx, b.axis);
+    reset(b.ctx, b.axis);
+  };
+  power.Enable = true;
+  ASSERT_TRUE(b.until(
+      body, [&] { return power.Status; }, 200));
+  const Mac dev_mac = b.loop.devices[0].eth->mac();
+  const Ipv4 dev_ip = b.loop.devices[0].dev->ip();
+  b.loop.hub.set_link_up(dev_mac, false);
+  b.loop.net.set_link_up(dev_ip, false);
+  ASSERT_TRUE(b.until(
+      body, [&] { return power.ErrorID == drive::kErrSignOfLife; }, 20));
+  ASSERT_TRUE(b.until(
+      body, [&] { return b.axis.CommError == drive::kErrOffline; }, 100));
+  EXPECT_EQ(power.ErrorID, drive::kErrOffline);
+  b.loop.hub.set_link_up(dev_mac, true);
+  b.loop.net.set_link_up(dev_ip, true);
+  const auto power_bits = drive::Stw1Pos::kOn | drive::Stw1Pos::kEnableOperation;
+  bool power_asked = false;
+  ASSERT_TRUE(b.until(
+      body,
+      [&] {
+        power_asked |= (b.axis.STW1 & power_bits) != 0;
+        return b.axis.CommOk;
+      },
+      5000))
+      << b.loop.ctrl->diagnostics(0);
+  b.run(
+      [&] {
+        body();
+        power_asked |= (b.axis.STW1 & power_bits) != 0;
+      },
+      300);
+  EXPECT_FALSE(power_asked) << "no power before MC_Reset";
+  EXPECT_TRUE(b.axis.CommOk);
+  EXPECT_EQ(b.axis.State, drive::AxisState::ErrorStop);
+  EXPECT_NE(b.model->state(), plc::sim::HiwinE1Model::State::S4);
+  reset.Execute = true;
+  ASSERT_TRUE(b.until(
+      body, [&] { return b.axis.State == drive::AxisState::Standstill && power.Status; }, 200))
+      << std::hex << power.ErrorID.value;
+  EXPECT_TRUE(reset.Done);
+  EXPECT_FALSE(power.Error);
 }
 
 // ---- NORD PROFIsafe over PROFINET ------------------------------------------------

@@ -21,7 +21,7 @@ const char* diag_text(std::uint16_t c) {
     case kErrErrorStop:
       return "axis in ErrorStop";
     case kErrRestartInhibit:
-      return "restart inhibited after an error: give Enable again";
+      return "restart inhibited after an error: reset, or give Enable again";
     case kErrDisabled:
       return "axis disabled";
     case kErrStopping:

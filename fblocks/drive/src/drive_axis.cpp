@@ -111,8 +111,16 @@ void DriveAxis::begin(const ScanContext& ctx) {
   }
 
   // Drive sign-of-life: the counter must move; standing still for more
-  // than SignOfLifeTolerance scans is a loss (latched until reset_errors()).
-  if (SignOfLifeCheck && online && shape_ok) {
+  // than SignOfLifeTolerance scans is a loss (latched until a reset, or
+  // until the device goes offline). An offline device has no counter to
+  // watch, and the connection after it counts anew: monitoring starts again
+  // from its first non-zero value (spec §10.1), as the drive does with ours.
+  // The loss stays latched as the axis error (ErrorStop) until a reset.
+  if (!online) {
+    SignOfLifeLost = false;
+    sol_seen_ = false;
+    sol_stall_ = 0;
+  } else if (SignOfLifeCheck && shape_ok) {
     const auto s = static_cast<std::uint8_t>((ZSW2.value >> 12) & 0xF);
     if (!sol_seen_) {
       if (s != 0) {
@@ -136,6 +144,7 @@ void DriveAxis::begin(const ScanContext& ctx) {
   sol_out_ = next_sign_of_life(sol_out_);
 
   advance();
+  advance_reset();
   update_state();
 }
 
@@ -159,13 +168,74 @@ void DriveAxis::reset_errors() {
   sol_stall_ = 0;
 }
 
+void DriveAxis::start_reset(TIME timeout) {
+  // The monitoring starts again; a loss stays latched in error_ (ErrorStop)
+  // until the reset is done.
+  SignOfLifeLost = false;
+  sol_seen_ = false;
+  sol_stall_ = 0;
+  AckRequest = false;  // this scan sends STW1.7 = 0: the drive needs 0 -> 1
+  reset_phase_ = ResetPhase::AckLow;
+  reset_start_ = now_;
+  reset_timeout_ = timeout;
+  reset_scans_ = 0;
+  reset_err_ = 0;
+  reset_sol_ = drive_sign_of_life();
+  reset_answered_ = false;
+}
+
+DriveAxis::ResetStatus DriveAxis::reset_status() const {
+  switch (reset_phase_) {
+    case ResetPhase::Idle:
+      return ResetStatus::Idle;
+    case ResetPhase::Done:
+      return ResetStatus::Done;
+    case ResetPhase::Error:
+      return ResetStatus::Error;
+    default:
+      return ResetStatus::Busy;
+  }
+}
+
+// Once per scan, after the inputs were read. STW1.7 is an edge for the
+// drive (spec §4.2, §10.2: a PLC that holds it at 1 acknowledges no later
+// fault), so every request sends 0 first, for as long as the drive needs
+// to see it: until the drive has answered since (its sign-of-life moved,
+// one exchange in lockstep, more on a slower bus), or SignOfLifeTolerance
+// scans where the counter is not watched or stands still. Then 1 until the
+// drive reports no fault (it has seen the edge), then 0 again.
+void DriveAxis::advance_reset() {
+  if (reset_phase_ != ResetPhase::AckLow && reset_phase_ != ResetPhase::AckHigh) return;
+  if (!SignOfLifeCheck || drive_sign_of_life() != reset_sol_) reset_answered_ = true;
+  if (reset_scans_ < 0xFFFF) ++reset_scans_;
+  if (reset_phase_ == ResetPhase::AckLow) {
+    if (!reset_answered_ && reset_scans_ <= SignOfLifeTolerance) return;
+    reset_phase_ = ResetPhase::AckHigh;
+  }
+  // Done only on a drive that answers: no fault, communication good, and
+  // its sign-of-life moved since the request (a stalled counter looks good
+  // for SignOfLifeTolerance scans after the monitoring restarted).
+  if (CommOk && !drive_fault() && reset_answered_) {
+    AckRequest = false;
+    reset_phase_ = ResetPhase::Done;
+    reset_errors();
+    if (!RequireEnableEdgeAfterReset) RestartInhibit = false;
+  } else if (now_ - reset_start_ > reset_timeout_) {
+    AckRequest = false;
+    reset_phase_ = ResetPhase::Error;
+    reset_err_ = drive_fault() ? kErrResetTimeout : CommError ? CommError.value : kErrSignOfLife;
+  } else {
+    AckRequest = true;
+  }
+}
+
 void DriveAxis::update_state() {
   const std::uint16_t e = axis_error();
   if (e) {
     if (State != AxisState::ErrorStop) abort_all();
     latch_error(e);
     State = AxisState::ErrorStop;
-    RestartInhibit = true;  // no restart until reset and a new enable
+    RestartInhibit = true;  // no restart without an explicit reset
     return;
   }
   if (State == AxisState::ErrorStop) return;  // until MC_Reset clears error_
@@ -370,10 +440,12 @@ void DriveAxis::commit() {
   const auto out = Port.out();
   if (!is_supported_telegram(Telegram) || out.size() < out_bytes(tg)) return;
   std::uint16_t stw1 = Stw1Pos::kControlByPlc;
-  // After an error the enable must be given again (header comment): the
-  // inhibit ends once the error is cleared and the request was withdrawn.
+  // A withdrawn power request ends the inhibit once the error is cleared
+  // (the next request is a new Enable edge); an explicit reset ends it in
+  // advance_reset() (header comment).
   if (RestartInhibit && State != AxisState::ErrorStop && !PowerRequest) RestartInhibit = false;
-  const bool power = CommOk && PowerRequest && !InhibitPower && !drive_fault() && !RestartInhibit;
+  const bool power = CommOk && PowerRequest && !InhibitPower && !drive_fault() && !RestartInhibit &&
+                     State != AxisState::ErrorStop;
   if (power) {
     stw1 |= Stw1Pos::kNoCoastStop | Stw1Pos::kNoQuickStop | Stw1Pos::kEnableOperation;
     // From S1 the drive needs ON = 0 first (S1 -> S2), then ON = 1.

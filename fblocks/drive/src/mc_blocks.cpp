@@ -85,16 +85,23 @@ std::optional<INT> accel_to_mdi(const DriveAxis& axis, LREAL accel, bool deceler
 // ------------------------------------------------------------ MC_Power
 void MC_Power::operator()(const ScanContext& ctx, DriveAxis& axis) {
   axis.begin(ctx);
-  if (Enable && !prev_enable_) enable_since_ = ctx.now;
-  prev_enable_ = Enable;
   const bool mode_ok = StopMode >= 0 && StopMode <= 2;
   axis.PowerRequest = Enable && mode_ok;
+  axis.RequireEnableEdgeAfterReset = RequireEnableEdgeAfterReset;
   if (mode_ok) axis.PowerStopMode = static_cast<drive::StopMode>(StopMode);
   Status = axis.CommOk && axis.operation_enabled();
-  std::uint16_t e = !mode_ok ? kErrMode : axis.axis_error();
-  // The error is cleared but Enable was held through it: no restart until
-  // Enable is given again (DriveAxis::RestartInhibit).
+  const std::uint16_t axis_e = axis.axis_error();
+  std::uint16_t e = !mode_ok ? kErrMode : axis_e;
+  // The error is cleared but the axis still waits for MC_Reset (after
+  // AbsEncoderInit's own reset) or, with RequireEnableEdgeAfterReset, for
+  // Enable to be given again (DriveAxis::RestartInhibit).
   if (!e && Enable && axis.RestartInhibit) e = kErrRestartInhibit;
+  // EnableTimeout counts from the Enable edge, and again from the scan in
+  // which nothing holds power off any more: the walk S1 -> S4 after a reset
+  // with Enable held is not late.
+  const bool held_off = axis_e || axis.RestartInhibit || axis.InhibitPower;
+  if ((Enable && !prev_enable_) || held_off) enable_since_ = ctx.now;
+  prev_enable_ = Enable;
   if (!e && Enable && !Status && ctx.now - enable_since_ > EnableTimeout)
     e = axis.drive_state() == DriveState::SwitchingOnInhibited ? kErrLockout : kErrEnableTimeout;
   if (Status) enable_since_ = ctx.now;
@@ -109,22 +116,17 @@ void MC_Reset::operator()(const ScanContext& ctx, DriveAxis& axis) {
   axis.begin(ctx);
   if (on_call()) {
     Busy = true;
-    pulsing_ = true;
-    t0_ = ctx.now;
-    axis.AckRequest = false;  // make sure the drive sees 0 -> 1
-    axis.reset_errors();      // restart sign-of-life monitoring; re-latched if still bad
-  } else if (Busy && pulsing_) {
-    axis.AckRequest = true;
-    if (!axis.drive_fault() && axis.CommOk) {
-      axis.AckRequest = false;
-      axis.reset_errors();
-      axis.update_state();
-      pulsing_ = false;
-      finish_done();
-    } else if (ctx.now - t0_ > Timeout) {
-      axis.AckRequest = false;
-      pulsing_ = false;
-      finish_error(axis.drive_fault() ? kErrResetTimeout : axis.CommError.value);
+    axis.start_reset(Timeout);  // a new STW1.7 edge for this request
+  } else if (Busy) {
+    switch (axis.reset_status()) {
+      case DriveAxis::ResetStatus::Done:
+        finish_done();
+        break;
+      case DriveAxis::ResetStatus::Error:
+        finish_error(axis.reset_error());
+        break;
+      default:
+        break;
     }
   }
   axis.commit();

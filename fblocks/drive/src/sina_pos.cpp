@@ -18,14 +18,14 @@ void SinaPos::operator()(const ScanContext& ctx, DriveAxis& axis) {
   axis.PowerStopMode = !no_off2   ? StopMode::Off2Coast
                        : !no_off3 ? StopMode::Off3Quick
                                   : StopMode::Off1Ramp;
-  // Fault acknowledge: STW1.7 follows AckError (the drive acts on its edge).
-  axis.AckRequest = AckError;
+  axis.RequireEnableEdgeAfterReset = RequireEnableEdgeAfterReset;
+  // Fault acknowledge: every rising edge of AckError is one reset request
+  // with its own STW1.7 edge (DriveAxis::start_reset); AckError held TRUE
+  // acknowledges no later fault. Once the drive's fault is gone the error is
+  // cleared and EnableAxis, if still TRUE, powers the axis again.
   if (ack_edge) {
     cmd_status_ = cmd_diag_ = 0;
-  }
-  if (AckError && !axis.drive_fault() && axis.State == AxisState::ErrorStop) {
-    axis.reset_errors();
-    axis.update_state();
+    axis.start_reset(kAckErrorTimeout);
   }
   // Setpoint ranges (Table 3.1.1; SINA_POS: OverV 0..199 %, OverAcc/OverDec
   // 1..100 %): a value outside is refused with Status 16#8203, never
@@ -211,7 +211,7 @@ void SinaPos::operator()(const ScanContext& ctx, DriveAxis& axis) {
   } else if (axis.State == AxisState::ErrorStop) {
     status = kStatusTaskError;
     diag = kErrErrorStop;
-  } else if (EnableAxis && axis.RestartInhibit) {  // acknowledged: EnableAxis again
+  } else if (EnableAxis && axis.RestartInhibit) {  // error cleared, restart still inhibited
     status = kStatusLockout;
     diag = kErrRestartInhibit;
   } else if (Lockout && !axis.PowerRequest) {  // OFF2/OFF3 forced by ConfigEPos

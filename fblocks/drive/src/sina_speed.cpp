@@ -11,11 +11,10 @@ void SinaSpeed::operator()(const ScanContext& ctx, DriveAxis& axis) {
   axis.PowerStopMode = !no_off2   ? StopMode::Off2Coast
                        : !no_off3 ? StopMode::Off3Quick
                                   : StopMode::Off1Ramp;
-  axis.AckRequest = AckError;
-  if (AckError && !axis.drive_fault() && axis.State == AxisState::ErrorStop) {
-    axis.reset_errors();
-    axis.update_state();
-  }
+  axis.RequireEnableEdgeAfterReset = RequireEnableEdgeAfterReset;
+  // Each AckError edge is one reset request with its own STW1.7 edge (as
+  // SinaPos).
+  if (AckError && !prev_ack_) axis.start_reset(kAckErrorTimeout);
   prev_ack_ = AckError;
   // Table 3.1.1: NSOLL_B is Int32 (0x40000000 = 100 %): a speed of 200 % of
   // RefSpeed or more, a RefSpeed <= 0 or a non-finite input is refused (the
@@ -44,7 +43,7 @@ void SinaSpeed::operator()(const ScanContext& ctx, DriveAxis& axis) {
   } else if (axis.State == AxisState::ErrorStop) {
     status = kStatusTaskError;
     diag = kErrErrorStop;
-  } else if (EnableAxis && axis.RestartInhibit) {  // acknowledged: EnableAxis again
+  } else if (EnableAxis && axis.RestartInhibit) {  // error cleared, restart still inhibited
     status = kStatusLockout;
     diag = kErrRestartInhibit;
   } else if (Lockout && !axis.PowerRequest) {

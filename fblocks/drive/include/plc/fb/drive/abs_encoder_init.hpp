@@ -9,6 +9,10 @@
 //   4. write 3215h = 1 (Int16): the drive resets, stops answering, and comes
 //      back in S1; the block waits for it to go offline and online again and
 //      then clears the axis' communication error (an expected outage).
+//      The restart stays inhibited (DriveAxis::RestartInhibit): an enable
+//      held through the procedure powers the drive again only after
+//      MC_Reset / AckError (the multi-turn reference just changed), or,
+//      with RequireEnableEdgeAfterReset, after a new Enable edge.
 // Status shows the last value read from 3200h (0, 1, 2, 4, 16, 32) and Step
 // the procedure step (0 idle, 1 disable, 2 write, 3 poll, 4 reset, 5 wait
 // for the drive, 6 done).

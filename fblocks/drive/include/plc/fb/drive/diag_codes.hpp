@@ -63,8 +63,10 @@ namespace plc::drive {
 
 // Setpoint range checks (spec Table 3.1.1) and the restart inhibit (PLCopen
 // MC Part 1 state diagram, ErrorStop) add:
-// | 16#8006 | kErrRestartInhibit | power refused after an error: MC_Reset/AckError done, now give
-// |         |                    | Enable a new rising edge (FALSE for a scan, then TRUE)
+// | 16#8006 | kErrRestartInhibit | power refused after an error although no error is latched:
+// |         |                    | with RequireEnableEdgeAfterReset, give Enable a new rising edge
+// |         |                    | (FALSE for a scan, then TRUE); after AbsEncoderInit's own
+// |         |                    | drive reset, MC_Reset/AckError (or a new Enable edge)
 // | 16#8024 | kErrPosition       | Position/Distance not finite or outside Int32 (MDI_TARPOS)
 // | 16#8025 | kErrOverride       | SinaPos OverV outside 0..199 % (OVERRIDE 0..32767)
 // | 16#8026 | kErrSpeedSetpoint  | SinaSpeed SpeedSp/RefSpeed: not finite, RefSpeed <= 0, or

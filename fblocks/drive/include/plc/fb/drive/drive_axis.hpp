@@ -11,7 +11,9 @@
 //   watches the drive's in ZSW2.12-15: a counter that does not move for more
 //   than SignOfLifeTolerance scans (like PNU 925 on the drive side) is a
 //   loss of sign-of-life, and every block on the axis reports kErrSignOfLife
-//   until MC_Reset (or AckError) once the counter runs again;
+//   until MC_Reset (or AckError) once the counter runs again; while the
+//   device is offline the monitoring starts over (the next connection
+//   counts anew), the latched axis error stays;
 // * runs the traversing-task handshake of spec §7.6/§10.1: STW1.6 is raised
 //   only after ZSW1.12 was seen 0, held until ZSW1.12 rises (the drive's
 //   acknowledgement, "rising edge active"), then dropped; the task is done
@@ -25,15 +27,23 @@
 // Safe state: while the drive is not reachable or the sign-of-life is lost,
 // STW1 goes to OFF1 (0x0406: control by PLC, no OFF2/OFF3, ON = 0).
 //
-// No automatic restart (PLCopen MC Part 1 state diagram: ErrorStop is left
-// only through MC_Reset; ISO 13849-1 §5.2.2: a reset must not start the
-// machine by itself). Every axis error (communication lost, sign-of-life,
-// drive fault) sets RestartInhibit, and while it is set commit() never asks
-// for power (ON and enable operation stay 0), even when the drive answers
-// again. It is cleared only once the error has been cleared (MC_Reset,
-// SinaPos/SinaSpeed AckError, AbsEncoderInit after its own reset) AND the
-// enable request has been withdrawn (PowerRequest FALSE, e.g. MC_Power
-// Enable FALSE for a scan): the next Enable edge powers the drive again.
+// Restart after an error (PLCopen MC Part 1 state diagram: ErrorStop is left
+// only through MC_Reset, which leads to Standstill if power is enabled;
+// ISO 13849-1 §5.2.2: a reset must not start the machine by itself, so the
+// reset has to be an explicit act). Every axis error (communication lost,
+// sign-of-life, drive fault) sets RestartInhibit, and while it is set, or
+// the axis is in ErrorStop, commit() never asks for power (ON and enable
+// operation stay 0), even when the drive answers again. An explicit reset
+// (start_reset(): MC_Reset's Execute edge, SinaPos/SinaSpeed's AckError
+// edge) acknowledges the drive with a new STW1.7 edge and, once the drive
+// shows no fault and answers, clears the error and ends RestartInhibit: a
+// power request still held (MC_Power Enable, EnableAxis) walks the drive
+// from switching on inhibited (S1: OFF1 first) back to operation, as the
+// TIA motion blocks do. With RequireEnableEdgeAfterReset (set by the power
+// block) RestartInhibit ends instead only once the error is cleared AND the
+// power request was withdrawn (e.g. Enable FALSE for a scan), so the next
+// Enable edge powers the drive. AbsEncoderInit clears the communication
+// error its own 3215h reset caused, but not RestartInhibit.
 #pragma once
 
 #include <cstdint>
@@ -80,6 +90,10 @@ enum class TaskKind : std::uint8_t { Relative = 1, Absolute = 2, Velocity = 3 };
 
 enum class CmdStatus : std::uint8_t { Busy, Done, Aborted, Error };
 
+// How long an AckError edge (SinaPos, SinaSpeed) waits for the drive's fault
+// to go before the acknowledge is dropped: MC_Reset's default Timeout.
+inline constexpr TIME kAckErrorTimeout = std::chrono::seconds(1);
+
 struct DriveAxis {
   // ---------------- configuration (before the first scan) ----------------
   io::DevicePort Port;
@@ -103,8 +117,9 @@ struct DriveAxis {
   BOOL SignOfLifeLost{};
   WORD CommError{};  // kErrOffline / kErrSignOfLife / kErrTelegram or 0
   AxisState State = AxisState::Disabled;
-  // Set by any axis error; power is refused until the error is cleared and
-  // PowerRequest has been FALSE once after that (see the header comment).
+  // Set by any axis error; power is refused until an explicit reset (or,
+  // with RequireEnableEdgeAfterReset, until the error is cleared and
+  // PowerRequest has been FALSE once after that; see the header comment).
   BOOL RestartInhibit{};
 
   // ---------------- sent to the drive (composed by commit()) ----------------
@@ -116,7 +131,10 @@ struct DriveAxis {
   // ---------------- requests from blocks ----------------
   BOOL PowerRequest{};  // MC_Power / SinaPos / SinaSpeed enable
   StopMode PowerStopMode = StopMode::Off1Ramp;
-  BOOL AckRequest{};  // STW1.7 (MC_Reset drives the edge)
+  BOOL AckRequest{};  // STW1.7, driven by the reset procedure (start_reset())
+  // From the power block (MC_Power, SinaPos, SinaSpeed): TRUE keeps power off
+  // after a reset until the power request was withdrawn once.
+  BOOL RequireEnableEdgeAfterReset{};
   BOOL JogRequest1{}, JogRequest2{};
   BOOL IntermediateStop{};     // STW1.5 = 0 while TRUE
   BOOL RejectTask{};           // STW1.4 = 0 while TRUE
@@ -160,8 +178,27 @@ struct DriveAxis {
   void latch_error(std::uint16_t e) {
     if (!error_) error_ = e;
   }
-  // MC_Reset: clear the latched error and the sign-of-life loss.
+  // Clear the latched error and the sign-of-life loss (ErrorStop ->
+  // Disabled); RestartInhibit is left as it is.
   void reset_errors();
+
+  // ---- explicit reset (MC_Reset Execute edge, SinaPos/SinaSpeed AckError edge) ----
+  // Restarts the sign-of-life monitoring and sends the drive a new STW1.7
+  // edge: 0 until the drive has answered once (its sign-of-life moved, so
+  // it has seen the 0), then 1 until ZSW1.3 shows no fault, then 0. The
+  // reset is Done once the drive shows no fault, the communication is good
+  // and the drive's sign-of-life has moved since the request: the error is
+  // cleared and, unless RequireEnableEdgeAfterReset, RestartInhibit ends.
+  // It fails after `timeout` (reset_error(): kErrResetTimeout while the
+  // fault persists, else the communication error); the error stays latched.
+  // A new request during a running one starts over (a new 0 -> 1 edge).
+  enum class ResetStatus : std::uint8_t { Idle, Busy, Done, Error };
+  void start_reset(TIME timeout);
+  [[nodiscard]] ResetStatus reset_status() const;
+  [[nodiscard]] std::uint16_t reset_error() const { return reset_err_; }
+  [[nodiscard]] std::uint8_t drive_sign_of_life() const {
+    return static_cast<std::uint8_t>((ZSW2.value >> 12) & 0xF);
+  }
 
   PLC_REFLECT(Port, Telegram, SignOfLifeTolerance, SignOfLifeCheck, CuPerRev, RefSpeedRpm,
               AccTimeMs, DecTimeMs, AckTimeout, ZSW1, ZSW2, POS_ZSW1, POS_ZSW2, MELDW, AKTSATZ,
@@ -170,24 +207,28 @@ struct DriveAxis {
               POS_STW1, POS_STW2, SATZANW, MDI_MODE, G1_STW, OVERRIDE, MDI_TARPOS, MDI_VELOCITY,
               NSOLL_B, MDI_ACC, MDI_DEC, PowerRequest, PowerStopMode, AckRequest, JogRequest1,
               JogRequest2, IntermediateStop, RejectTask, StopActive, SetReferenceRequest,
-              InhibitPower,
+              InhibitPower, RequireEnableEdgeAfterReset,
               // internal state: shown by the debugger, kept in recording snapshots
               now_, last_scan_, last_cycle_, begun_, sol_out_, sol_in_last_, sol_stall_, sol_seen_,
               error_, cmd_id_, next_id_, kind_, phase_, task_kind_, cmd_err_, phase_start_,
               homing_timeout_, stw6_, stw6_sent_, homing_bit_, homing_started_, seen_traversing_,
-              halt_release_, prev_xist_, have_prev_xist_, task_velocity_)
+              halt_release_, prev_xist_, have_prev_xist_, task_velocity_, reset_phase_,
+              reset_start_, reset_timeout_, reset_scans_, reset_err_, reset_sol_, reset_answered_)
   // State too: the PLCopen state machine runs on it; and RestartInhibit, the
-  // interlock against a restart without MC_Reset and a new Enable.
+  // interlock against a restart without an explicit reset.
   PLC_INTERNAL(State, RestartInhibit, now_, last_scan_, last_cycle_, begun_, sol_out_, sol_in_last_,
                sol_stall_, sol_seen_, error_, cmd_id_, next_id_, kind_, phase_, task_kind_,
                cmd_err_, phase_start_, homing_timeout_, stw6_, stw6_sent_, homing_bit_,
                homing_started_, seen_traversing_, halt_release_, prev_xist_, have_prev_xist_,
-               task_velocity_)
+               task_velocity_, reset_phase_, reset_start_, reset_timeout_, reset_scans_, reset_err_,
+               reset_sol_, reset_answered_)
 
   // ---- internals (public for tests and the benchmark, not for programs) ----
   enum class Phase : std::uint8_t { Idle, PreLow, Request, Running, Done, Error, Aborted };
   enum class Kind : std::uint8_t { None, Task, Homing, Stop, Halt, Jog };
+  enum class ResetPhase : std::uint8_t { Idle, AckLow, AckHigh, Done, Error };
   void advance();
+  void advance_reset();
   void update_state();
   void open_command(Kind kind, Phase phase);
 
@@ -211,6 +252,13 @@ struct DriveAxis {
   DINT prev_xist_ = 0;
   bool have_prev_xist_ = false;
   DINT task_velocity_ = 0;
+  ResetPhase reset_phase_ = ResetPhase::Idle;
+  TIME reset_start_{};
+  TIME reset_timeout_{};
+  std::uint16_t reset_scans_ = 0;
+  std::uint16_t reset_err_ = 0;
+  std::uint8_t reset_sol_ = 0;  // the drive's sign-of-life when the reset was requested
+  bool reset_answered_ = false;
 };
 
 }  // namespace plc::drive

@@ -71,41 +71,49 @@ struct McExecute {
 // Status = operation enabled (ZSW1.2). Error when the axis has an error or
 // S4 is not reached within EnableTimeout (kErrLockout if the drive stayed in
 // switch-on inhibited, else kErrEnableTimeout).
-// No automatic restart: after an axis error power stays off, even when the
-// drive answers again, until MC_Reset has cleared the error and Enable has
-// been FALSE for a scan; Enable held TRUE through the reset gives Error with
-// kErrRestartInhibit (16#8006) until it is given again.
+// Enable is level-controlled (PLCopen Part 1; the TIA MC_Power does the
+// same): after an axis error power stays off, even when the drive answers
+// again, until MC_Reset (or SinaPos/SinaSpeed AckError) has acknowledged
+// the fault and cleared the error; with Enable still TRUE the block then
+// walks the drive from switching on inhibited back to operation by itself
+// and the axis goes to Standstill. RequireEnableEdgeAfterReset = TRUE (for
+// sites whose rules want a new enable command after every reset) keeps
+// power off after the reset as well, with Error and kErrRestartInhibit
+// (16#8006), until Enable has been FALSE for a scan and is TRUE again.
+// After AbsEncoderInit's own drive reset, Enable held shows 16#8006 until
+// MC_Reset (or, with RequireEnableEdgeAfterReset, a new Enable edge).
 struct MC_Power {
   BOOL Enable{};
   INT StopMode{0};
   TIME EnableTimeout = std::chrono::seconds(1);
+  BOOL RequireEnableEdgeAfterReset{};
   BOOL Status{};
   BOOL Valid{};
   BOOL Error{};
   WORD ErrorID{};
 
   void operator()(const ScanContext& ctx, DriveAxis& axis);
-  PLC_REFLECT(Enable, StopMode, EnableTimeout, Status, Valid, Error, ErrorID, enable_since_,
-              prev_enable_)
+  PLC_REFLECT(Enable, StopMode, EnableTimeout, RequireEnableEdgeAfterReset, Status, Valid, Error,
+              ErrorID, enable_since_, prev_enable_)
   PLC_INTERNAL(enable_since_, prev_enable_)
 
   TIME enable_since_{};
   bool prev_enable_ = false;
 };
 
-// MC_Reset: acknowledges a drive fault with a rising edge of STW1.7 (held
-// until the fault clears), waits for the fault to go away, and clears the
-// axis error (ErrorStop -> Disabled: power was taken away with the error and
-// comes back only with a new MC_Power Enable edge). kErrResetTimeout if the
-// fault is still there after Timeout (its cause is not gone).
+// MC_Reset: its Execute edge starts the axis' reset (DriveAxis::start_reset):
+// a new rising edge of STW1.7 for this request (0 first, 1 until the drive
+// shows no fault, then 0), and Done once the fault is gone and the drive
+// answers: the error is cleared, ErrorStop -> Disabled, and with MC_Power
+// Enable held the axis powers up to Standstill (see MC_Power). Every fault
+// needs its own MC_Reset edge. Error with kErrResetTimeout if the fault is
+// still there after Timeout (its cause is not gone), or the communication
+// error if the drive does not answer; the axis stays in ErrorStop.
 struct MC_Reset : McExecute {
   TIME Timeout = std::chrono::seconds(1);
   void operator()(const ScanContext& ctx, DriveAxis& axis);
-  PLC_REFLECT(Execute, Timeout, Done, Busy, Error, ErrorID, id_, prev_execute_, pulsing_, t0_)
-  PLC_INTERNAL(id_, prev_execute_, pulsing_, t0_)
-
-  bool pulsing_ = false;
-  TIME t0_{};
+  PLC_REFLECT(Execute, Timeout, Done, Busy, Error, ErrorID, id_, prev_execute_)
+  PLC_INTERNAL(id_, prev_execute_)
 };
 
 struct MC_MoveAbsolute : McExecute {

@@ -24,10 +24,16 @@
 // CancelTraversing = FALSE rejects the task (STW1.4 = 0, Pt538 ramp);
 // IntermediateStop = FALSE pauses it (STW1.5 = 0), TRUE again resumes.
 // ConfigEPos bit 0 = 0 forces OFF2, bit 1 = 0 forces OFF3 (default 16#3).
-// AckError: its rising edge acknowledges drive faults (STW1.7) and clears
-// the block's and the axis' errors once the fault is gone. Power then comes
-// back only with a new EnableAxis edge (no automatic restart; until then
-// Lockout with Status 16#8402, DiagID 16#8006).
+// AckError: each rising edge acknowledges the drive's fault with its own
+// STW1.7 edge (0, then 1 until the fault is gone, then 0; dropped after 1 s
+// if the fault persists) and clears the block's and the axis' errors once
+// the fault is gone. EnableAxis is level-controlled, as in the TIA SINA_POS:
+// held TRUE through the fault and the AckError, it powers the axis again
+// (from switching on inhibited: OFF1 first, then ON and enable operation);
+// never before the AckError, also not when the drive simply answers again.
+// RequireEnableEdgeAfterReset = TRUE keeps power off after the AckError too
+// (Lockout, Status 16#8402, DiagID 16#8006) until EnableAxis has been FALSE
+// for a scan and is TRUE again.
 //
 // Outputs: AxisEnabled (ZSW1.2), AxisPosOk (ZSW1.10 with no task running),
 // AxisRef (ZSW1.11), AxisWarn (ZSW1.7), AxisError, Lockout (ZSW1.6),
@@ -37,7 +43,7 @@
 //   16#7000 idle, 16#7002 job running, 16#8202 bad ModePos (DiagID 8023),
 //   16#8203 bad setpoint (DiagID 8020/8021/8022/8025), 16#8401 drive fault
 //   (DiagID = FAULT_CODE on telegram 111, 16#8004 on 9), 16#8402 lockout
-//   (DiagID 8033, or 8006 after an acknowledged error),
+//   (DiagID 8033, or 8006 while the restart is inhibited),
 //   16#8600 no valid cyclic data (DiagID 8001/8002/8003), 16#8601 handshake
 //   failed (DiagID 8030/8031/8035, or the refusal 8010-8013).
 #pragma once
@@ -69,6 +75,7 @@ struct SinaPos {
   INT OverDec = 100;
   DWORD ConfigEPos = 0x3;
   TIME HomingTimeout = std::chrono::seconds(60);
+  BOOL RequireEnableEdgeAfterReset{};
   // outputs
   BOOL AxisEnabled{};
   BOOL AxisPosOk{};
@@ -91,9 +98,9 @@ struct SinaPos {
 
   PLC_REFLECT(ModePos, EnableAxis, CancelTraversing, IntermediateStop, Positive, Negative, Jog1,
               Jog2, FlyRef, AckError, ExecuteMode, Position, Velocity, OverV, OverAcc, OverDec,
-              ConfigEPos, HomingTimeout, AxisEnabled, AxisPosOk, AxisRef, AxisWarn, AxisError,
-              Lockout, ActPosition, ActVelocity, ActMode, EPosZSW1, EPosZSW2, ActWarn, ActFault,
-              Error, Status, DiagID,
+              ConfigEPos, HomingTimeout, RequireEnableEdgeAfterReset, AxisEnabled, AxisPosOk,
+              AxisRef, AxisWarn, AxisError, Lockout, ActPosition, ActVelocity, ActMode, EPosZSW1,
+              EPosZSW2, ActWarn, ActFault, Error, Status, DiagID,
               /* internal state */ id_, cmd_status_, cmd_diag_, prev_exec_, prev_ack_, prev_jog_,
               setref_, halting_, sent_velocity_, sent_acc_, sent_dec_, sent_positive_)
   PLC_INTERNAL(id_, cmd_status_, cmd_diag_, prev_exec_, prev_ack_, prev_jog_, setref_, halting_,

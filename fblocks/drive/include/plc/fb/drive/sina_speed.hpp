@@ -8,9 +8,11 @@
 // with DiagID 16#8026 while the input stays invalid.
 // EnableAxis walks S1 -> S4 like MC_Power; ConfigAxis bit 0 = 0 forces OFF2,
 // bit 1 = 0 forces OFF3 (default 16#3); EnableAxis FALSE is OFF1.
-// AckError acknowledges faults and clears the axis error; power comes back
-// only with a new EnableAxis edge after that (no automatic restart; until
-// then Lockout with Status 16#8402, DiagID 16#8006).
+// Each AckError edge acknowledges the drive's fault (its own STW1.7 edge)
+// and clears the axis error; EnableAxis held TRUE then powers the axis
+// again, never before the AckError. RequireEnableEdgeAfterReset = TRUE
+// keeps power off until EnableAxis is given again (Lockout, Status
+// 16#8402, DiagID 16#8006).
 // Status/DiagID as SinaPos (diag_codes.hpp): 16#7000 disabled/idle,
 // 16#7002 running (S4), 16#8203 bad setpoint (DiagID 16#8026), 16#8401 fault
 // (DiagID 16#8004), 16#8402 lockout (DiagID 8033 or 8006), 16#8600 no valid
@@ -30,6 +32,7 @@ struct SinaSpeed {
   REAL SpeedSp{};        // rpm
   REAL RefSpeed = 3000;  // rpm, = Pt317
   WORD ConfigAxis = 0x3;
+  BOOL RequireEnableEdgeAfterReset{};
   BOOL AxisEnabled{};
   BOOL Lockout{};
   REAL ActVelocity{};   // rpm
@@ -40,8 +43,8 @@ struct SinaSpeed {
   WORD DiagID{};
 
   void operator()(const ScanContext& ctx, DriveAxis& axis);
-  PLC_REFLECT(EnableAxis, AckError, SpeedSp, RefSpeed, ConfigAxis, AxisEnabled, Lockout,
-              ActVelocity, SpeedReached, InTolerance, Error, Status, DiagID,
+  PLC_REFLECT(EnableAxis, AckError, SpeedSp, RefSpeed, ConfigAxis, RequireEnableEdgeAfterReset,
+              AxisEnabled, Lockout, ActVelocity, SpeedReached, InTolerance, Error, Status, DiagID,
               /* internal state */ prev_ack_)
   PLC_INTERNAL(prev_ack_)
   bool prev_ack_ = false;
