@@ -369,6 +369,37 @@ std::string parse_value(VarType type, std::string_view text, void* dst) {
   return "unknown type";
 }
 
+std::string check_raw_value(VarType type, const void* src) {
+  switch (type) {
+    case VarType::BOOL: {
+      std::uint8_t b = 0;
+      std::memcpy(&b, src, 1);
+      return b <= 1 ? std::string() : "not a BOOL: byte " + std::to_string(b) + " (0 or 1)";
+    }
+    case VarType::REAL:
+    case VarType::LREAL: {
+      double d = 0;
+      if (type == VarType::REAL) {
+        float f = 0;
+        std::memcpy(&f, src, sizeof f);
+        d = f;
+      } else {
+        std::memcpy(&d, src, sizeof d);
+      }
+      if (std::isnan(d))
+        return std::string("not a number (") + to_string(type) + " values are finite)";
+      if (std::isinf(d))
+        return std::string("infinity is not ") + (type == VarType::REAL ? "a REAL" : "an LREAL") +
+               " value";
+      return {};
+    }
+    case VarType::STRING:
+      return "a STRING is not written as bytes";
+    default:
+      return {};
+  }
+}
+
 std::string format_value(VarType type, const void* src) {
   switch (type) {
     case VarType::BOOL:

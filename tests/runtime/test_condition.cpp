@@ -2,6 +2,8 @@
 // variables and addresses.
 #include <gtest/gtest.h>
 
+#include <functional>
+
 #include "plc/debug/condition.hpp"
 #include "test_helpers.hpp"
 #include "test_programs.hpp"
@@ -176,5 +178,92 @@ TEST(Condition, NestingBeyondTheLimitIsRefusedNamingTheColumn) {
     if (r.column) {
       EXPECT_NE(err.find("at column " + std::to_string(r.column) + " "), std::string::npos) << err;
     }
+  }
+}
+
+// Issue 22: the compiler runs against a resolver instead of the runtime's
+// registry (the HMI bridge's process compiles against a cell description),
+// and the code it makes reads back to text that compiles to the same code.
+TEST(ConditionCode, CompilesAgainstAResolverAndReadsBackAsTheSameCode) {
+  std::vector<std::string> names;
+  const debug::ConditionResolver resolve =
+      [&names](const std::string& n, std::string& why) -> std::optional<std::uint16_t> {
+    if (n == "Nope") {
+      why = "unknown variable 'Nope'";
+      return std::nullopt;
+    }
+    names.push_back(n);
+    return std::uint16_t(names.size() - 1);
+  };
+  const char* texts[] = {
+      "Tank.step = 3",
+      "NOT Tank.enable OR (Tank.level >= 16#5000 AND Tank.hold.ET > T#1s)",
+      "%IX0.3 AND %QW0 <> 0",
+      "a - (b - c) = a - b - c",
+      "-(a + 1) * 2 > 1.5 XOR NOT NOT b",
+      "(a = 1) = (b = 2)",
+      "x > T#-20ms AND y < INT#-5 AND z = 9223372036854775808.0 AND w < 0.1",
+  };
+  for (const char* text : texts) {
+    names.clear();
+    std::string err;
+    const auto code = debug::compile_condition(text, resolve, err);
+    ASSERT_TRUE(code) << text << ": " << err;
+    EXPECT_EQ(debug::validate(*code, names.size()), "") << text;
+    const auto saved = names;
+    const std::string back = debug::to_text(*code, [&saved](std::uint16_t i) { return saved[i]; });
+    names.clear();
+    const auto again = debug::compile_condition(back, resolve, err);
+    ASSERT_TRUE(again) << back << ": " << err;
+    EXPECT_EQ(*again, *code) << text << " -> " << back;
+    EXPECT_EQ(names, saved) << back;
+  }
+  std::string err;
+  EXPECT_FALSE(debug::compile_condition("Nope > 1", resolve, err));
+  EXPECT_EQ(err, "unknown variable 'Nope'");
+}
+
+// Code from another process is checked before anything evaluates it.
+TEST(ConditionCode, ValidateRefusesEveryMalformedCode) {
+  using Op = debug::ConditionCode::Op;
+  debug::ConditionCode ok;
+  ok.consts = {{false, 1, 0}};
+  ok.code = {{Op::Var, 0}, {Op::Const, 0}, {Op::Add, 0}, {Op::Neg, 0}};
+  EXPECT_EQ(debug::validate(ok, 1), "");
+  struct Row {
+    std::function<void(debug::ConditionCode&)> change;
+    std::size_t operands;
+    const char* why;
+  };
+  const Row rows[] = {
+      {[](auto& c) { c.code.clear(); }, 1, "empty code"},
+      {[](auto& c) {
+         c.code.resize(257, {Op::Const, 0});
+       },
+       1, "257 instructions"},
+      {[](auto& c) { c.consts.resize(65); }, 1, "65 constants"},
+      {[](auto&) {}, 65, "65 operands"},
+      {[](auto& c) { c.code[1].op = Op(18); }, 1, "unknown op code 18 at instruction 1"},
+      {[](auto& c) { c.code[1].index = 1; }, 1, "constant index out of range"},
+      {[](auto&) {}, 0, "operand index out of range at instruction 0"},
+      {[](auto& c) {
+         c.code.insert(c.code.begin(), {Op::Not, 0});
+       },
+       1, "without its operand"},
+      {[](auto& c) { c.code.erase(c.code.begin()); }, 1, "without its two operands"},
+      {[](auto& c) {
+         c.code.push_back({Op::Const, 0});
+       },
+       1, "2 values left"},
+      {[](auto& c) {
+         c.code.assign(33, {Op::Const, 0});
+       },
+       1, "more than 32 operands pending"},
+  };
+  for (const Row& r : rows) {
+    debug::ConditionCode c = ok;
+    r.change(c);
+    const std::string why = debug::validate(c, r.operands);
+    EXPECT_NE(why.find(r.why), std::string::npos) << r.why << ": " << why;
   }
 }

@@ -29,6 +29,12 @@ std::string format_iec_time(TIME t);
 // Parses `text` as a value of `type` into the storage at `dst` (which must be
 // a live variable of that type). Returns an error message, or "" on success.
 std::string parse_value(VarType type, std::string_view text, void* dst);
+// Whether the raw value at `src` (native storage of `type`, as parse_value
+// makes it) is one that parse_value could have made: a BOOL byte 0 or 1, a
+// finite REAL/LREAL. "" if so, else why not. For values that come as bytes
+// from another process (the HMI bridge): what the text path refuses, this
+// refuses too. STRING is never a raw value ("not writable as bytes").
+std::string check_raw_value(VarType type, const void* src);
 // Prints the variable at `src` of `type` in IEC notation: TRUE, -5, 16#047F,
 // 1.5, T#20ms, 'text'.
 std::string format_value(VarType type, const void* src);

@@ -129,9 +129,9 @@ void Debugger::build(const std::function<void(Runtime&)>& before_start) {
   std::string err;
   for (Breakpoint& b : breaks_) {
     b.hits = 0;
-    if (b.cond)
-      b.cond =
-          Condition::compile(b.cond->text(), rt_->vars(), rt_->image(), rt_->byte_order(), err);
+    // By its operands' paths and addresses: a condition that came as code
+    // (the HMI) is never parsed from text.
+    if (b.cond) b.cond = b.cond->rebind(rt_->vars(), rt_->image(), rt_->byte_order(), err);
   }
   for (Force& f : forces_) {
     bool image = false;
@@ -718,6 +718,30 @@ Debugger::Reply Debugger::add_breakpoint(std::string_view condition, std::uint64
   return {true, out};
 }
 
+Debugger::Reply Debugger::add_breakpoint(ConditionCode code, std::vector<ConditionOperand> operands,
+                                         std::uint64_t hits) {
+  std::lock_guard<std::recursive_mutex> session(session_mu_);
+  if (hits < 1) return {false, "break: 'hits' needs a positive count\n"};
+  std::string err;
+  auto cond = Condition::bind(std::move(code), std::move(operands), rt_->vars(), rt_->image(),
+                              rt_->byte_order(), err);
+  if (!cond) return {false, "break: " + err + "\n"};
+  if (err = realtime_condition_error(*cond); !err.empty()) return {false, "break: " + err + "\n"};
+  Breakpoint b;
+  b.hit_target = hits;
+  b.task = cond->task();
+  b.text = cond->text();
+  b.cond = std::move(cond);
+  b.id = next_break_id_++;
+  std::string out = "breakpoint " + std::to_string(b.id) + ": " + b.text +
+                    (b.hit_target > 1 ? " (every " + std::to_string(b.hit_target) + " hits)" : "") +
+                    "\n";
+  std::lock_guard<std::mutex> lock(mu_);
+  breaks_.push_back(std::move(b));
+  note_scan_end_reads();
+  return {true, out};
+}
+
 Debugger::Reply Debugger::delete_breakpoint(const std::string& id) {
   std::lock_guard<std::recursive_mutex> session(session_mu_);
   std::lock_guard<std::mutex> lock(mu_);
@@ -775,6 +799,24 @@ std::string Debugger::describe_values(const std::vector<std::string>& names) {
 }
 
 std::vector<Debugger::Value> Debugger::read(const std::vector<std::string>& names) {
+  const std::vector<TypedValue> typed = read_typed(names);
+  std::vector<Value> out(typed.size());
+  for (std::size_t i = 0; i < typed.size(); ++i) {
+    const TypedValue& t = typed[i];
+    Value& v = out[i];
+    v.name = t.name;
+    v.error = t.error;
+    if (!t.error.empty()) continue;
+    v.type = t.type;
+    v.address = t.address;
+    v.text = t.no_value.empty() ? format_value(t.type, t.bytes) : "<" + t.no_value + ">";
+    if (t.image_differs) v.image = format_value(t.type, t.image);
+    v.forced = t.forced;
+  }
+  return out;
+}
+
+std::vector<Debugger::TypedValue> Debugger::read_typed(const std::vector<std::string>& names) {
   std::lock_guard<std::recursive_mutex> session(session_mu_);
   // Resolve everything first, then read all values at one point.
   struct Line {
@@ -798,18 +840,25 @@ std::vector<Debugger::Value> Debugger::read(const std::vector<std::string>& name
     reads.push_back(l.shown);
     if (l.compare) reads.push_back(l.global);
   }
-  const std::vector<std::string> values = read_values(reads);
-  std::vector<Value> out(lines.size());
+  const std::vector<RawValue> raw = read_raw(reads);
+  std::vector<TypedValue> out(lines.size());
   for (std::size_t i = 0; i < lines.size(); ++i) {
     const Line& l = lines[i];
-    Value& v = out[i];
+    TypedValue& v = out[i];
     v.name = l.name;
     v.error = l.error;
     if (!l.error.empty()) continue;
     v.type = l.global.type;
     v.address = l.global.address;
-    v.text = values[l.at];
-    if (l.compare && values[l.at + 1] != values[l.at]) v.image = values[l.at + 1];
+    v.no_value = raw[l.at].error;
+    std::memcpy(v.bytes, raw[l.at].bytes, sizeof v.bytes);
+    if (l.compare) {  // the global image is read under its lock: always a value
+      const std::size_t n = size_of(v.type);  // located: never a STRING
+      if (!v.no_value.empty() || std::memcmp(raw[l.at + 1].bytes, raw[l.at].bytes, n) != 0) {
+        v.image_differs = true;
+        std::memcpy(v.image, raw[l.at + 1].bytes, std::min(n, sizeof v.image));
+      }
+    }
     std::lock_guard<std::mutex> lock(mu_);
     for (const Force& f : forces_)
       v.forced |= f.name == l.name || (f.image && l.image && f.var.address == l.global.address);
@@ -940,9 +989,43 @@ Debugger::Reply Debugger::write_or_force(const std::string& name, std::string_vi
   err = parse_value(v->type, value_text, &value);
   if (err.empty()) err = VarRegistry::check_write(*v, &value);
   if (!err.empty()) return {false, std::string(what) + " " + name + ": " + err + "\n"};
+  return apply_write_or_force(name, *v, image, value, force);
+}
+
+Debugger::Reply Debugger::write_raw(const std::string& name, const void* value) {
+  return write_or_force_raw(name, value, false);
+}
+
+Debugger::Reply Debugger::force_raw(const std::string& name, const void* value) {
+  return write_or_force_raw(name, value, true);
+}
+
+Debugger::Reply Debugger::write_or_force_raw(const std::string& name, const void* raw, bool force) {
+  std::lock_guard<std::recursive_mutex> session(session_mu_);
+  const char* what = force ? "force" : "write";
+  bool image = false;
+  std::string err;
+  auto v = resolve(name, image, err);
+  if (!v) return {false, std::string(what) + ": " + err + "\n"};
+  if (v->type == VarType::STRING)
+    return {false, std::string(what) + ": STRING variables cannot be written from the debugger\n"};
+  if (v->read_only)
+    return {false, std::string(what) + " " + name + ": refused, " +
+                       VarRegistry::check_write(*v, nullptr) + "\n"};
+  std::uint64_t value = 0;
+  std::memcpy(&value, raw, size_of(v->type));
+  err = check_raw_value(v->type, &value);
+  if (err.empty()) err = VarRegistry::check_write(*v, &value);
+  if (!err.empty()) return {false, std::string(what) + " " + name + ": " + err + "\n"};
+  return apply_write_or_force(name, *v, image, value, force);
+}
+
+Debugger::Reply Debugger::apply_write_or_force(const std::string& name, const VarInfo& v,
+                                               bool image, std::uint64_t value, bool force) {
+  const char* what = force ? "force" : "write";
   std::uint64_t original = 0;  // the value before a force (read consistently)
   if (force) {
-    const RawValue now = read_raw({*v}).front();
+    const RawValue now = read_raw({v}).front();
     if (!now.error.empty())
       return {false, std::string(what) + " " + name + ": " + now.error + "\n"};
     std::memcpy(&original, now.bytes, sizeof original);
@@ -953,23 +1036,23 @@ Debugger::Reply Debugger::write_or_force(const std::string& name, std::string_vi
       // Inside a freeze point the scan is under way: write straight into the
       // task's view (program variable, or located variable's task image).
       const VarInfo* reg = rt_->vars().find(name);
-      apply_write(*frozen_task_, reg ? *reg : *v, &value);
-      if (image) apply_write(*frozen_task_, *v, &value);
-      return {true, "wrote " + name + " := " + format_value(v->type, &value) +
+      apply_write(*frozen_task_, reg ? *reg : v, &value);
+      if (image) apply_write(*frozen_task_, v, &value);
+      return {true, "wrote " + name + " := " + format_value(v.type, &value) +
                         " (now, inside the scan)\n"};
     }
-    writes_.push_back({name, *v, image, value, image ? -1 : v->task});
+    writes_.push_back({name, v, image, value, image ? -1 : v.task});
     if (image) image_writes_pending_.store(true, std::memory_order_release);
-    return {true, "will write " + name + " := " + format_value(v->type, &value) +
+    return {true, "will write " + name + " := " + format_value(v.type, &value) +
                       " at the start of the next scan\n"};
   }
   for (Force& f : forces_)
     if (f.name == name) {
       f.value = value;
-      return {true, "force " + name + " := " + format_value(v->type, &value) + " (changed)\n"};
+      return {true, "force " + name + " := " + format_value(v.type, &value) + " (changed)\n"};
     }
-  forces_.push_back({name, *v, image, value, original});
-  return {true, "force " + name + " := " + format_value(v->type, &value) +
+  forces_.push_back({name, v, image, value, original});
+  return {true, "force " + name + " := " + format_value(v.type, &value) +
                     " (every scan until unforce)\n"};
 }
 
@@ -999,6 +1082,14 @@ Debugger::Reply Debugger::unforce(const std::string& name, bool restore) {
     }
   }
   return s.empty() ? Reply{false, "unforce: '" + name + "' is not forced\n"} : Reply{true, s};
+}
+
+std::vector<std::string> Debugger::forced() {
+  std::lock_guard<std::recursive_mutex> session(session_mu_);
+  std::lock_guard<std::mutex> lock(mu_);
+  std::vector<std::string> out;
+  for (const Force& f : forces_) out.push_back(f.name);
+  return out;
 }
 
 std::string Debugger::forces_list() {

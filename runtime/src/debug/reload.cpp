@@ -122,8 +122,7 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
   std::string err;
   for (std::size_t i = 0; i < breaks_.size(); ++i)
     if (breaks_[i].cond) {
-      auto cond =
-          Condition::compile(breaks_[i].cond->text(), next, rt_->image(), rt_->byte_order(), err);
+      auto cond = breaks_[i].cond->rebind(next, rt_->image(), rt_->byte_order(), err);
       if (!cond) {
         dropped += "  breakpoint " + std::to_string(breaks_[i].id) + " (" + breaks_[i].text +
                    ") deleted: its condition does not compile against the new build (" + err +

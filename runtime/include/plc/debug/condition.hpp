@@ -10,21 +10,13 @@
 // (read from the global image). Parsed and compiled once into postfix code;
 // evaluation reads the variables and never allocates.
 //
-// Arithmetic, defined for every input (no trap, no undefined behaviour):
-// * Integers of every type (BOOL, ANY_INT, ANY_BIT, TIME in ns) are taken as
-//   LINT and computed in 64-bit two's complement that wraps around, as a
-//   PLC's LINT does: 9223372036854775807 + 1 = -9223372036854775808.
-//   ULINT/LWORD values from 2^63 up read as their (negative) LINT pattern.
-// * Division and MOD by zero give 0 (REAL too), so a condition such as
-//   `a / b > 3` is simply false while b = 0 instead of stopping the scan;
-//   LINT_MIN / -1 wraps to LINT_MIN and LINT_MIN MOD -1 is 0.
-// * REAL/LREAL follow IEEE 754: overflow gives +-inf, and NaN compares
-//   unordered (=, <, <=, >, >= are FALSE, <> is TRUE).
-// * An integer compared with a real is compared exactly (no rounding of
-//   the integer to double).
-// * At most kMaxNesting levels of parentheses, NOT and unary '-', and
-//   kMaxOperands operands pending at once; deeper conditions are refused
-//   when compiled, naming the column.
+// Parsed and compiled by plc/debug/condition_code.hpp, which holds the
+// arithmetic's rules (defined for every input: wrap-around LINT, division
+// by zero gives 0, IEEE 754 reals, exact integer/real comparison). A
+// Condition binds that code to the runtime's variables; code compiled
+// elsewhere (the HMI bridge's process, against a cell description) is
+// validated and bound the same way, and a rebuilt runtime rebinds it by
+// path and address, never by parsing its text again.
 #pragma once
 
 #include <cstdint>
@@ -33,17 +25,17 @@
 #include <string_view>
 #include <vector>
 
+#include "plc/debug/condition_code.hpp"
 #include "plc/io/process_image.hpp"
 #include "plc/var_registry.hpp"
 
 namespace plc::debug {
 
-struct Value {
-  bool real = false;
-  std::int64_t i = 0;
-  double d = 0;
-  [[nodiscard]] double as_real() const { return real ? d : double(i); }
-  [[nodiscard]] bool truthy() const { return real ? d != 0 : i != 0; }
+// What an operand of the code is: a registry variable by path, or an IEC
+// address (read from the global image).
+struct ConditionOperand {
+  std::string path;                       // "" for an address
+  std::optional<io::IecAddress> address;  // set for an address
 };
 
 // Reads a registry variable as a Value (BOOL -> 0/1, TIME -> ns).
@@ -51,17 +43,26 @@ Value read_value(const VarInfo& v);
 
 class Condition {
  public:
-  // People nest a handful of levels; 64 keeps the recursive-descent parser
-  // far inside any thread's stack, also under sanitizers.
-  static constexpr int kMaxNesting = 64;
+  static constexpr int kMaxNesting = ConditionCode::kMaxNesting;
   // The evaluator's fixed operand stack (no allocation while evaluating).
-  static constexpr int kMaxOperands = 32;
+  static constexpr int kMaxOperands = ConditionCode::kMaxStack;
 
   // Compiles `text`; on failure returns nullopt and sets `error` (which names
   // the unknown variable or the position of the syntax error).
   static std::optional<Condition> compile(std::string_view text, const VarRegistry& vars,
                                           io::ProcessImage& global, io::ByteOrder order,
                                           std::string& error);
+  // Code compiled elsewhere: validated (condition_code.hpp validate()), each
+  // operand looked up (a path in the registry, an address inside the image;
+  // STRING refused), then bound. Its text is made from the code. nullopt
+  // and `error` when it cannot be.
+  static std::optional<Condition> bind(ConditionCode code, std::vector<ConditionOperand> operands,
+                                       const VarRegistry& vars, io::ProcessImage& global,
+                                       io::ByteOrder order, std::string& error);
+  // The same condition on another registry and image (a rebuilt runtime, an
+  // online change's new build), by its operands' paths and addresses.
+  [[nodiscard]] std::optional<Condition> rebind(const VarRegistry& vars, io::ProcessImage& global,
+                                                io::ByteOrder order, std::string& error) const;
 
   [[nodiscard]] Value evaluate() const;
   [[nodiscard]] bool holds() const { return evaluate().truthy(); }
@@ -75,39 +76,19 @@ class Condition {
   // Whether it reads the global image (an address operand): in real time it
   // is then evaluated under the image lock.
   [[nodiscard]] bool reads_global() const;
+  [[nodiscard]] const ConditionCode& code() const { return code_; }
+  [[nodiscard]] const std::vector<ConditionOperand>& operands() const { return operands_; }
 
  private:
-  enum class Op : std::uint8_t {
-    Const,
-    Var,
-    Add,
-    Sub,
-    Mul,
-    Div,
-    Mod,
-    Neg,
-    Eq,
-    Ne,
-    Lt,
-    Le,
-    Gt,
-    Ge,
-    And,
-    Or,
-    Xor,
-    Not
-  };
-  struct Instr {
-    Op op;
-    std::uint32_t index;  // Const: into consts_; Var: into vars_
-  };
-  std::string text_;
-  std::vector<Instr> code_;
-  std::vector<Value> consts_;
-  std::vector<VarInfo> vars_;  // copies (address operands point into the global image)
-  int task_ = -1;
+  // Looks every operand up and fills vars_ and task_.
+  bool bind_operands(const VarRegistry& vars, io::ProcessImage& global, io::ByteOrder order,
+                     std::string& error);
 
-  friend class ConditionParser;
+  std::string text_;
+  ConditionCode code_;
+  std::vector<ConditionOperand> operands_;
+  std::vector<VarInfo> vars_;  // per operand (address operands point into the global image)
+  int task_ = -1;
 };
 
 }  // namespace plc::debug

@@ -83,12 +83,35 @@ class Debugger final : public ScanHooks {
     bool forced = false;
   };
   std::vector<Value> read(const std::vector<std::string>& names);
+  // The same as raw values in native storage (read() formats these): for a
+  // front end that formats them itself (the HMI host hands them to the
+  // bridge's process).
+  struct TypedValue {
+    std::string name, error;  // error set: not a variable (nothing else set)
+    std::string no_value;     // set: a variable, but no consistent value now (bytes unset)
+    VarType type = VarType::BOOL;
+    std::optional<io::IecAddress> address;
+    alignas(8) unsigned char bytes[sizeof(STRING)] = {};
+    bool image_differs = false;  // a located variable whose global image value differs
+    alignas(8) unsigned char image[8] = {};
+    bool forced = false;
+  };
+  std::vector<TypedValue> read_typed(const std::vector<std::string>& names);
   // Once, at the start of the next scan of the variable's task.
   Reply write(const std::string& name, std::string_view value);
   // Every scan until unforce.
   Reply force(const std::string& name, std::string_view value);
+  // write and force with the value as bytes in native storage of the
+  // variable's type (from a front end that parsed the literal itself, the
+  // HMI bridge's process): the same checks as the text path, i.e. read-only
+  // state and STRING refused, the bytes a value of the type
+  // (check_raw_value: a BOOL 0 or 1, a finite REAL), the block's write check.
+  Reply write_raw(const std::string& name, const void* value);
+  Reply force_raw(const std::string& name, const void* value);
   // name "all": every force; restore: write back the value from before it.
   Reply unforce(const std::string& name, bool restore);
+  // The names of the variables forced now, as they were given to force.
+  std::vector<std::string> forced();
   Reply pause();
   // n scans of each task, or of `task` only.
   Reply step(std::uint64_t n = 1, const std::string& task = "");
@@ -101,6 +124,11 @@ class Debugger final : public ScanHooks {
   // `hits`-th hit.
   Reply add_breakpoint(std::string_view condition, std::uint64_t hits = 1,
                        const std::string& before_program = "");
+  // A scan-end breakpoint on a condition compiled elsewhere (the HMI
+  // bridge's process, plc/debug/condition_code.hpp): validated and bound
+  // (Condition::bind), never parsed; listed with the text made from it.
+  Reply add_breakpoint(ConditionCode code, std::vector<ConditionOperand> operands,
+                       std::uint64_t hits = 1);
   Reply delete_breakpoint(const std::string& id_or_all);
   // Held by every call above; a front end on another thread may try_lock
   // it (a bounded number of times) to answer "busy" instead of waiting
@@ -193,6 +221,10 @@ class Debugger final : public ScanHooks {
   std::string help() const;
   Reply run_and_report(std::optional<TIME> for_time, bool until);
   Reply write_or_force(const std::string& name, std::string_view text, bool force);
+  Reply write_or_force_raw(const std::string& name, const void* value, bool force);
+  // After the checks: queues the write or sets the force (session_mu_ held).
+  Reply apply_write_or_force(const std::string& name, const VarInfo& v, bool image,
+                             std::uint64_t value, bool force);
   std::string stop_report(const std::string& why);
   std::string watch_lines();
   std::string forces_list();
