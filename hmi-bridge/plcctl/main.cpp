@@ -11,7 +11,8 @@
 #include <map>
 
 #include "client.hpp"
-#include "plc/hmi/bridge.hpp"
+#include "plc/cell_config.hpp"
+#include "plc/hmi/pattern.hpp"
 #include "plc/iec_literal.hpp"
 #include "softplc_hmi/alarm_t.hpp"
 #include "softplc_hmi/diagnostics_t.hpp"

@@ -22,7 +22,7 @@
 #include "plc/cell_config.hpp"
 #include "plc/debug/recording.hpp"
 #include "plc/debug/trace.hpp"
-#include "plc/hmi/bridge.hpp"
+#include "plc/hmi/host.hpp"
 #include "plc/iec_literal.hpp"
 #include "plc/profinet/controller/dcp_tool.hpp"
 #include "plc/retain/retain_manager.hpp"
@@ -425,13 +425,15 @@ int plcrun_main(int argc, char** argv) {
   }
 
   if (console || hmi) {
-    std::unique_ptr<hmi::Bridge> bridge;
+    // The HMI: its bridge runs as plchmi, its own unprivileged process that
+    // this host starts, watches and restarts (hmi-bridge/README.md).
+    std::unique_ptr<hmi::Host> bridge;
     // Declared before the debugger, whose first build creates it; reset
     // (hooks removed) before the debugger's runtime goes, by ResetRetain.
     std::unique_ptr<retain::Manager> retained;
     if (hmi) {
       try {
-        bridge = std::make_unique<hmi::Bridge>(cfg.hmi, cfg.file);
+        bridge = std::make_unique<hmi::Host>(cfg.hmi, cfg.file, hmi::Host::Options{});
       } catch (const std::exception& e) {
         std::cerr << e.what() << "\n";
         return 2;
@@ -479,9 +481,10 @@ int plcrun_main(int argc, char** argv) {
       retained.reset();
       return ok;
     };
-    // Stopped before the debugger goes (declared after it).
+    // Stopped before the debugger goes (declared after it): plchmi is told
+    // to stop and reaped, the host's thread joined.
     struct StopBridge {
-      hmi::Bridge* b;
+      hmi::Host* b;
       ~StopBridge() {
         if (b) b->stop();
       }
@@ -489,8 +492,8 @@ int plcrun_main(int argc, char** argv) {
     if (bridge) {
       bridge->set_debugger(dbg.get());
       bridge->start();
-      std::fprintf(stderr, "plcrun: hmi: bridge on %s, channels %s_*\n", cfg.hmi.url.value.c_str(),
-                   cfg.hmi.prefix.value.c_str());
+      std::fprintf(stderr, "plcrun: hmi: bridge (plchmi) on %s, channels %s_*\n",
+                   cfg.hmi.url.value.c_str(), cfg.hmi.prefix.value.c_str());
     }
     g_debugger = dbg.get();
     g_console = vm.count("debug") != 0;
@@ -528,6 +531,8 @@ int plcrun_main(int argc, char** argv) {
         retain_failed = !finish_retain();
         std::fflush(stdout);
         print_summary(dbg->runtime());
+        if (bridge)
+          for (const auto& line : bridge->summary()) std::printf("hmi: %s\n", line.c_str());
         if (vm.count("print-vars"))
           print_final_values(dbg->runtime(), vm["print-vars"].as<std::string>());
       }
@@ -555,6 +560,8 @@ int plcrun_main(int argc, char** argv) {
     finish_retain();
     std::fflush(stdout);
     print_summary(dbg->runtime());
+    if (bridge)
+      for (const auto& line : bridge->summary()) std::printf("hmi: %s\n", line.c_str());
     if (vm.count("print-vars"))  // only an HMI session gets here with it
       print_final_values(dbg->runtime(), vm["print-vars"].as<std::string>());
     g_debugger = nullptr;

@@ -256,7 +256,8 @@ class Loader {
     expect_map(n, "hmi");
     check_keys(
         n,
-        {"url", "prefix", "rate", "publish", "writable", "forceable", "stop_commands", "key_file"},
+        {"url", "prefix", "rate", "publish", "writable", "forceable", "stop_commands", "key_file",
+         "user", "netns"},
         "hmi");
     h.url.mark = h.prefix.mark = h.rate.mark = h.stop_commands.mark = h.mark;
     if (n["url"]) {
@@ -304,6 +305,19 @@ class Loader {
       const auto slash = file_.rfind('/');
       if (h.key_path[0] != '/' && slash != std::string::npos)
         h.key_path = file_.substr(0, slash + 1) + h.key_path;
+    }
+    h.user.mark = h.netns.mark = h.mark;
+    if (n["user"]) {
+      h.user = scalar(n["user"], "user");
+      if (h.user.value.empty()) fail(n["user"], "key 'user': names no user");
+    }
+    if (n["netns"]) {
+      h.netns = scalar(n["netns"], "netns");
+      const std::string& ns = h.netns.value;
+      // A name under /var/run/netns (as `ip netns` makes them), or a path.
+      if (ns.empty() || (ns[0] != '/' && ns.find('/') != std::string::npos))
+        fail(n["netns"], "key 'netns': '" + ns +
+                             "' is neither a name of `ip netns list` nor an absolute path");
     }
     return h;
   }

@@ -1,4 +1,4 @@
-// HMI bridge costs (issue 13). Prints `name: value unit` lines:
+// HMI bridge costs (issues 13 and 22). Prints `name: value unit` lines:
 // - hmi_scan_cost_idle: what the bridge adds to a scan when it has not
 //   asked for values (one atomic load per published task);
 // - hmi_scan_cost_1000_vars: what it adds to a scan that copies 1,000
@@ -9,11 +9,14 @@
 //   bridge's thread publishing at 1000/s and without a bridge, in
 //   alternating blocks (ABAB), and the paired difference's median and
 //   quartiles;
-// - hmi_latency_*: from the scan that copied the values to their arrival
-//   at a client (real time, 1 ms task, bridge rate 1000/s), median and p99,
-//   over udpm:// when this host has a multicast route, else memq:// (the
-//   unit says which).
+// - hmi_latency_rate{10,100,1000}_*: from the scan that copied the values
+//   to their arrival at a client, through the whole path (the scan thread's
+//   copy into the shared memory, plchmi in its own process, udpm, a client
+//   in this process), real time, 1 ms task, at bridge rates 10, 100 and
+//   1000/s: median, p99 and max. In a network namespace of the benchmark's
+//   own when it may make one (root), else on this host's multicast route.
 #include <benchmark/benchmark.h>
+#include <sched.h>
 
 #include <algorithm>
 #include <array>
@@ -25,6 +28,7 @@
 #include <thread>
 
 #include "plc/hmi/bridge.hpp"
+#include "plc/hmi/host.hpp"
 #include "plc/hmi/checked_decode.hpp"
 #include "plc/program.hpp"
 #include "plc_bench/collector.hpp"
@@ -72,12 +76,31 @@ std::int64_t utime_now() {
       .count();
 }
 
-// The snapshot of P's 1,000 variables, as the bridge builds it.
-hmi::ScanSnapshot thousand_vars(Runtime& rt) {
-  std::vector<hmi::ScanSnapshot::Item> items;
-  for (const VarInfo& v : rt.vars().all())
-    if (v.path.rfind("P.vals", 0) == 0) items.push_back({v, 0, int(items.size())});
-  return hmi::ScanSnapshot(0, std::move(items));
+// The snapshot of P's 1,000 variables, as the HMI host builds it, with a
+// slot of its own (header, buffer, request word) instead of the shared
+// memory's.
+struct OwnSlot {
+  hmi::ScanSnapshot snap;
+  hmi::ipc::SlotHeader header;
+  std::vector<std::uint64_t> buf;
+  std::atomic<std::uint64_t> request{0};
+  explicit OwnSlot(Runtime& rt) : snap(items(rt)) {
+    buf.resize(snap.buffer_size() / 8 + 1);
+    snap.bind(&header, reinterpret_cast<unsigned char*>(buf.data()), &request);
+  }
+  void ask() { request.fetch_add(1, std::memory_order_release); }
+  static hmi::ScanSnapshot items(Runtime& rt) {
+    std::vector<hmi::ScanSnapshot::Item> items;
+    for (const VarInfo& v : rt.vars().all())
+      if (v.path.rfind("P.vals", 0) == 0) items.push_back({v, 0, int(items.size())});
+    return hmi::ScanSnapshot(0, std::move(items));
+  }
+};
+
+hmi::Host::Options lockstep() {
+  hmi::Host::Options o;
+  o.mode = hmi::Host::Mode::Lockstep;
+  return o;
 }
 
 void BM_ScanNoBridge(benchmark::State& state) {
@@ -88,32 +111,32 @@ void BM_ScanNoBridge(benchmark::State& state) {
 }
 BENCHMARK(BM_ScanNoBridge)->MinTime(1.0);
 
-// The bridge attached, its snapshot filled and not yet taken: every scan
-// only looks at the flag.
+// The HMI host attached, its first snapshot filled and nothing asked
+// since: every scan only looks at the request word.
 void BM_ScanBridgeIdle(benchmark::State& state) {
   Runtime rt(parse_cell_config(kCell, "bench.yaml"));
-  hmi::Bridge b(hmi_config("memq://"), "bench.yaml");
-  b.attach(rt);
+  hmi::Host host(hmi_config("memq://"), "bench.yaml", lockstep());
+  host.attach(rt);
   rt.start(io::ClockMode::Virtual);
-  rt.step_scan();  // fills the first request; nobody takes it
+  rt.step_scan();  // fills the first request; nobody asks again
   for (auto _ : state) rt.step_scan();
   rt.finish();
 }
 BENCHMARK(BM_ScanBridgeIdle)->MinTime(1.0);
 
 // The scan thread's copy of 1,000 variables at every scan: a snapshot asked
-// for before each scan (the ScanSnapshot the bridge uses, driven directly so
+// for before each scan (the ScanSnapshot the host uses, driven directly so
 // that only the scan is timed).
 void BM_ScanBridgeCopy1000(benchmark::State& state) {
   Runtime rt(parse_cell_config(kCell, "bench.yaml"));
-  hmi::ScanSnapshot snap = thousand_vars(rt);
-  if (snap.items().size() != 1000) state.SkipWithError("expected 1000 variables");
-  state.counters["copy_runs"] = double(snap.runs());
+  OwnSlot slot(rt);
+  if (slot.snap.items().size() != 1000) state.SkipWithError("expected 1000 variables");
+  state.counters["copy_runs"] = double(slot.snap.runs());
   rt.add_scan_observer(
-      [&snap](const TaskRuntime& t, const ScanContext& ctx) { snap.on_scan_end(t, ctx); });
+      [&slot](const TaskRuntime& t, const ScanContext& ctx) { slot.snap.on_scan_end(t, ctx); });
   rt.start(io::ClockMode::Virtual);
   for (auto _ : state) {
-    snap.request();
+    slot.ask();
     rt.step_scan();
   }
   rt.finish();
@@ -124,25 +147,28 @@ BENCHMARK(BM_ScanBridgeCopy1000)->MinTime(1.0);
 // the bridge adds to that scan.
 void BM_SnapshotCopy1000(benchmark::State& state) {
   Runtime rt(parse_cell_config(kCell, "bench.yaml"));
-  hmi::ScanSnapshot snap = thousand_vars(rt);
+  OwnSlot slot(rt);
   rt.start(io::ClockMode::Virtual);
   rt.step_scan();
   const TaskRuntime& t = *rt.tasks().front();
   const ScanContext ctx{};
   for (auto _ : state) {
-    snap.request();
-    snap.on_scan_end(t, ctx);
-    benchmark::DoNotOptimize(snap.ready());
+    slot.ask();
+    slot.snap.on_scan_end(t, ctx);
+    benchmark::DoNotOptimize(slot.header.filled.load());
   }
   rt.finish();
 }
 BENCHMARK(BM_SnapshotCopy1000)->MinTime(1.0);
 
-// A scan plus the bridge's encode and publish of all 1,000 (changed) values.
+// A scan plus the bridge's encode and publish of all 1,000 (changed)
+// values, host and bridge in lockstep over their shared memory.
 void BM_ScanAndPublish1000(benchmark::State& state) {
   Runtime rt(parse_cell_config(kCell, "bench.yaml"));
-  hmi::Bridge b(hmi_config("memq://"), "bench.yaml");
-  b.attach(rt);
+  hmi::Host host(hmi_config("memq://"), "bench.yaml", lockstep());
+  host.attach(rt);
+  hmi::Bridge b(host.regions().view());
+  b.set_peer([&host] { host.round(); });
   rt.start(io::ClockMode::Virtual);
   for (auto _ : state) {
     rt.step_scan();
@@ -152,17 +178,25 @@ void BM_ScanAndPublish1000(benchmark::State& state) {
 }
 BENCHMARK(BM_ScanAndPublish1000)->MinTime(1.0)->UseRealTime();
 
-// Real time: 3 s of a 1 ms task with the bridge thread publishing at
-// 1000/s; each arrival's delay after the scan's copy. Returns the transport
-// used and the delays in microseconds.
-std::pair<std::string, std::vector<std::int64_t>> latency_run() {
+// Real time, the whole path: a 1 ms task in this process, the HMI host
+// starting plchmi (the bridge's own process) at `rate`, and a client in
+// this process on udpm: each value message's delay from the scan's copy
+// to its arrival at the client, in microseconds. Runs in a network
+// namespace of its own when it can make one (udpm needs a multicast
+// route), else on this host's if it has one; nothing when neither works.
+std::vector<std::int64_t> latency_run(int rate, std::chrono::seconds span, std::string& why) {
   // A port of its own: never mixed with a cell running on this host.
-  std::string url = "udpm://239.255.76.67:7697?ttl=0";
-  lcm::LCM probe(url);
-  if (!probe.good()) url = "memq://";
+  const std::string url = "udpm://239.255.76.67:7697?ttl=0";
+  auto client = std::make_unique<lcm::LCM>(url);
+  if (!client->good()) {
+    why = "no multicast route (ip route add 224.0.0.0/4 dev lo)";
+    return {};
+  }
   Runtime rt(parse_cell_config(kCell, "bench.yaml"));
-  hmi::Bridge b(hmi_config(url), "bench.yaml");
-  b.attach(rt);
+  hmi::Host::Options o;  // Supervised: plchmi beside this executable
+  o.log = [](const std::string&) {};
+  hmi::Host host(hmi_config(url, rate), "bench.yaml", std::move(o));
+  host.attach(rt);
   std::mutex mu;
   std::vector<std::int64_t> delays;
   struct Sink {
@@ -174,31 +208,33 @@ std::pair<std::string, std::vector<std::int64_t>> latency_run() {
       if (out->size() < 100000) out->push_back(d);
     }
   } sink{&mu, &delays};
-  // memq delivers within one LCM instance: then the bridge's own thread
-  // receives; udpm: a client instance in this thread, as plcctl would.
-  std::unique_ptr<lcm::LCM> client;
-  lcm::LCM* rx = &b.lcm();
-  if (url != "memq://") {
-    client = std::make_unique<lcm::LCM>(url);
-    rx = client.get();
-  }
-  // Before the bridge's thread starts: LCM subscribes and handles on one
-  // thread at a time.
-  hmi::subscribe_checked<softplc_hmi::values_t>(*rx, b.channels().values, &sink);
+  hmi::subscribe_checked<softplc_hmi::values_t>(*client, "PLC_VALUES", &sink);
   rt.start(io::ClockMode::RealTime);
-  std::thread scans([&rt] { rt.run(io::ClockMode::RealTime, std::chrono::seconds(3)); });
-  b.start();
-  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(3);
-  while (std::chrono::steady_clock::now() < end) {
-    if (client)
-      client->handleTimeout(50);
-    else
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  host.start();
+  std::thread scans([&rt, span] { rt.run(io::ClockMode::RealTime, span + std::chrono::seconds(1)); });
+  // plchmi's first second: starting, describing; then the measured span.
+  const auto begin = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+  const auto end = begin + span;
+  for (auto now = std::chrono::steady_clock::now(); now < end;
+       now = std::chrono::steady_clock::now()) {
+    client->handleTimeout(50);
+    if (now < begin) {
+      std::lock_guard<std::mutex> l(mu);
+      delays.clear();
+    }
   }
   scans.join();
-  b.stop();
+  host.stop();
   std::lock_guard<std::mutex> l(mu);
-  return {url == "memq://" ? "memq" : "udpm", delays};
+  if (delays.empty()) why = "no value arrived (plchmi did not start?)";
+  return delays;
+}
+
+// Moves this process into a network namespace of its own with loopback up
+// and a multicast route, when it may (root); false otherwise.
+bool own_network_namespace() {
+  if (unshare(CLONE_NEWNET) != 0) return false;
+  return std::system("ip link set lo up && ip route add 224.0.0.0/4 dev lo") == 0;
 }
 
 // The running cell's scan statistics with the bridge on and off, as the
@@ -228,11 +264,15 @@ double quantile(std::vector<double> v, double q) {
 AbabResult abab_run(int pairs, int scans_per_block) {
   Runtime off(parse_cell_config(kCell, "bench.yaml"));
   Runtime on(parse_cell_config(kCell, "bench.yaml"));
-  hmi::Bridge b(hmi_config("memq://"), "bench.yaml");
-  b.attach(on);
+  hmi::Host::Options o;
+  o.mode = hmi::Host::Mode::Thread;
+  hmi::Host host(hmi_config("memq://"), "bench.yaml", o);
+  host.attach(on);
+  hmi::Bridge b(host.regions().view(), host.doorbell());
   off.start(io::ClockMode::Virtual);
   on.start(io::ClockMode::Virtual);
-  b.start();  // its own thread, as in plcrun
+  host.start();
+  b.start();  // its own thread, as plchmi's in its process
   auto block = [scans_per_block](Runtime& rt) {
     const double t0 = thread_cpu_ns();
     for (int i = 0; i < scans_per_block; ++i) rt.step_scan();
@@ -252,6 +292,7 @@ AbabResult abab_run(int pairs, int scans_per_block) {
     d.push_back(t_on - t_off);
   }
   b.stop();
+  host.stop();
   off.finish();
   on.finish();
   AbabResult r;
@@ -284,17 +325,29 @@ int main(int argc, char** argv) {
   std::printf("hmi_scan_cpu_bridge_delta_median: %.1f ns/scan\n", ab.delta_median);
   std::printf("hmi_scan_cpu_bridge_delta_p25: %.1f ns/scan\n", ab.delta_p25);
   std::printf("hmi_scan_cpu_bridge_delta_p75: %.1f ns/scan\n", ab.delta_p75);
-  auto [transport, d] = latency_run();
-  if (d.size() >= 10) {
+  // Scan-to-client latency through the whole path at three rates: the
+  // bridge asks at each tick and publishes as soon as the next scan end has
+  // filled the snapshot, so the delay after the copy does not grow with
+  // 1/rate (it did: the copy used to wait a whole period in its buffer).
+  const bool netns = own_network_namespace();
+  std::fprintf(stderr, "bench_hmi: latency %s\n",
+               netns ? "in a network namespace of its own" : "in this host's network");
+  for (const auto& [rate, span] : {std::pair{10, 10}, std::pair{100, 5}, std::pair{1000, 3}}) {
+    std::string why;
+    auto d = latency_run(rate, std::chrono::seconds(span), why);
+    if (d.size() < 10) {
+      std::fprintf(stderr, "bench_hmi: rate %d: only %zu updates arrived: %s\n", rate, d.size(),
+                   why.c_str());
+      continue;
+    }
     std::sort(d.begin(), d.end());
-    std::fprintf(stderr, "bench_hmi: latency over %s, %zu updates\n", transport.c_str(), d.size());
-    std::printf("hmi_latency_median: %lld us (%s)\n", static_cast<long long>(d[d.size() / 2]),
-                transport.c_str());
-    std::printf("hmi_latency_p99: %lld us (%s)\n", static_cast<long long>(d[d.size() * 99 / 100]),
-                transport.c_str());
-  } else {
-    std::fprintf(stderr, "bench_hmi: only %zu updates arrived over %s: no latency figure\n",
-                 d.size(), transport.c_str());
+    std::fprintf(stderr, "bench_hmi: rate %d: %zu updates over udpm through plchmi\n", rate,
+                 d.size());
+    std::printf("hmi_latency_rate%d_median: %lld us\n", rate,
+                static_cast<long long>(d[d.size() / 2]));
+    std::printf("hmi_latency_rate%d_p99: %lld us\n", rate,
+                static_cast<long long>(d[d.size() * 99 / 100]));
+    std::printf("hmi_latency_rate%d_max: %lld us\n", rate, static_cast<long long>(d.back()));
   }
   return 0;
 }

@@ -1,6 +1,7 @@
-// Fuzz target: the HMI bridge's command decoding and serving
-// (Bridge::on_command_bytes) on the filling cell in virtual time, over
-// memq://. The first byte picks the bridge: one with a shared key (nothing
+// Fuzz target: the HMI bridge's command decoding and handling
+// (Bridge::on_command_bytes) and plcrun's serving of the record it makes
+// (Host::round, through the shared memory, both halves in lockstep) on the
+// filling cell in virtual time, over memq://. The first byte picks the bridge: one with a shared key (nothing
 // the fuzzer sends can carry a right HMAC tag, so no command may ever be
 // applied: traps if one is) or one without (writes and forces only where the
 // patterns allow; stopping commands refused). The rest, at most 64 kB (one
@@ -15,13 +16,15 @@
 #include "fuzz_cell.hpp"
 #include "plc/debug/debugger.hpp"
 #include "plc/hmi/bridge.hpp"
+#include "plc/hmi/host.hpp"
 
 namespace {
 
 struct Session {
   plc::CellConfig cfg;
-  std::unique_ptr<plc::hmi::Bridge> bridge;
+  std::unique_ptr<plc::hmi::Host> host;
   std::unique_ptr<plc::debug::Debugger> dbg;
+  std::unique_ptr<plc::hmi::Bridge> bridge;
   explicit Session(bool keyed) {
     cfg = plc::fuzz::filling_cell();
     cfg.hmi.present = true;
@@ -34,13 +37,17 @@ struct Session {
       std::ofstream(cfg.hmi.key_path)
           << "5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a\n";
     }
-    bridge = std::make_unique<plc::hmi::Bridge>(cfg.hmi, cfg.file);
+    plc::hmi::Host::Options ho;
+    ho.mode = plc::hmi::Host::Mode::Lockstep;
+    host = std::make_unique<plc::hmi::Host>(cfg.hmi, cfg.file, ho);
     plc::debug::Debugger::Options o;
     o.span = std::chrono::seconds(1);
-    o.on_build = [this](plc::Runtime& rt) { bridge->attach(rt); };
+    o.on_build = [this](plc::Runtime& rt) { host->attach(rt); };
     dbg = std::make_unique<plc::debug::Debugger>(
         [this] { return std::make_unique<plc::Runtime>(cfg); }, o);
-    bridge->set_debugger(dbg.get());
+    host->set_debugger(dbg.get());
+    bridge = std::make_unique<plc::hmi::Bridge>(host->regions().view());
+    bridge->set_peer([this] { host->round(); });
   }
 };
 
@@ -52,6 +59,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Session& s = (data[0] & 1) ? keyed : open;
   const auto before = s.bridge->counters();
   s.bridge->on_command_bytes(data + 1, size - 1);
+  s.bridge->service();  // plcrun serves what went through the ring; its reply comes back
   const auto after = s.bridge->counters();
   const std::uint64_t counted =
       (after.malformed - before.malformed) + (after.refused - before.refused) +

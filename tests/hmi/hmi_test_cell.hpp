@@ -1,5 +1,9 @@
-// The demo cell with an `hmi:` section, a debugger over it and a bridge on
-// memq:// (in-process, deterministic): what the bridge tests share.
+// The demo cell with an `hmi:` section, a debugger over it, plcrun's HMI host
+// and a bridge on memq:// over the host's shared memory, both halves in
+// lockstep on the test's thread (in-process, deterministic): what the
+// bridge tests share. plcrun runs the bridge as its own process (plchmi);
+// here the same two halves meet through the same shared memory, without
+// the process boundary, so that virtual time stays reproducible.
 #pragma once
 
 #include <fstream>
@@ -12,6 +16,7 @@
 #include "plc/debug/debugger.hpp"
 #include "plc/hmi/bridge.hpp"
 #include "plc/hmi/checked_decode.hpp"
+#include "plc/hmi/host.hpp"
 #include "plc_test_paths.hpp"
 #include "softplc_hmi/reply_t.hpp"
 #include "softplc_hmi/values_t.hpp"
@@ -48,8 +53,9 @@ struct HmiCell {
     void on(const softplc_hmi::reply_t& r) { h->replies.push_back(r); }
   } reply_sink{this};
   plc::CellConfig cfg;
-  std::unique_ptr<plc::hmi::Bridge> bridge;
+  std::unique_ptr<plc::hmi::Host> host;
   std::unique_ptr<plc::debug::Debugger> dbg;
+  std::unique_ptr<plc::hmi::Bridge> bridge;
   std::map<int, std::string> seen;   // index -> last value text received
   std::map<std::string, int> index;  // path -> index
   std::vector<softplc_hmi::reply_t> replies;
@@ -60,13 +66,18 @@ struct HmiCell {
     std::string text = base + hmi;
     if (!key_file.empty()) text += "  key_file: " + key_file + "\n";
     cfg = plc::parse_cell_config(text, "hmi_test.yaml");
-    bridge = std::make_unique<plc::hmi::Bridge>(cfg.hmi, cfg.file);
+    plc::hmi::Host::Options ho;
+    ho.mode = plc::hmi::Host::Mode::Lockstep;
+    host = std::make_unique<plc::hmi::Host>(cfg.hmi, cfg.file, ho);
     plc::debug::Debugger::Options o;
     o.span = std::chrono::minutes(10);
-    o.on_build = [this](plc::Runtime& rt) { bridge->attach(rt); };
+    o.on_build = [this](plc::Runtime& rt) { host->attach(rt); };
     dbg = std::make_unique<plc::debug::Debugger>(
         [this] { return std::make_unique<plc::Runtime>(cfg); }, o);
-    bridge->set_debugger(dbg.get());
+    host->set_debugger(dbg.get());
+    bridge = std::make_unique<plc::hmi::Bridge>(host->regions().view());
+    bridge->set_peer([this] { host->round(); });
+    host->on_new_regions([this] { bridge->attach(host->regions().view()); });
     // memq:// queues per lcm::LCM instance: the test's subscriptions are on
     // the bridge's LCM, added here before anything handles it; the bridge's
     // thread is never started (the test drives service() itself), so one
@@ -76,7 +87,9 @@ struct HmiCell {
     plc::hmi::subscribe_checked<softplc_hmi::reply_t>(bridge->lcm(), bridge->channels().reply,
                                                       &reply_sink);
   }
-  ~HmiCell() { bridge->stop(); }
+  ~HmiCell() {
+    if (bridge) bridge->stop();
+  }
 };
 
 }  // namespace plctest

@@ -127,6 +127,12 @@ struct HmiConfig {
   Item<bool> stop_commands{false, {}};  // pause, step, continue, break allowed
   Item<std::string> key_file;           // as written
   std::string key_path;                 // resolved against the config's folder ("" = no key)
+  // The bridge's own process (plchmi, hmi-bridge/README.md "Process layout"):
+  // the user it runs as when plcrun runs as root ("" = nobody), and the
+  // network namespace it joins (a name under /var/run/netns, or a path;
+  // "" = plcrun's own).
+  Item<std::string> user;
+  Item<std::string> netns;
   Mark mark;
 };
 

@@ -1,17 +1,25 @@
-// The HMI bridge: publishes a running cell's variables, statistics and
-// diagnostics over LCM and serves commands through the debugger's typed API
-// (hmi-bridge/README.md). Configured by the cell's `hmi:` section.
+// The HMI bridge: the LCM side of the HMI, in its own process (plchmi,
+// hmi-bridge/README.md "Process layout"). It publishes what plcrun puts in
+// the shared memory (values, statistics, diagnostics, the cell layout) and
+// turns LCM commands into binary records for plcrun: the decode guard, the
+// shared key, the access patterns (as plcrun resolved them into the
+// layout), IEC literals parsed into the type's bytes and breakpoint
+// conditions compiled into code all happen here. It links no runtime and
+// no plugin; it reads the shared memory and writes only the control region.
 //
-// Threads: the scan threads only copy values into a ScanSnapshot when asked
-// (one atomic load per scan otherwise). Everything else - encoding,
-// publishing, receiving and serving commands - happens on the bridge's one
-// thread (LCM: handle() and publish() from one thread only), or on the
-// caller's thread when a test drives service() itself.
+// Threads: one. LCM's handle and publish, the rings and the snapshot
+// requests on the bridge's thread (run()), or on the caller's thread when
+// a test drives service() itself; in lockstep (set_peer) service() also
+// runs plcrun's host round in between, so that a test in virtual time
+// drives both halves deterministically from one thread.
 #pragma once
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
+#include <functional>
 #include <lcm/lcm-cpp.hpp>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -19,11 +27,11 @@
 #include <thread>
 #include <vector>
 
-#include "plc/cell_config.hpp"
-#include "plc/debug/debugger.hpp"
 #include "plc/hmi/channels.hpp"
 #include "plc/hmi/command_auth.hpp"
-#include "plc/hmi/scan_snapshot.hpp"
+#include "plc/hmi/ipc/notes.hpp"
+#include "plc/hmi/ipc/regions.hpp"
+#include "plc/hmi/pattern.hpp"
 #include "softplc_hmi/alarm_t.hpp"
 #include "softplc_hmi/cell_description_t.hpp"
 #include "softplc_hmi/command_t.hpp"
@@ -35,93 +43,105 @@ struct BridgeCounters {
   std::uint64_t published = 0;  // values_t messages sent
   std::uint64_t dropped = 0;    // publish ticks missed because the bridge was late
   std::uint64_t commands = 0;   // commands applied
-  std::uint64_t refused = 0;    // refused: access, unknown verb, the debugger said no
+  std::uint64_t refused = 0;    // refused: access, unknown verb, plcrun or the debugger said no
   std::uint64_t bad_tag = 0;    // HMAC did not verify (or missing with a key)
   std::uint64_t replayed = 0;   // counter not above the client's last one
   std::uint64_t malformed = 0;  // did not decode as a command_t
 };
 
-// Pattern match over variable paths and addresses: `*` any run of
-// characters (dots included), `?` any one character; `[` and `]` are
-// literal, so `Cell.axes[0].*` matches the paths --list-vars prints for an
-// array element; `\` escapes the next character.
-bool pattern_matches(const std::string& pattern, const std::string& text);
-
 class Bridge {
  public:
-  // Throws ConfigError (file:line:col) for a pattern that matches no
-  // variable or a key file that cannot be used, and std::runtime_error when
-  // LCM cannot open the url. `cell_file` names the config in errors.
-  Bridge(const HmiConfig& cfg, std::string cell_file);
+  // `regions`: plcrun's shared memory as this process maps it; `doorbell`:
+  // the eventfd to ring after queueing commands (-1: none, lockstep).
+  // Throws std::runtime_error (file:line:col: ...) when LCM cannot open the
+  // url, or the shared memory holds no usable cell layout.
+  explicit Bridge(std::unique_ptr<ipc::Regions> regions, int doorbell = -1);
   ~Bridge();
   Bridge(const Bridge&) = delete;
   Bridge& operator=(const Bridge&) = delete;
 
-  // Before the runtime's first scan (debug::Debugger::Options::on_build):
-  // resolves the patterns and adds the scan observers. Again after a
-  // rebuild (goto, restart).
-  void attach(Runtime& rt);
-  // Commands are served through this debugger (none: every command is
-  // refused with a reason).
-  void set_debugger(debug::Debugger* d) { dbg_ = d; }
+  // Lockstep: plcrun's host round, run inside service() and before the
+  // bridge reads statistics or diagnostics.
+  void set_peer(std::function<void()> host_round) { peer_ = std::move(host_round); }
+  // New regions from plcrun (a rebuild of another shape), in this process.
+  void attach(std::unique_ptr<ipc::Regions> regions);
 
-  // The bridge's thread: serve commands, publish at the configured rate,
-  // statistics and diagnostics at 1 Hz.
+  // The bridge's thread (in this process: tests, benchmarks; plchmi runs
+  // run() on its main thread).
   void start();
   void stop();
+  // Until `stop` is set: requests and publishes at the configured rate
+  // (each snapshot as soon as the next scan end has filled it), serves
+  // commands, statistics and diagnostics at 1 Hz.
+  void run(const std::atomic<bool>& stop);
 
   // One round on the caller's thread (tests, virtual time): handles every
-  // command waiting (up to a bound), publishes the snapshots the scans
-  // have filled since the last round and an alarm for each device state
-  // change since then. Returns the values_t messages sent.
+  // command waiting (up to a bound), lets plcrun serve them (lockstep),
+  // publishes the replies, the snapshots the scans have filled since the
+  // last round, an alarm for each device state change and outage since
+  // then, and asks for the next snapshots. Returns the values_t messages sent.
   int service(int wait_ms = 0);
   void publish_stats();
   void publish_diagnostics();
   void publish_description();
   // Publishes an alarm_t on PREFIX_ALARM for every device whose state, as
   // its task's scans saw it, changed since the last call (lost, back), and
-  // remembers it for diagnostics_t. Returns how many.
+  // for every outage of the bridge that plcrun noted and none announced
+  // yet. Returns how many.
   int publish_device_alarms();
 
   [[nodiscard]] BridgeCounters counters() const;
-  // What describe publishes (empty before attach()).
+  // What describe publishes.
   [[nodiscard]] softplc_hmi::cell_description_t description();
   [[nodiscard]] const Channels& channels() const { return ch_; }
   [[nodiscard]] lcm::LCM& lcm() { return lcm_; }
 
-  // Decodes and serves one command message (the LCM handler; the fuzz target
-  // feeds it raw bytes). Never throws.
+  // Decodes and handles one command message (the LCM handler; the fuzz
+  // target feeds it raw bytes). Never throws.
   void on_command_bytes(const void* data, std::size_t size);
 
  private:
-  struct Layout;  // what attach() resolved for one runtime
-  struct DeviceSeen;
-  void run();
+  struct View;
+  struct Pending;
+  using Clock = std::chrono::steady_clock;
+  void sync();                      // the peer's round (lockstep)
+  bool load_view(std::string& err);  // the layout of the current generation
+  void check_generation();
+  int poll_fills();
+  void tick(Clock::time_point now);
+  int publish_slot(std::size_t s);
+  void drain_replies();
+  void expire_pending(Clock::time_point now);
   void flush_replies();
-  template <class F>
-  void with_runtime(F f);  // f(runtime) between the debugger's commands, or not at all
-  int publish_values(bool full);
-  softplc_hmi::reply_t serve(const softplc_hmi::command_t& c);
-  std::string refusal(const softplc_hmi::command_t& c) const;
-  bool may(const std::vector<Item<std::string>>& patterns, const std::string& name) const;
+  void publish_reply(softplc_hmi::reply_t r);
+  // The command (decoded, authenticated): a reply now, or nullopt when it
+  // went to plcrun and its reply comes through the ring.
+  std::optional<softplc_hmi::reply_t> handle(const softplc_hmi::command_t& c);
+  std::optional<softplc_hmi::reply_t> queue(ipc::CommandRecord& rec, Pending p);
+  void count(std::uint64_t BridgeCounters::*counter, std::uint64_t n = 1);
+  [[nodiscard]] bool fast_poll(Clock::time_point now) const;
 
-  HmiConfig cfg_;
-  std::string cell_file_;
+  std::unique_ptr<ipc::Regions> regions_;
+  ipc::Settings settings_;
+  std::string where_;  // "cell.yaml" for messages
   Channels ch_;
   std::optional<Key> key_;
   ReplayGuard replay_;
   lcm::LCM lcm_;
   lcm::Subscription* sub_ = nullptr;
-  debug::Debugger* dbg_ = nullptr;
-  std::mutex layout_mu_;            // attach() against the bridge's thread
-  std::shared_ptr<Layout> layout_;  // observers keep theirs alive
+  int doorbell_ = -1;
+  std::function<void()> peer_;
+  std::unique_ptr<View> view_;
+  std::map<std::uint32_t, Pending> pending_;  // token -> the command waiting for plcrun
+  std::uint32_t next_token_ = 1;
+  std::unique_ptr<ipc::CommandRecord> rec_;   // reused
+  std::unique_ptr<ipc::ReplyRecord> reply_;   // reused
+  bool in_handler_ = false;                    // inside LCM's dispatch
+  std::vector<softplc_hmi::reply_t> replies_;  // to publish after it
   std::thread thread_;
-  bool in_handler_ = false;                    // inside LCM's dispatch (the bridge's thread)
-  std::vector<softplc_hmi::reply_t> pending_;  // replies to publish after it
   std::atomic<bool> stop_{false};
   mutable std::mutex counters_mu_;
   BridgeCounters counters_;
-  std::chrono::steady_clock::time_point last_full_{};
 };
 
 }  // namespace plc::hmi

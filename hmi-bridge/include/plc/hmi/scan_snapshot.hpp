@@ -1,14 +1,17 @@
 // The published variables of one task, copied by the task's scan thread at
-// the end of a scan when the bridge asks (like the debugger's real-time
-// `print`): all values from the same scan, never torn. The scan thread only
-// copies into memory allocated beforehand; it never encodes, allocates,
-// blocks or publishes.
+// the end of a scan when the HMI bridge asks (like the debugger's real-time
+// `print`): all values from the same scan, never torn. The copy goes into
+// the task's slot in the shared memory (plc/hmi/ipc/layout.hpp: the
+// request word the bridge raises, the slot's header and buffer). The scan
+// thread only copies into memory mapped beforehand; it never encodes,
+// allocates, blocks, publishes or makes a system call.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
 #include <vector>
 
+#include "plc/hmi/ipc/layout.hpp"
 #include "plc/runtime.hpp"
 
 namespace plc::hmi {
@@ -17,26 +20,23 @@ class ScanSnapshot {
  public:
   struct Item {
     VarInfo var;             // points into the task's memory or its image copy
-    std::size_t offset = 0;  // of its value in the buffer
-    int index = 0;           // in the cell description
+    std::size_t offset = 0;  // of its value in the buffer (set by the constructor)
+    int index = 0;           // in the cell layout
   };
-  // `items` all belong to task `task`.
+  // `items` all belong to task `task`; lays out the buffer.
   ScanSnapshot(int task, std::vector<Item> items);
 
-  // The bridge: ask for the next scan's values.
-  void request() { state_.store(kRequested, std::memory_order_release); }
-  // The bridge: the values if a scan has copied them since request();
-  // nullptr otherwise. Valid until the next request().
-  [[nodiscard]] const unsigned char* ready() const {
-    return state_.load(std::memory_order_acquire) == kFilled ? buf_.data() : nullptr;
-  }
-  [[nodiscard]] std::uint64_t scan() const { return scan_; }
-  [[nodiscard]] TIME plc_time() const { return time_; }
-  // CLOCK_REALTIME at the copy, microseconds (latency to the client).
-  [[nodiscard]] std::int64_t copy_utime() const { return utime_; }
+  // Bytes the buffer needs.
+  [[nodiscard]] std::size_t buffer_size() const { return size_; }
+  // Where copies go: the slot's header and buffer (buffer_size() bytes,
+  // 8-aligned), and the word the bridge raises to ask (`request`). The
+  // scan thread serves a request it has not served yet: it starts from the
+  // slot's `filled`, so a request made before a rebuild is still served.
+  void bind(ipc::SlotHeader* header, unsigned char* buffer,
+            const std::atomic<std::uint64_t>* request);
 
   // The scan thread, at the end of every scan of the task: one atomic load
-  // when nothing is asked.
+  // when nothing new is asked.
   void on_scan_end(const TaskRuntime& t, const ScanContext& ctx);
 
   [[nodiscard]] int task() const { return task_; }
@@ -45,7 +45,6 @@ class ScanSnapshot {
   [[nodiscard]] const std::vector<Item>& items() const { return items_; }
 
  private:
-  static constexpr int kIdle = 0, kRequested = 1, kFilled = 2;
   // Program variables lying next to each other in memory (arrays, a
   // block's fields) are copied as one run; located variables and STRINGs
   // one by one through VarRegistry::read (bits, byte order).
@@ -57,11 +56,11 @@ class ScanSnapshot {
   std::vector<Item> items_;
   std::vector<Run> runs_;
   std::vector<std::size_t> one_by_one_;  // indices into items_
-  std::vector<unsigned char> buf_;
-  std::uint64_t scan_ = 0;
-  TIME time_{};
-  std::int64_t utime_ = 0;
-  std::atomic<int> state_{kIdle};
+  std::size_t size_ = 0;
+  ipc::SlotHeader* header_ = nullptr;
+  unsigned char* buf_ = nullptr;
+  const std::atomic<std::uint64_t>* request_ = nullptr;
+  std::uint64_t served_ = 0;  // the last request copied (only the scan thread touches it)
 };
 
 }  // namespace plc::hmi

@@ -31,23 +31,33 @@ ScanSnapshot::ScanSnapshot(int task, std::vector<Item> items)
     it.offset = size;
     size += n;
   }
-  buf_.assign(size + 8, 0);
+  size_ = (size + 7) / 8 * 8 + 8;
+}
+
+void ScanSnapshot::bind(ipc::SlotHeader* header, unsigned char* buffer,
+                        const std::atomic<std::uint64_t>* request) {
+  header_ = header;
+  buf_ = buffer;
+  request_ = request;
+  served_ = header->filled.load(std::memory_order_relaxed);
   for (const Item& it : items_)
-    if (it.var.type == VarType::STRING) new (buf_.data() + it.offset) STRING();
+    if (it.var.type == VarType::STRING) new (buf_ + it.offset) STRING();
 }
 
 void ScanSnapshot::on_scan_end(const TaskRuntime& t, const ScanContext& ctx) {
-  if (state_.load(std::memory_order_acquire) != kRequested) return;
-  for (const Run& r : runs_) std::memcpy(buf_.data() + r.dst, r.src, r.len);
-  for (std::size_t i : one_by_one_)
-    VarRegistry::read(items_[i].var, buf_.data() + items_[i].offset);
+  // The bridge's word, whatever it wrote: a number not served yet means copy.
+  const std::uint64_t asked = request_->load(std::memory_order_acquire);
+  if (asked == served_) return;
+  for (const Run& r : runs_) std::memcpy(buf_ + r.dst, r.src, r.len);
+  for (std::size_t i : one_by_one_) VarRegistry::read(items_[i].var, buf_ + items_[i].offset);
   (void)t;
-  scan_ = ctx.cycle + 1;
-  time_ = ctx.now;
+  header_->scan = ctx.cycle + 1;
+  header_->plc_time_ns = ctx.now.count();
   timespec ts{};
   clock_gettime(CLOCK_REALTIME, &ts);  // vDSO: no system call, no allocation
-  utime_ = std::int64_t(ts.tv_sec) * 1'000'000 + ts.tv_nsec / 1000;
-  state_.store(kFilled, std::memory_order_release);
+  header_->copy_utime = std::int64_t(ts.tv_sec) * 1'000'000 + ts.tv_nsec / 1000;
+  header_->filled.store(asked, std::memory_order_release);
+  served_ = asked;
 }
 
 }  // namespace plc::hmi
