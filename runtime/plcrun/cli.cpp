@@ -492,7 +492,7 @@ int plcrun_main(int argc, char** argv) {
     if (bridge) {
       bridge->set_debugger(dbg.get());
       bridge->start();
-      std::fprintf(stderr, "plcrun: hmi: bridge (plchmi) on %s, channels %s_*\n",
+      std::fprintf(stderr, "plcrun: hmi: bridge on %s, channels %s_* (its own process, plchmi)\n",
                    cfg.hmi.url.value.c_str(), cfg.hmi.prefix.value.c_str());
     }
     g_debugger = dbg.get();
