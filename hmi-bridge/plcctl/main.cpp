@@ -374,11 +374,11 @@ int main(int argc, char** argv) {
           t.stop_reason.empty() ? "" : "  STOPPED: ", t.stop_reason.c_str());
     std::printf(
         "bridge: published %lld, dropped %lld, commands %lld, refused %lld, bad tag %lld, "
-        "replayed %lld, malformed %lld\n",
+        "replayed %lld, stale %lld, malformed %lld\n",
         static_cast<long long>(m->published), static_cast<long long>(m->dropped),
         static_cast<long long>(m->commands), static_cast<long long>(m->refused),
         static_cast<long long>(m->bad_tag), static_cast<long long>(m->replayed),
-        static_cast<long long>(m->malformed));
+        static_cast<long long>(m->stale), static_cast<long long>(m->malformed));
     return 0;
   }
   if (cmd == "devices" || cmd == "alarms") {
