@@ -127,7 +127,8 @@ TEST(HmiAuth, RestartInsideTheSessionKeepsTheEpochAndTheReplayGuard) {
   const auto first = signed_for(h, command(10, "write", {"Tank.high_level", "333"}), key);
   EXPECT_TRUE(send(h, first).ok);
   const hmi::Epoch epoch = h.bridge->epoch();
-  h.dbg->execute("restart");
+  const std::string restarted = h.dbg->execute("restart cold");  // a new runtime, attached again
+  ASSERT_TRUE(has(restarted, "cold restart")) << restarted;
   EXPECT_EQ(h.bridge->epoch(), epoch);
   EXPECT_EQ(hmi::epoch_of(h.bridge->description()), epoch);
   const auto r = send(h, first);
