@@ -130,13 +130,17 @@ void update_len32(crypto_auth_hmacsha256_state& st, const void* data, std::size_
   crypto_auth_hmacsha256_update(&st, static_cast<const std::uint8_t*>(data), n);
 }
 
-// The tag of m (its own tag taken as all zero) in ctx.
+// The tag of m (its own tag taken as all zero) in ctx. The tag is the last
+// field of each signed type (hmi-bridge/lcm/*.lcm; the shapes in
+// checked_decode.hpp end in 32b): the encoding's last 32 bytes, zeroed in
+// the buffer rather than in a copy of the message.
 template <class M>
-Key tag_of(M m, Kind kind, const Key& key, const TagContext& ctx) {
-  std::fill(std::begin(m.tag), std::end(m.tag), std::int8_t(0));
+Key tag_of(const M& m, Kind kind, const Key& key, const TagContext& ctx) {
   const int n = m.getEncodedSize();
   std::vector<std::uint8_t> buf(static_cast<std::size_t>(n));
   m.encode(buf.data(), 0, n);
+  static_assert(sizeof m.tag == 32);
+  std::fill(buf.end() - 32, buf.end(), std::uint8_t(0));
   const Epoch e = epoch_from(m);
   static constexpr char kDomain[] = "softplc-hmi";  // with its NUL
   const std::uint8_t head[2] = {kAuthVersion, static_cast<std::uint8_t>(kind)};
