@@ -349,7 +349,8 @@ hmi:
   EXPECT_NE(stats.output.find("bad_fragment 27"), std::string::npos) << stats.output;
   const std::string logged = log.rest();
   EXPECT_NE(logged.find("log=0"), std::string::npos) << logged;
-  EXPECT_NE(plcrun.rest().find("plcrun=0"), std::string::npos);
+  const std::string ran = plcrun.rest();
+  EXPECT_NE(ran.find("plcrun=0"), std::string::npos) << ran;
 
   // The log: values recorded after the last burst, every event a message
   // the bridge sent (it decodes as its channel's type), no hostile bytes.
