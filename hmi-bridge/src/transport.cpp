@@ -12,8 +12,13 @@ Transport::~Transport() = default;
 
 bool Transport::Subscription::matches(std::string_view channel) const {
   if (!re) return channel == pattern;
-  // Bounded: a channel has at most 63 characters, the patterns are ours.
-  return std::regex_match(channel.begin(), channel.end(), *re);
+  // Bounded: a channel has at most 63 characters, the patterns are ours;
+  // should the matcher still give up (error_complexity), nobody wants it.
+  try {
+    return std::regex_match(channel.begin(), channel.end(), *re);
+  } catch (const std::regex_error&) {
+    return false;
+  }
 }
 
 Transport::Subscription* Transport::subscribe(const std::string& channel, Handler handler) {
