@@ -18,7 +18,7 @@ using namespace plctest::udpm;
 namespace {
 
 struct Rx {
-  explicit Rx(UdpmLimits l = {}) : r(l, [this](std::string_view c) { return c != "NOBODY"; }) {}
+  explicit Rx(UdpmLimits l = {}) : r(l, [](std::string_view c) { return c != "NOBODY"; }) {}
   UdpmReceiver r;
   std::optional<Bytes> take(const Bytes& d, std::uint64_t sender = 1, std::int64_t now_us = 0) {
     auto m = r.take(d, sender, now_us, 0);
