@@ -55,6 +55,9 @@ TEST(HmiCheckedDecode, ShapesMatchTheLcmTypes) {
   softplc_hmi::stats_t s{};
   s.tasks.resize(2);
   s.n = 2;
+  s.transport_counter = {"datagrams", "bad_fragment"};
+  s.transport_count = {5, 1};
+  s.n_transport = 2;
   softplc_hmi::cell_description_t d{};
   d.vars.resize(3);
   d.n = 3;
