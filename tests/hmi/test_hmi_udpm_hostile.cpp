@@ -95,7 +95,7 @@ TEST(HmiUdpmHostile, HugeMsgSizeIsRefusedWithoutAllocating) {
 
 // n_fragments 0 and fragment_no >= n_fragments are bad fragments (liblcm
 // reads neither: with n_fragments 0 its fragments_remaining counts down
-// from 0 and wraps, lcm_udpm.c:326); n_fragments 65535 on a small message
+// from 0 and wraps, lcm_udpm.c:327); n_fragments 65535 on a small message
 // holds its bookkeeping within the bound and never completes falsely.
 TEST(HmiUdpmHostile, FragmentCountsOutOfRange) {
   Rx rx;
@@ -113,7 +113,7 @@ TEST(HmiUdpmHostile, FragmentCountsOutOfRange) {
 }
 
 // A fragment received twice is dropped once seen (liblcm counts it again:
-// a message "completes" with a fragment missing, lcm_udpm.c:326-328); the
+// a message "completes" with a fragment missing, lcm_udpm.c:327-329); the
 // message still completes, right, when the missing one comes.
 TEST(HmiUdpmHostile, DuplicateFragmentsAreDroppedAndTheMessageStaysRight) {
   Rx rx;
@@ -146,7 +146,7 @@ TEST(HmiUdpmHostile, OverlappingFragmentsAreNotAMessage) {
 }
 
 // A channel without its NUL inside the datagram (liblcm: strlen reads on,
-// lcm_udpm.c:278 and 373), or longer than 63 characters; 63 is fine.
+// lcm_udpm.c:279 and 373), or longer than 63 characters; 63 is fine.
 TEST(HmiUdpmHostile, ChannelWithoutNulOrTooLong) {
   Rx rx;
   Bytes no_nul = lc02(1, "PLC_CMD", {});
