@@ -8,10 +8,10 @@ namespace plc::hmi {
 
 Client::Client(const std::string& url, const std::string& prefix, std::optional<Key> key,
                std::chrono::milliseconds timeout)
-    : lcm_(url), ch_(prefix), key_(key), timeout_(timeout) {
-  if (!lcm_.good())
-    throw std::runtime_error("LCM cannot open '" + url +
-                             "' (udpm needs a multicast route: ip route add 224.0.0.0/4 dev lo)");
+    : ch_(prefix), key_(key), timeout_(timeout) {
+  std::string err;
+  transport_ = open_transport(url, err);
+  if (!transport_) throw std::runtime_error("--url: " + err);
   client_ = "plcctl-" + std::to_string(::getpid());
   // Counters only go up, also across runs of plcctl: start from the clock.
   next_id_ = std::chrono::duration_cast<std::chrono::microseconds>(
@@ -39,10 +39,10 @@ std::optional<softplc_hmi::reply_t> Client::command(const std::string& verb,
       if (r.request_id == id && r.client == client) *out = r;
     }
   } m{&got, c.request_id, client_};
-  auto* s = subscribe_checked<softplc_hmi::reply_t>(lcm_, ch_.reply, &m);
-  lcm_.publish(ch_.cmd, &c);
+  auto* s = subscribe_checked<softplc_hmi::reply_t>(*transport_, ch_.reply, &m);
+  transport_->publish(ch_.cmd, &c);
   wait([&] { return got.has_value(); });
-  lcm_.unsubscribe(s);
+  transport_->unsubscribe(s);
   if (!got)
     err = "no reply on " + ch_.reply + " within " + std::to_string(timeout_.count()) +
           " ms (is the cell running with an hmi: section, on this url and prefix?)";
@@ -52,13 +52,13 @@ std::optional<softplc_hmi::reply_t> Client::command(const std::string& verb,
 std::optional<softplc_hmi::cell_description_t> Client::describe(std::string& err) {
   std::optional<softplc_hmi::cell_description_t> got;
   Catch<softplc_hmi::cell_description_t> c{&got};
-  auto* s = subscribe_checked<softplc_hmi::cell_description_t>(lcm_, ch_.desc, &c);
+  auto* s = subscribe_checked<softplc_hmi::cell_description_t>(*transport_, ch_.desc, &c);
   // Asked for; a bridge also sends it every second, and a replayed log
   // (lcm-logplayer) has those, so the reply is not needed.
   std::string ignored;
   command("describe", {}, ignored);
   wait([&] { return got.has_value(); });
-  lcm_.unsubscribe(s);
+  transport_->unsubscribe(s);
   if (!got)
     err = "no cell description on " + ch_.desc + " within " + std::to_string(timeout_.count()) +
           " ms (is the cell running with an hmi: section, on this url and prefix?)";
