@@ -121,6 +121,43 @@ TEST(WireDcp, IdentifyRequestIsPaddedMulticast) {
   EXPECT_EQ(v.frame_id, 0xFEFE);
 }
 
+// IEC 61158-6-10 DCP: a block of odd DCPBlockLength is followed by one
+// padding octet, after the last block of a request too, and DCPDataLength
+// counts it (as p-net's pf_dcp.c sends it and Wireshark reads it); an even
+// block has none. Decoding takes the pad counted or not.
+TEST(WireDcp, OddBlocksArePaddedAndThePadIsCountedInDcpDataLength) {
+  for (const std::string name : {"rt-labs-dev", "hiwin-e1"}) {
+    const bool odd = name.size() % 2 != 0;
+    pn::PnFrameView v;
+    const auto id = pn::encode_dcp_identify_request(pt::kCtrlMac, 7, name, 1);
+    ASSERT_TRUE(pn::decode_pn_frame(id, v));
+    EXPECT_EQ(v.pdu[8] << 8 | v.pdu[9], 4 + name.size() + (odd ? 1 : 0)) << name;
+    EXPECT_EQ(v.pdu[12] << 8 | v.pdu[13], name.size());  // DCPBlockLength: no pad
+    if (odd) {
+      EXPECT_EQ(v.pdu[14 + name.size()], 0);
+    }
+    pn::DcpMessage m;
+    ASSERT_TRUE(pn::decode_dcp(v.frame_id, v.pdu, m));
+    EXPECT_EQ(pn::identify_filter(m), name);
+    // The same request with the pad left out of DCPDataLength still reads.
+    if (odd) {
+      std::vector<std::uint8_t> uncounted(v.pdu.begin(), v.pdu.end());
+      uncounted[9] = static_cast<std::uint8_t>(uncounted[9] - 1);
+      ASSERT_TRUE(pn::decode_dcp(v.frame_id, uncounted, m));
+      EXPECT_EQ(pn::identify_filter(m), name);
+    }
+    pn::DcpSetRequest set;
+    set.station_name = name;
+    const auto sf = pn::encode_dcp_set_request(pt::kDevMac, pt::kCtrlMac, 8, set);
+    ASSERT_TRUE(pn::decode_pn_frame(sf, v));
+    EXPECT_EQ(v.pdu[8] << 8 | v.pdu[9], 4 + 2 + name.size() + (odd ? 1 : 0)) << name;
+    pn::DcpSetRequest back;
+    ASSERT_TRUE(pn::decode_dcp(v.frame_id, v.pdu, m));
+    ASSERT_TRUE(pn::set_request_from(m, back));
+    EXPECT_EQ(back.station_name, name);
+  }
+}
+
 // IEC 61158-6-10 NameOfStation rules.
 TEST(WireDcp, StationNameRules) {
   EXPECT_TRUE(pn::valid_station_name("hiwin-e1"));
