@@ -285,8 +285,12 @@ TEST(WireCyclic, LargeLayoutIsNotPaddedAndTooLargeIsRefused) {
   EXPECT_EQ(pn::compute_layout(exp, l).error, pn::WireError::BadLength);
 }
 
-// An IOCR whose offsets overlap or miss a submodule is refused.
-TEST(WireCyclic, LayoutFromIocrRefusesOverlapAndMissing) {
+// An IOCR whose offsets overlap another submodule's bytes or run past
+// DataLength, or that lists an entry twice, is refused; one that leaves a
+// submodule out is taken as p-net takes it (that submodule's bytes do not
+// travel), and so is a submodule's IOCS on its own data (p-net compares a
+// submodule with the others only).
+TEST(WireCyclic, LayoutFromIocrRefusesOverlapAndTakesMissingEntries) {
   const auto exp = pt::expected_submodules();
   pn::CyclicLayout ctrl;
   ASSERT_TRUE(pn::compute_layout(exp, ctrl));
@@ -295,9 +299,21 @@ TEST(WireCyclic, LayoutFromIocrRefusesOverlapAndMissing) {
   auto overlap = req.iocrs[0];
   overlap.apis[0].data_objects[1].frame_offset = 0;
   EXPECT_EQ(pn::layout_from_iocr(overlap, exp, l).error, pn::WireError::BadLength);
+  auto twice = req.iocrs[0];
+  twice.apis[0].data_objects.push_back(twice.apis[0].data_objects.back());
+  EXPECT_EQ(pn::layout_from_iocr(twice, exp, l).error, pn::WireError::BadValue);
   auto missing = req.iocrs[0];
   missing.apis[0].data_objects.pop_back();
-  EXPECT_EQ(pn::layout_from_iocr(missing, exp, l).error, pn::WireError::BadValue);
+  ASSERT_TRUE(pn::layout_from_iocr(missing, exp, l));
+  EXPECT_EQ(l.data.size(), ctrl.input.data.size() - 1);
+  auto no_iocs = req.iocrs[1];
+  for (auto& a : no_iocs.apis) a.iocs.clear();
+  ASSERT_TRUE(pn::layout_from_iocr(no_iocs, exp, l));
+  EXPECT_TRUE(l.iocs.empty());
+  auto own = req.iocrs[0];
+  for (auto& a : own.apis)
+    for (auto& s : a.iocs) s.frame_offset = 3;  // the drive's IOCS on the drive's data
+  ASSERT_TRUE(pn::layout_from_iocr(own, exp, l));
   auto past = req.iocrs[1];
   ASSERT_EQ(past.apis[0].api, pt::kApiDrive);
   ASSERT_EQ(past.apis[0].data_objects.size(), 1u);
