@@ -21,10 +21,10 @@ std::string replies(int n) { return n == 1 ? "1 reply" : std::to_string(n) + " r
 
 Client::Client(const std::string& url, const std::string& prefix, std::optional<Key> key,
                std::chrono::milliseconds timeout)
-    : lcm_(url), ch_(prefix), prefix_(prefix), key_(key), timeout_(timeout) {
-  if (!lcm_.good())
-    throw std::runtime_error("LCM cannot open '" + url +
-                             "' (udpm needs a multicast route: ip route add 224.0.0.0/4 dev lo)");
+    : ch_(prefix), prefix_(prefix), key_(key), timeout_(timeout) {
+  std::string err;
+  transport_ = open_transport(url, err);
+  if (!transport_) throw std::runtime_error("--url: " + err);
   // The host too: two machines' plcctl may have the same pid.
   client_ = "plcctl-" + host_name() + "-" + std::to_string(::getpid());
 }
@@ -84,11 +84,11 @@ std::optional<softplc_hmi::reply_t> Client::command_once(const std::string& verb
       *out = r;
     }
   } m{&got, &c, &key_, {prefix_, cell_.value_or(""), ch_.reply}};
-  auto* s = subscribe_checked<softplc_hmi::reply_t>(lcm_, ch_.reply, &m);
-  lcm_.publish(ch_.cmd, &c);
+  auto* s = subscribe_checked<softplc_hmi::reply_t>(*transport_, ch_.reply, &m);
+  transport_->publish(ch_.cmd, &c);
   if (on_sent) on_sent(c);
   wait([&] { return got.has_value(); });
-  lcm_.unsubscribe(s);
+  transport_->unsubscribe(s);
   if (!got) {
     err = "no reply on " + ch_.reply + " within " + std::to_string(timeout_.count()) + " ms";
     if (m.bad_tags)
@@ -119,7 +119,7 @@ std::optional<softplc_hmi::cell_description_t> Client::describe(std::string& err
       *out = d;
     }
   } v{&got, &key_, prefix_, ch_.desc};
-  auto* s = subscribe_checked<softplc_hmi::cell_description_t>(lcm_, ch_.desc, &v);
+  auto* s = subscribe_checked<softplc_hmi::cell_description_t>(*transport_, ch_.desc, &v);
   // Asked for without a tag (the epoch to sign for is what it tells); a
   // bridge also sends it every second, and a replayed log (lcm-logplayer)
   // has those, so the reply is not waited for.
@@ -128,10 +128,10 @@ std::optional<softplc_hmi::cell_description_t> Client::describe(std::string& err
   c.client = client_;
   c.verb = "describe";
   c.counter = next_counter();
-  lcm_.publish(ch_.cmd, &c);
+  transport_->publish(ch_.cmd, &c);
   if (on_sent) on_sent(c);
   wait([&] { return got.has_value(); });
-  lcm_.unsubscribe(s);
+  transport_->unsubscribe(s);
   if (!got) {
     err = "no cell description on " + ch_.desc + " within " + std::to_string(timeout_.count()) +
           " ms";

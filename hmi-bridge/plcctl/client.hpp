@@ -12,7 +12,7 @@
 
 #include <chrono>
 #include <functional>
-#include <lcm/lcm-cpp.hpp>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,6 +20,7 @@
 #include "plc/hmi/channels.hpp"
 #include "plc/hmi/checked_decode.hpp"
 #include "plc/hmi/command_auth.hpp"
+#include "plc/hmi/transport.hpp"
 #include "softplc_hmi/cell_description_t.hpp"
 #include "softplc_hmi/reply_t.hpp"
 
@@ -27,7 +28,7 @@ namespace plc::hmi {
 
 class Client {
  public:
-  // Throws std::runtime_error when LCM cannot open `url`.
+  // Throws std::runtime_error when `url` is wrong or cannot be opened.
   Client(const std::string& url, const std::string& prefix, std::optional<Key> key,
          std::chrono::milliseconds timeout);
   // The reply, or nullopt (and `err`) when none came in time. With a key:
@@ -42,19 +43,19 @@ class Client {
   // cell and epoch.
   std::optional<softplc_hmi::cell_description_t> describe(std::string& err);
   // Called with every command right after it is published (tests answer
-  // it on this client's LCM).
+  // it on this client's transport).
   std::function<void(const softplc_hmi::command_t&)> on_sent;
   // The next message on `channel`, decoded as T, within the timeout.
   template <class T>
   std::optional<T> next(const std::string& channel) {
     std::optional<T> got;
     Catch<T> c{&got};
-    auto* s = subscribe_checked<T>(lcm_, channel, &c);
+    auto* s = subscribe_checked<T>(*transport_, channel, &c);
     wait([&] { return got.has_value(); });
-    lcm_.unsubscribe(s);
+    transport_->unsubscribe(s);
     return got;
   }
-  lcm::LCM& lcm() { return lcm_; }
+  Transport& transport() { return *transport_; }
   const Channels& channels() const { return ch_; }
 
   // Handles messages until done() or the timeout.
@@ -65,7 +66,7 @@ class Client {
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
           deadline - std::chrono::steady_clock::now());
       if (left.count() <= 0) return false;
-      lcm_.handleTimeout(int(std::min<std::int64_t>(left.count(), 100)));
+      transport_->handle_timeout(int(std::min<std::int64_t>(left.count(), 100)));
     }
     return true;
   }
@@ -82,7 +83,7 @@ class Client {
                                                    const std::vector<std::string>& args,
                                                    std::string& err);
   std::int64_t next_counter();
-  lcm::LCM lcm_;
+  std::unique_ptr<Transport> transport_;
   Channels ch_;
   std::string prefix_;
   std::optional<Key> key_;

@@ -122,35 +122,27 @@ struct Bridge::Layout {
 };
 
 Bridge::Bridge(const HmiConfig& cfg, std::string cell_file)
-    : cfg_(cfg),
-      cell_file_(std::move(cell_file)),
-      ch_(cfg.prefix.value),
-      epoch_(new_epoch()),
-      lcm_(cfg.url.value) {
-  if (!lcm_.good())
-    throw ConfigError(cell_file_, cfg_.url.mark,
-                      "key 'url': LCM cannot open '" + cfg_.url.value +
-                          "' (udpm needs a multicast route: ip route add 224.0.0.0/4 dev lo)");
+    : cfg_(cfg), cell_file_(std::move(cell_file)), ch_(cfg.prefix.value), epoch_(new_epoch()) {
+  std::string url_error;
+  transport_ = open_transport(cfg_.url.value, url_error);
+  if (!transport_) throw ConfigError(cell_file_, cfg_.url.mark, "key 'url': " + url_error);
   if (!cfg_.key_path.empty()) {
     std::string err;
     key_ = load_key(cfg_.key_path, err);
     if (!key_) throw ConfigError(cell_file_, cfg_.key_file.mark, "key 'key_file': " + err);
   }
-  sub_ = lcm_.subscribeFunction(
-      ch_.cmd,
-      +[](const lcm::ReceiveBuffer* rb, const std::string&, Bridge* self) {
-        // Replies are published after the handler returns: publishing from
-        // inside LCM's dispatch re-enters it (memq).
-        self->in_handler_ = true;
-        self->on_command_bytes(rb->data, rb->data_size);
-        self->in_handler_ = false;
-      },
-      this);
+  sub_ = transport_->subscribe(ch_.cmd, [this](const ReceiveBuffer& rb, const std::string&) {
+    // Replies are published after the handler returns, with the other
+    // messages of the round.
+    in_handler_ = true;
+    on_command_bytes(rb.data, rb.data_size);
+    in_handler_ = false;
+  });
 }
 
 Bridge::~Bridge() {
   stop();
-  if (sub_) lcm_.unsubscribe(sub_);
+  if (sub_) transport_->unsubscribe(sub_);
 }
 
 bool Bridge::may(const std::vector<Item<std::string>>& patterns, const std::string& name) const {
@@ -329,8 +321,8 @@ int Bridge::publish_values(bool full) {
     m.n = int(m.values.size());
     tr.n = int(tr.index.size());
     if (m.n == 0) continue;
-    lcm_.publish(ch_.values, &m);
-    lcm_.publish(ch_.trace, &tr);
+    transport_->publish(ch_.values, &m);
+    transport_->publish(ch_.trace, &tr);
     ++sent;
   }
   std::lock_guard<std::mutex> lock(counters_mu_);
@@ -341,7 +333,7 @@ int Bridge::publish_values(bool full) {
 int Bridge::service(int wait_ms) {
   // Bounded: at most 1000 waiting messages per round.
   for (int i = 0; i < 1000; ++i) {
-    const int n = lcm_.handleTimeout(i == 0 ? wait_ms : 0);
+    const int n = transport_->handle_timeout(i == 0 ? wait_ms : 0);
     flush_replies();
     if (n <= 0) break;
   }
@@ -363,7 +355,7 @@ void Bridge::publish_description() {
   softplc_hmi::cell_description_t d = l->desc;
   d.utime = utime_now();
   if (key_) sign(d, *key_, {cfg_.prefix.value, l->cell, ch_.desc});
-  lcm_.publish(ch_.desc, &d);
+  transport_->publish(ch_.desc, &d);
 }
 
 template <class F>
@@ -405,7 +397,12 @@ void Bridge::publish_stats() {
   m.replayed = std::int64_t(c.replayed);
   m.stale = std::int64_t(c.stale);
   m.malformed = std::int64_t(c.malformed);
-  lcm_.publish(ch_.stats, &m);
+  for (const auto& [name, count] : transport_->counters().named()) {
+    m.transport_counter.push_back(name);
+    m.transport_count.push_back(std::int64_t(count));
+  }
+  m.n_transport = int(m.transport_count.size());
+  transport_->publish(ch_.stats, &m);
 }
 
 namespace {
@@ -469,7 +466,7 @@ int Bridge::publish_device_alarms() {
       seen.ever_online |= c.to == io::DeviceState::Online;
     }
   });
-  for (const auto& a : out) lcm_.publish(ch_.alarm, &a);
+  for (const auto& a : out) transport_->publish(ch_.alarm, &a);
   return int(out.size());
 }
 
@@ -519,7 +516,7 @@ void Bridge::publish_diagnostics() {
   });
   m.n_devices = int(m.devices.size());
   m.n_alarms = int(m.alarms.size());
-  lcm_.publish(ch_.diag, &m);
+  transport_->publish(ch_.diag, &m);
 }
 
 void Bridge::start() {
@@ -542,7 +539,7 @@ void Bridge::run() {
     const auto now = Clock::now();
     if (now < next) {
       const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(next - now).count();
-      lcm_.handleTimeout(int(std::max<std::int64_t>(1, std::min<std::int64_t>(ms, 100))));
+      transport_->handle_timeout(int(std::max<std::int64_t>(1, std::min<std::int64_t>(ms, 100))));
       flush_replies();
       continue;
     }
@@ -583,13 +580,13 @@ void Bridge::on_command_bytes(const void* data, std::size_t size) {
   if (in_handler_ && pending_.size() < 1000)
     pending_.push_back(std::move(r));
   else if (!in_handler_)
-    lcm_.publish(ch_.reply, &r);
+    transport_->publish(ch_.reply, &r);
 }
 
 void Bridge::flush_replies() {
   std::vector<softplc_hmi::reply_t> out;
   out.swap(pending_);
-  for (const auto& r : out) lcm_.publish(ch_.reply, &r);
+  for (const auto& r : out) transport_->publish(ch_.reply, &r);
 }
 
 softplc_hmi::reply_t Bridge::serve(const softplc_hmi::command_t& c) {

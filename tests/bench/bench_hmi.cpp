@@ -158,8 +158,8 @@ BENCHMARK(BM_ScanAndPublish1000)->MinTime(1.0)->UseRealTime();
 std::pair<std::string, std::vector<std::int64_t>> latency_run() {
   // A port of its own: never mixed with a cell running on this host.
   std::string url = "udpm://239.255.76.67:7697?ttl=0";
-  lcm::LCM probe(url);
-  if (!probe.good()) url = "memq://";
+  std::string no_route;
+  if (!hmi::open_transport(url, no_route)) url = "memq://";
   Runtime rt(parse_cell_config(kCell, "bench.yaml"));
   hmi::Bridge b(hmi_config(url), "bench.yaml");
   b.attach(rt);
@@ -174,16 +174,17 @@ std::pair<std::string, std::vector<std::int64_t>> latency_run() {
       if (out->size() < 100000) out->push_back(d);
     }
   } sink{&mu, &delays};
-  // memq delivers within one LCM instance: then the bridge's own thread
-  // receives; udpm: a client instance in this thread, as plcctl would.
-  std::unique_ptr<lcm::LCM> client;
-  lcm::LCM* rx = &b.lcm();
+  // memq delivers within one transport: then the bridge's own thread
+  // receives; udpm: a client transport in this thread, as plcctl would.
+  std::unique_ptr<hmi::Transport> client;
+  hmi::Transport* rx = &b.transport();
   if (url != "memq://") {
-    client = std::make_unique<lcm::LCM>(url);
+    std::string err;
+    client = hmi::open_transport(url, err);
     rx = client.get();
   }
-  // Before the bridge's thread starts: LCM subscribes and handles on one
-  // thread at a time.
+  // Before the bridge's thread starts: a transport subscribes and handles
+  // on one thread at a time.
   hmi::subscribe_checked<softplc_hmi::values_t>(*rx, b.channels().values, &sink);
   rt.start(io::ClockMode::RealTime);
   std::thread scans([&rt] { rt.run(io::ClockMode::RealTime, std::chrono::seconds(3)); });
@@ -191,7 +192,7 @@ std::pair<std::string, std::vector<std::int64_t>> latency_run() {
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(3);
   while (std::chrono::steady_clock::now() < end) {
     if (client)
-      client->handleTimeout(50);
+      client->handle_timeout(50);
     else
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }

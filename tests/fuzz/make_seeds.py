@@ -168,6 +168,54 @@ def hmi_commands():
         b"\x00" + command("read", ["Cell.run"], n_args=0x7FFFFFFF))
 
 
+def lcm_udpm_seeds():
+    """LCM udpm datagrams (liblcm 1.3.1's format, big-endian) for the
+    lcm_udpm target, written here field by field: part 0 reads records
+    [sender][time step][length u16 LE][datagram], part 1 a message to
+    encode and the order of its fragments."""
+    clear("lcm_udpm")
+
+    def lc02(seq, channel, payload):
+        return struct.pack(">II", 0x4C433032, seq) + channel + b"\0" + payload
+
+    def lc03(seq, size, offset, no, n, channel, piece):
+        head = struct.pack(">IIIIHH", 0x4C433033, seq, size, offset, no, n)
+        return head + (channel + b"\0" if no == 0 else b"") + piece
+
+    def records(*datagrams):
+        return b"\x00" + b"".join(bytes([sender, step]) + struct.pack("<H", len(d)) + d
+                                  for sender, step, d in datagrams)
+
+    body = bytes(range(256)) + bytes(range(44))  # 300 bytes
+    put("lcm_udpm", "short_valid.bin", records((1, 0, lc02(0, b"PLC_CMD", body[:120]))))
+    put("lcm_udpm", "fragments_valid.bin", records(
+        (1, 1, lc03(5, 300, 0, 0, 3, b"PLC_DESC", body[:100])),
+        (2, 1, lc02(9, b"PLC_VALUES", body[:40])),
+        (1, 1, lc03(5, 300, 200, 2, 3, b"", body[200:])),
+        (1, 1, lc03(5, 300, 100, 1, 3, b"", body[100:200]))))
+    # Issue 22: fragment 0 of a 64-byte message, 32 bytes at offset
+    # 0xFFFFFFF0 (60 bytes on PLC_CMD), then a valid message.
+    put("lcm_udpm", "wrapping_offset.bin", records(
+        (1, 0, lc03(1, 64, 0xFFFFFFF0, 0, 2, b"PLC_CMD", b"A" * 32)),
+        (1, 1, lc02(2, b"PLC_CMD", body[:16]))))
+    put("lcm_udpm", "hostile_mix.bin", records(
+        (3, 0, struct.pack(">III", 0x4C433033, 9, 64)),
+        (3, 0, lc03(4, 0xFFFFFFFF, 0, 0, 2, b"PLC_CMD", b"x" * 32)),
+        (3, 0, lc03(5, 64, 0, 0, 0, b"PLC_CMD", b"x" * 32)),
+        (3, 0, lc03(6, 64, 0, 7, 2, b"PLC_CMD", b"x" * 32)),
+        (3, 0, lc02(7, b"X" * 80, b"\x01")),
+        (4, 0, lc03(8, 100, 0, 0, 3, b"PLC_CMD", b"a" * 50)),
+        (4, 0, lc03(8, 100, 40, 1, 3, b"", b"b" * 30)),
+        (4, 0, lc03(8, 100, 80, 2, 3, b"", b"c" * 20)),
+        (5, 0, b"GET / HTTP/1.0\r\n")))
+    # Part 1: channel (length, letters), size/4 (u16 LE: 200,000 bytes, four
+    # fragments), generator seed, seqno, then shuffle and per-fragment bytes.
+    put("lcm_udpm", "round_trip.bin",
+        b"\x01" + bytes([10]) + bytes([15, 11, 2, 4, 21, 0, 11, 20, 4, 18]) +
+        struct.pack("<HII", 50000, 0x12345678, 42) + bytes([1, 0]) +
+        bytes([1, 8]) + lc02(1, b"PLC_CMD", b"") + bytes([2, 0, 0, 0xFF, 0, 0]))
+
+
 def recordings(plcrun, out, tmp):
     """A recording from scan 0 and one started mid-session (with a snapshot)."""
     out.mkdir(parents=True, exist_ok=True)
@@ -219,6 +267,7 @@ def main():
 
         recordings(plcrun, CORPUS / "recording", tmp)
         hmi_commands()
+        lcm_udpm_seeds()
 
         rows = trace_bytes(plcrun, tmp, 1500)
         # drive: selector = part * 3 + telegram (2 = telegram 111)

@@ -61,7 +61,7 @@ softplc_hmi::command_t signed_for(HmiCell& h, softplc_hmi::command_t c, const hm
 
 softplc_hmi::reply_t send(HmiCell& h, const softplc_hmi::command_t& c) {
   h.replies.clear();
-  h.bridge->lcm().publish(h.bridge->channels().cmd, &c);
+  h.bridge->transport().publish(h.bridge->channels().cmd, &c);
   h.bridge->service();
   EXPECT_EQ(h.replies.size(), 1U) << c.verb;
   return h.replies.empty() ? softplc_hmi::reply_t{} : h.replies.front();
@@ -259,7 +259,7 @@ TEST(HmiAuth, PlcctlClientRefusesUnsignedForgedAndMisaddressedReplies) {
   int commands_seen = 0;
   client.on_sent = [&](const softplc_hmi::command_t& c) {
     ++commands_seen;
-    lcm::LCM& bus = client.lcm();
+    hmi::Transport& bus = client.transport();
     if (c.verb == "describe") {
       auto d = h.bridge->description();
       auto unsigned_d = d;
@@ -328,7 +328,7 @@ TEST(HmiAuth, PlcctlClientSendsAgainForTheEpochOfAStaleRefusal) {
   client.on_sent = [&](const softplc_hmi::command_t& c) {
     if (c.verb == "describe") {  // the description of the bridge that was
       auto d = old_bridge->bridge->description();
-      client.lcm().publish("PLC_DESC", &d);
+      client.transport().publish("PLC_DESC", &d);
       return;
     }
     ++reads;
@@ -338,7 +338,7 @@ TEST(HmiAuth, PlcctlClientSendsAgainForTheEpochOfAStaleRefusal) {
     h.bridge->on_command_bytes(bytes.data(), bytes.size());
     h.bridge->service();
     ASSERT_EQ(h.replies.size(), 1U);
-    client.lcm().publish("PLC_REPLY", &h.replies.front());
+    client.transport().publish("PLC_REPLY", &h.replies.front());
   };
   std::string err;
   const auto r = client.command("read", {"Tank.level"}, err);

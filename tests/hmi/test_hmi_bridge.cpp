@@ -31,7 +31,7 @@ softplc_hmi::command_t command(std::int64_t id, const std::string& verb,
 // Sends c, lets the bridge serve it, returns its reply (or a failed test).
 softplc_hmi::reply_t send(HmiCell& h, const softplc_hmi::command_t& c) {
   h.replies.clear();
-  h.bridge->lcm().publish(h.bridge->channels().cmd, &c);
+  h.bridge->transport().publish(h.bridge->channels().cmd, &c);
   h.bridge->service();
   EXPECT_EQ(h.replies.size(), 1U) << c.verb;
   return h.replies.empty() ? softplc_hmi::reply_t{} : h.replies.front();
@@ -124,11 +124,11 @@ TEST(HmiBridge, WritesOutsideTheWritablePatternsAreRefusedAndNothingApplied) {
 TEST(HmiBridge, MalformedCommandsAreCountedAndIgnored) {
   HmiCell h;
   const std::uint8_t junk[] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
-  h.bridge->lcm().publish(h.bridge->channels().cmd, junk, sizeof junk);
+  h.bridge->transport().publish(h.bridge->channels().cmd, junk, sizeof junk);
   auto c = command(1, "write", {"Tank.high_level", "99"});
   std::vector<std::uint8_t> buf(std::size_t(c.getEncodedSize()));
   c.encode(buf.data(), 0, int(buf.size()));
-  h.bridge->lcm().publish(h.bridge->channels().cmd, buf.data(), unsigned(buf.size() - 3));
+  h.bridge->transport().publish(h.bridge->channels().cmd, buf.data(), unsigned(buf.size() - 3));
   // An argument count of -1 and of 2^31-1 with no arguments behind it:
   // lcm-gen's decoder would resize its vector to that count first
   // (std::length_error, or gigabytes).
@@ -138,7 +138,7 @@ TEST(HmiBridge, MalformedCommandsAreCountedAndIgnored) {
     bad.encode(b.data(), 0, int(b.size()));
     const std::size_t at = b.size() - 16 - 8 - 32 - 4;  // n_args before epoch, counter, tag
     for (int k = 0; k < 4; ++k) b[at + std::size_t(k)] = std::uint8_t(n >> (24 - 8 * k));
-    h.bridge->lcm().publish(h.bridge->channels().cmd, b.data(), unsigned(b.size()));
+    h.bridge->transport().publish(h.bridge->channels().cmd, b.data(), unsigned(b.size()));
   }
   h.replies.clear();
   h.bridge->service();

@@ -31,21 +31,21 @@ struct Recorder {
   bool full_seen = false;
   softplc_hmi::values_t last_values;
   softplc_hmi::cell_description_t last_desc;
-  static void on(const lcm::ReceiveBuffer* rb, const std::string& channel, Recorder* self) {
-    if (channel == "PLC_VALUES" && self->full_seen) return;
+  void on(const plc::hmi::ReceiveBuffer& rb, const std::string& channel) {
+    if (channel == "PLC_VALUES" && full_seen) return;
     lcm::LogEvent e{};
-    e.eventnum = self->n++;
-    e.timestamp = rb->recv_utime;
+    e.eventnum = n++;
+    e.timestamp = rb.recv_utime;
     e.channel = channel;
-    e.datalen = std::int32_t(rb->data_size);
-    e.data = rb->data;
-    self->log->writeEvent(&e);
+    e.datalen = std::int32_t(rb.data_size);
+    e.data = const_cast<void*>(rb.data);
+    log->writeEvent(&e);
     if (channel == "PLC_VALUES") {
-      EXPECT_TRUE(plc::hmi::checked_decode(rb->data, rb->data_size, self->last_values));
-      self->full_seen = self->last_values.full;
+      EXPECT_TRUE(plc::hmi::checked_decode(rb.data, rb.data_size, last_values));
+      full_seen = last_values.full;
     }
     if (channel == "PLC_DESC") {
-      EXPECT_TRUE(plc::hmi::checked_decode(rb->data, rb->data_size, self->last_desc));
+      EXPECT_TRUE(plc::hmi::checked_decode(rb.data, rb.data_size, last_desc));
     }
   }
 };
@@ -67,7 +67,10 @@ TEST(HmiLcmSpy, SpyShowsOurTypesWithTheirValues) {
     ASSERT_TRUE(log.good());
     rec.log = &log;
     plctest::HmiCell h;
-    auto* s = h.bridge->lcm().subscribeFunction("PLC_.*", &Recorder::on, &rec);
+    auto* s = h.bridge->transport().subscribe(
+        "PLC_.*", [&rec](const plc::hmi::ReceiveBuffer& rb, const std::string& channel) {
+          rec.on(rb, channel);
+        });
     h.bridge->publish_description();
     for (int i = 0; i < 60; ++i) {
       h.dbg->step(1);
@@ -75,7 +78,7 @@ TEST(HmiLcmSpy, SpyShowsOurTypesWithTheirValues) {
     }
     h.bridge->publish_stats();
     h.bridge->service();
-    h.bridge->lcm().unsubscribe(s);
+    h.bridge->transport().unsubscribe(s);
   }
   ASSERT_TRUE(rec.full_seen);
   ASSERT_GT(rec.last_values.n, 3);

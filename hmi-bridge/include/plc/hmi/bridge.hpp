@@ -5,13 +5,12 @@
 // Threads: the scan threads only copy values into a ScanSnapshot when asked
 // (one atomic load per scan otherwise). Everything else - encoding,
 // publishing, receiving and serving commands - happens on the bridge's one
-// thread (LCM: handle() and publish() from one thread only), or on the
-// caller's thread when a test drives service() itself.
+// thread (the transport's rule: handle and subscribe from one thread), or on
+// the caller's thread when a test drives service() itself.
 #pragma once
 
 #include <atomic>
 #include <chrono>
-#include <lcm/lcm-cpp.hpp>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -24,6 +23,7 @@
 #include "plc/hmi/channels.hpp"
 #include "plc/hmi/command_auth.hpp"
 #include "plc/hmi/scan_snapshot.hpp"
+#include "plc/hmi/transport.hpp"
 #include "softplc_hmi/alarm_t.hpp"
 #include "softplc_hmi/cell_description_t.hpp"
 #include "softplc_hmi/command_t.hpp"
@@ -51,8 +51,8 @@ bool pattern_matches(const std::string& pattern, const std::string& text);
 class Bridge {
  public:
   // Throws ConfigError (file:line:col) for a pattern that matches no
-  // variable or a key file that cannot be used, and std::runtime_error when
-  // LCM cannot open the url. `cell_file` names the config in errors.
+  // variable, a key file that cannot be used, or a url that is wrong or
+  // cannot be opened. `cell_file` names the config in errors.
   Bridge(const HmiConfig& cfg, std::string cell_file);
   ~Bridge();
   Bridge(const Bridge&) = delete;
@@ -91,9 +91,11 @@ class Bridge {
   // constructed, kept over rebuilds of the runtime (goto, restart).
   [[nodiscard]] const Epoch& epoch() const { return epoch_; }
   [[nodiscard]] const Channels& channels() const { return ch_; }
-  [[nodiscard]] lcm::LCM& lcm() { return lcm_; }
+  // Our LCM transport (transport.hpp): its counters, and in tests (memq://)
+  // the subscriptions that see what the bridge publishes.
+  [[nodiscard]] Transport& transport() { return *transport_; }
 
-  // Decodes and serves one command message (the LCM handler; the fuzz target
+  // Decodes and serves one command message (the handler; the fuzz target
   // feeds it raw bytes). Never throws.
   void on_command_bytes(const void* data, std::size_t size);
 
@@ -120,13 +122,13 @@ class Bridge {
   std::optional<Key> key_;
   Epoch epoch_;
   ReplayGuard replay_;  // counters within epoch_: both live as long as the bridge
-  lcm::LCM lcm_;
-  lcm::Subscription* sub_ = nullptr;
+  std::unique_ptr<Transport> transport_;
+  Transport::Subscription* sub_ = nullptr;
   debug::Debugger* dbg_ = nullptr;
   std::mutex layout_mu_;            // attach() against the bridge's thread
   std::shared_ptr<Layout> layout_;  // observers keep theirs alive
   std::thread thread_;
-  bool in_handler_ = false;                    // inside LCM's dispatch (the bridge's thread)
+  bool in_handler_ = false;                    // inside the transport's dispatch (its thread)
   std::vector<softplc_hmi::reply_t> pending_;  // replies to publish after it
   std::atomic<bool> stop_{false};
   mutable std::mutex counters_mu_;
