@@ -8,8 +8,9 @@ get_property(PLC_SDK_INCLUDE_DIRS GLOBAL PROPERTY PLC_SDK_INCLUDE_DIRS)
 set(PLC_CMAKE_PACKAGE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/softplc)
 
 install(TARGETS plcrun RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
-# The other tools: the HMI client and the simulated DeviceNet slaves.
-foreach(tool plcctl dnslave)
+# The other tools: the HMI bridge's process (plcrun starts it from beside
+# itself), the HMI client and the simulated DeviceNet slaves.
+foreach(tool plchmi plcctl dnslave)
   if(TARGET ${tool})
     install(TARGETS ${tool} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
   endif()

@@ -1,4 +1,5 @@
-// plcctl: watch and operate a running cell through its HMI bridge (LCM).
+// plcctl: watch and operate a running cell through its HMI bridge (LCM over
+// our own transport, plc/hmi/transport.hpp).
 // Exit codes as plcrun's: 0 done, 1 refused or no answer, 2 bad usage. A
 // watch, log or trend ended by Ctrl-C (or --for/--count) ends normally.
 #include <unistd.h>
@@ -137,10 +138,10 @@ int cmd_watch(Client& c, const std::vector<std::string>& patterns, const Span& s
       std::fflush(stdout);
     }
   } ctx{&wanted, &shown, tty, &seen, &drawn};
-  auto* s = subscribe_checked<softplc_hmi::values_t>(c.lcm(), c.channels().values, &ctx);
+  auto* s = subscribe_checked<softplc_hmi::values_t>(c.transport(), c.channels().values, &ctx);
   // Bounded by --for/--count; Ctrl-C ends it. Each wait is at most 100 ms.
-  while (!span.over(seen)) c.lcm().handleTimeout(100);
-  c.lcm().unsubscribe(s);
+  while (!span.over(seen)) c.transport().handle_timeout(100);
+  c.transport().unsubscribe(s);
   return seen ? 0 : 1;
 }
 
@@ -154,9 +155,9 @@ int cmd_alarm_events(Client& c, const Span& span) {
       ++seen;
     }
   } p;
-  auto* s = subscribe_checked<softplc_hmi::alarm_t>(c.lcm(), c.channels().alarm, &p);
-  while (!span.over(p.seen)) c.lcm().handleTimeout(100);
-  c.lcm().unsubscribe(s);
+  auto* s = subscribe_checked<softplc_hmi::alarm_t>(c.transport(), c.channels().alarm, &p);
+  while (!span.over(p.seen)) c.transport().handle_timeout(100);
+  c.transport().unsubscribe(s);
   return 0;
 }
 
@@ -170,25 +171,22 @@ int cmd_log(Client& c, const std::string& file, const Span& span) {
   struct Ctx {
     lcm::LogFile* log;
     std::int64_t n = 0;
-    static void on(const lcm::ReceiveBuffer* rb, const std::string& channel, Ctx* self) {
-      self->write(rb, channel);
-    }
-    void write(const lcm::ReceiveBuffer* rb, const std::string& channel) {
+    void write(const ReceiveBuffer& rb, const std::string& channel) {
       lcm::LogEvent e{};
       e.eventnum = n++;
-      e.timestamp = rb->recv_utime;
+      e.timestamp = rb.recv_utime;
       e.channel = channel;
-      e.datalen = std::int32_t(rb->data_size);
-      e.data = rb->data;
+      e.datalen = std::int32_t(rb.data_size);
+      e.data = const_cast<void*>(rb.data);
       log->writeEvent(&e);
     }
   } ctx{&log};
-  // Raw bytes, not decoded (lcm-logger's behaviour): a plain-function
-  // subscription, as subscribe_checked explains.
-  auto* s = c.lcm().subscribeFunction(
-      c.channels().values.substr(0, c.channels().values.size() - 6) + ".*", &Ctx::on, &ctx);
-  while (!span.over(std::uint64_t(ctx.n))) c.lcm().handleTimeout(100);
-  c.lcm().unsubscribe(s);
+  // Raw bytes, not decoded (lcm-logger's behaviour).
+  auto* s = c.transport().subscribe(
+      c.channels().values.substr(0, c.channels().values.size() - 6) + ".*",
+      [&ctx](const ReceiveBuffer& rb, const std::string& channel) { ctx.write(rb, channel); });
+  while (!span.over(std::uint64_t(ctx.n))) c.transport().handle_timeout(100);
+  c.transport().unsubscribe(s);
   std::fprintf(stderr, "plcctl: log: %lld events into %s\n", static_cast<long long>(ctx.n),
                file.c_str());
   return 0;
@@ -233,9 +231,9 @@ int cmd_trend(Client& c, const std::vector<std::string>& patterns, const std::st
       for (std::size_t j = 0; j < row.size(); ++j) tr->value[j].push_back(row[j]);
     }
   } ctx{&tr, &col};
-  auto* s = subscribe_checked<softplc_hmi::trace_sample_t>(c.lcm(), c.channels().trace, &ctx);
-  while (!span.over(tr.t.size())) c.lcm().handleTimeout(100);
-  c.lcm().unsubscribe(s);
+  auto* s = subscribe_checked<softplc_hmi::trace_sample_t>(c.transport(), c.channels().trace, &ctx);
+  while (!span.over(tr.t.size())) c.transport().handle_timeout(100);
+  c.transport().unsubscribe(s);
   if (!csv.empty()) err = write_trend_csv(tr, csv);
   if (err.empty() && !png.empty()) err = write_trend_png(tr, png, d->cell);
   if (!err.empty()) {
@@ -247,9 +245,7 @@ int cmd_trend(Client& c, const std::vector<std::string>& patterns, const std::st
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   po::options_description opts(kUsage + std::string("\nOptions"));
   // clang-format off
   opts.add_options()
@@ -375,11 +371,19 @@ int main(int argc, char** argv) {
           t.stop_reason.empty() ? "" : "  STOPPED: ", t.stop_reason.c_str());
     std::printf(
         "bridge: published %lld, dropped %lld, commands %lld, refused %lld, bad tag %lld, "
-        "replayed %lld, malformed %lld\n",
+        "replayed %lld, stale %lld, malformed %lld\n",
         static_cast<long long>(m->published), static_cast<long long>(m->dropped),
         static_cast<long long>(m->commands), static_cast<long long>(m->refused),
         static_cast<long long>(m->bad_tag), static_cast<long long>(m->replayed),
-        static_cast<long long>(m->malformed));
+        static_cast<long long>(m->stale), static_cast<long long>(m->malformed));
+    // The bridge's transport: what it received, delivered and dropped (by
+    // reason), the counters that are not zero.
+    std::string counts;
+    for (std::size_t k = 0; k < std::size_t(m->n_transport); ++k)
+      if (m->transport_count[k])
+        counts += (counts.empty() ? " " : ", ") + m->transport_counter[k] + " " +
+                  std::to_string(m->transport_count[k]);
+    if (!counts.empty()) std::printf("transport:%s\n", counts.c_str());
     return 0;
   }
   if (cmd == "devices" || cmd == "alarms") {
@@ -425,4 +429,20 @@ int main(int argc, char** argv) {
     a = {cond};
   }
   return print_reply(c->command(cmd, a, err), err);
+}
+
+}  // namespace
+
+// Nothing ends plcctl with an uncaught exception: what escapes run() (a
+// file that cannot be written, the LCM link failing) is a message and exit
+// code 1.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "plcctl: " << e.what() << "\n";
+  } catch (...) {
+    std::cerr << "plcctl: an unknown error\n";
+  }
+  return 1;
 }

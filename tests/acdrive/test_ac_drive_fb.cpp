@@ -297,6 +297,27 @@ TEST(AcDriveAttributeFb, SetMotorDataAndErrorResponses_Section11_1) {
   EXPECT_EQ(a.ErrorID, error_id::kBadInput);
 }
 
+// Table 3.4.2 row 12: FaultRst is Set/Get, 0->1 = fault reset. An explicit
+// reset through the block works beside AcDrive's own output message (the
+// sim plugin's, every scan, with Fault Reset = 0): the edge counts when it
+// is written.
+TEST(AcDriveAttributeFb, SetFaultRstResetsTheDrive_Table3_4_2) {
+  AttrBench b;
+  b.fb.Enable = true;
+  b.run(100);
+  b.model->trip(7);
+  ASSERT_TRUE(b.run_until([&] { return b.model->state() == DriveState::Faulted; }, 100));
+  AcDriveAttribute a;
+  a.Service = 0x10;
+  a.Class = 0x29;
+  a.Attribute = 12;
+  a.Value = 1;
+  ASSERT_TRUE(b.exec(a));
+  EXPECT_FALSE(a.Error) << "ErrorID " << a.ErrorID;
+  ASSERT_TRUE(b.run_until([&] { return !b.fb.Faulted; }, 20));
+  EXPECT_EQ(b.model->state(), DriveState::Ready);
+}
+
 TEST(AcDriveAttributeFb, DoneHoldsWhileExecuteAndOneScanAfterAnEarlyDrop) {
   AttrBench b;
   b.fb.Enable = true;

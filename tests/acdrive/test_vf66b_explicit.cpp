@@ -5,66 +5,14 @@
 // instance, attribute, data.
 #include <gtest/gtest.h>
 
-#include <array>
-#include <vector>
-
-#include "acdrive_test_util.hpp"
-#include "plc/io/explicit_message.hpp"
-#include "vf66b/vf66b_model.hpp"
+#include "vf66b_explicit_harness.hpp"
 
 namespace plc::sim {
 
 using namespace std::chrono_literals;
-using Bytes = std::vector<std::uint8_t>;
-
-namespace {
-
-struct Answer {
-  io::RecordError error = io::RecordError::None;
-  Bytes data;
-  // The §11.1 general status of an Error Response, 0 for success.
-  [[nodiscard]] int general() const {
-    const auto c = static_cast<std::uint16_t>(error);
-    return c >= 0x100 ? (c >> 8) : (c == 0 ? 0 : -static_cast<int>(c));
-  }
-};
-
-struct Drive {
-  explicit Drive(unsigned j09 = 1, unsigned j10 = 1) {
-    const Vf66bConfig c = acdrive::test::net_config(j09, j10);
-    m = std::make_unique<Vf66bModel>(c);
-    out.assign(m->output_size(), 0);
-    in.assign(m->input_size(), 0);
-    step(20);
-  }
-  void step(int n = 1) {
-    for (int i = 0; i < n; ++i) {
-      now += 1ms;
-      m->step(now, 1ms, out, in);
-    }
-  }
-  Answer call(std::uint16_t index, const Bytes& req) {
-    std::array<std::uint8_t, io::kRecordMaxBytes> buf{};
-    std::size_t len = 0;
-    Answer a;
-    a.error = m->query_record(index, req, buf, len);
-    a.data.assign(buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(len));
-    return a;
-  }
-  Answer get(std::uint8_t cls, std::uint8_t inst, std::uint8_t attr) {
-    return call(0xD00E, {cls, inst, attr});
-  }
-  Answer set(std::uint8_t cls, std::uint8_t inst, std::uint8_t attr, const Bytes& data) {
-    Bytes req = {cls, inst, attr};
-    req.insert(req.end(), data.begin(), data.end());
-    return call(0xD010, req);
-  }
-  std::unique_ptr<Vf66bModel> m;
-  Bytes out, in;
-  TIME now{};
-};
-
-}  // namespace
+using test::Answer;
+using test::Bytes;
+using test::Drive;
 
 TEST(Vf66bExplicit, GetSupportedAttributes_Table3_3_2_Table3_4_2_Table3_5_2) {
   Drive d;
@@ -151,26 +99,6 @@ TEST(Vf66bExplicit, SetChecksAccessLengthAndValue_Section11_1) {
   EXPECT_EQ(d.set(0x2A, 1, 6, {2}).general(), 0);
   EXPECT_EQ(d.set(0x28, 1, 6, {0x2C, 0x01}).general(), 0);
   EXPECT_EQ(d.get(0x28, 1, 6).data, (Bytes{0x2C, 0x01})) << "30.0 A";
-}
-
-TEST(Vf66bExplicit, AssemblyCarriedDataRefuseSet_Section7_3) {
-  Drive d21(1, 1);
-  EXPECT_EQ(d21.set(0x29, 1, 3, {1}).general(), 0x10) << "Run1 is in assembly 21";
-  EXPECT_EQ(d21.set(0x29, 1, 5, {1}).general(), 0x10) << "NetCtrl is in assembly 21";
-  EXPECT_EQ(d21.set(0x2A, 1, 8, {0, 1}).general(), 0x10) << "SpeedRef is in assembly 21";
-  EXPECT_EQ(d21.set(0x29, 1, 12, {1}).general(), 0x10) << "FaultRst is in assembly 21";
-  Drive d20(0, 0);
-  EXPECT_EQ(d20.set(0x29, 1, 5, {0}).general(), 0) << "assembly 20 has no NetCtrl bit";
-  d20.step();
-  EXPECT_EQ(d20.get(0x29, 1, 15).data, Bytes{0}) << "CtrlFromNet follows the request";
-  EXPECT_EQ(d20.set(0x29, 1, 5, {1}).general(), 0);
-  // Run2 is not in assembly 20: set through the object it is an event of
-  // Table 3.4.3 (Run1 = 0 from the assembly).
-  d20.out = {0, 0, 0x00, 0x10};  // 512 rpm
-  EXPECT_EQ(d20.set(0x29, 1, 4, {1}).general(), 0);
-  d20.step(400);
-  EXPECT_EQ(d20.m->state(), acdrive::DriveState::Enabled);
-  EXPECT_DOUBLE_EQ(d20.m->speed_rpm(), -512);
 }
 
 TEST(Vf66bExplicit, SpeedScaleSetWhileStoppedOnlyAndVolatile_Section9_1) {

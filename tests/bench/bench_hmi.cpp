@@ -5,6 +5,9 @@
 //   published variables (the bridge asking at every scan: the worst case);
 // - hmi_publish_max_rate: snapshots of 1,000 changing variables that the
 //   bridge can encode and publish per second (memq://, no network);
+// - hmi_command_ring_round_trip: one command record into the shared ring
+//   and out again, with its reply record back (plchmi's and plcrun's host
+//   thread's copies; no scan thread touches the rings);
 // - hmi_scan_cpu_bridge_*: the scan thread's CPU time per scan with the
 //   bridge's thread publishing at 1000/s and without a bridge, in
 //   alternating blocks (ABAB), and the paired difference's median and
@@ -28,8 +31,8 @@
 #include <thread>
 
 #include "plc/hmi/bridge.hpp"
-#include "plc/hmi/host.hpp"
 #include "plc/hmi/checked_decode.hpp"
+#include "plc/hmi/host.hpp"
 #include "plc/program.hpp"
 #include "plc_bench/collector.hpp"
 #include "softplc_hmi/values_t.hpp"
@@ -178,6 +181,31 @@ void BM_ScanAndPublish1000(benchmark::State& state) {
 }
 BENCHMARK(BM_ScanAndPublish1000)->MinTime(1.0)->UseRealTime();
 
+// A command record through the command ring and a reply record back, in
+// the host's real shared memory.
+void BM_CommandRingRoundTrip(benchmark::State& state) {
+  Runtime rt(parse_cell_config(kCell, "bench.yaml"));
+  hmi::Host host(hmi_config("memq://"), "bench.yaml", lockstep());
+  host.attach(rt);
+  auto view = host.regions().view();
+  hmi::ipc::Ring<hmi::ipc::CommandRecord> to_host = view->commands();
+  hmi::ipc::Ring<hmi::ipc::CommandRecord> host_in = host.regions().commands();
+  hmi::ipc::Ring<hmi::ipc::ReplyRecord> to_bridge = host.regions().replies();
+  hmi::ipc::Ring<hmi::ipc::ReplyRecord> bridge_in = view->replies();
+  auto cmd = std::make_unique<hmi::ipc::CommandRecord>();
+  auto reply = std::make_unique<hmi::ipc::ReplyRecord>();
+  for (auto _ : state) {
+    cmd->token += 1;
+    if (!to_host.push(*cmd) || host_in.pop(*cmd) != decltype(host_in)::Pop::Got)
+      state.SkipWithError("command ring");
+    reply->token = cmd->token;
+    if (!to_bridge.push(*reply) || bridge_in.pop(*reply) != decltype(bridge_in)::Pop::Got)
+      state.SkipWithError("reply ring");
+    benchmark::DoNotOptimize(reply->token);
+  }
+}
+BENCHMARK(BM_CommandRingRoundTrip)->MinTime(0.5);
+
 // Real time, the whole path: a 1 ms task in this process, the HMI host
 // starting plchmi (the bridge's own process) at `rate`, and a client in
 // this process on udpm: each value message's delay from the scan's copy
@@ -187,9 +215,10 @@ BENCHMARK(BM_ScanAndPublish1000)->MinTime(1.0)->UseRealTime();
 std::vector<std::int64_t> latency_run(int rate, std::chrono::seconds span, std::string& why) {
   // A port of its own: never mixed with a cell running on this host.
   const std::string url = "udpm://239.255.76.67:7697?ttl=0";
-  auto client = std::make_unique<lcm::LCM>(url);
-  if (!client->good()) {
-    why = "no multicast route (ip route add 224.0.0.0/4 dev lo)";
+  std::string no_route;
+  std::unique_ptr<hmi::Transport> client = hmi::open_transport(url, no_route);
+  if (!client) {
+    why = no_route;
     return {};
   }
   Runtime rt(parse_cell_config(kCell, "bench.yaml"));
@@ -211,13 +240,14 @@ std::vector<std::int64_t> latency_run(int rate, std::chrono::seconds span, std::
   hmi::subscribe_checked<softplc_hmi::values_t>(*client, "PLC_VALUES", &sink);
   rt.start(io::ClockMode::RealTime);
   host.start();
-  std::thread scans([&rt, span] { rt.run(io::ClockMode::RealTime, span + std::chrono::seconds(1)); });
+  std::thread scans(
+      [&rt, span] { rt.run(io::ClockMode::RealTime, span + std::chrono::seconds(1)); });
   // plchmi's first second: starting, describing; then the measured span.
   const auto begin = std::chrono::steady_clock::now() + std::chrono::seconds(1);
   const auto end = begin + span;
   for (auto now = std::chrono::steady_clock::now(); now < end;
        now = std::chrono::steady_clock::now()) {
-    client->handleTimeout(50);
+    client->handle_timeout(50);
     if (now < begin) {
       std::lock_guard<std::mutex> l(mu);
       delays.clear();
@@ -315,6 +345,7 @@ int main(int argc, char** argv) {
   std::printf("hmi_scan_cost_idle: %.0f ns/scan\n", c.cpu("BM_ScanBridgeIdle") - base);
   std::printf("hmi_scan_cost_1000_vars: %.0f ns/scan\n", c.cpu("BM_SnapshotCopy1000"));
   std::printf("hmi_scan_with_copy_1000_vars: %.0f ns\n", c.cpu("BM_ScanBridgeCopy1000"));
+  std::printf("hmi_command_ring_round_trip: %.0f ns\n", c.cpu("BM_CommandRingRoundTrip"));
   const double pub = c.wall("BM_ScanAndPublish1000") - c.wall("BM_ScanNoBridge");
   if (pub > 0) std::printf("hmi_publish_max_rate: %.0f snapshots/s\n", 1e9 / pub);
   const AbabResult ab = abab_run(60, 5000);

@@ -9,12 +9,15 @@ target reads its input. Rerun after a wire or file format changes:
 
     tests/fuzz/make_seeds.py build/bin/plcrun
 
-Files named crash-* (reproducers of fixed crashes) are left alone.
+Files named crash-* (reproducers of fixed crashes) are left alone, except
+hmi_commands' two, which are written again in the current command_t encoding.
 `make_seeds.py PLCRUN --recordings DIR` writes only the two recordings, into
 DIR (scripts/fuzz does, so the recording target always starts from the
 current file format).
 """
 import csv
+import hashlib
+import hmac
 import os
 import pathlib
 import shutil
@@ -81,6 +84,138 @@ def device_frames(rows, key, every=1):
     return changes(rows, key, every, new=b"\x03", keep=b"\x02")
 
 
+def lcm_fingerprint(members):
+    """An LCM struct's fingerprint as lcm-gen computes it (lcmgen.c,
+    lcm_struct_hash, then rotated left by one as the generated code does).
+    members: (name, type, [dimension sizes]) of primitive types only."""
+    mask = (1 << 64) - 1
+
+    def signed(v):
+        v &= mask
+        return v - (1 << 64) if v >> 63 else v
+
+    def update(v, c):
+        return signed(((v << 8) ^ (v >> 55)) + c)
+
+    def update_string(v, text):
+        v = update(v, len(text))
+        for ch in text.encode():
+            v = update(v, ch)
+        return v
+
+    v = 0x12345678
+    for name, typ, dims in members:
+        v = update_string(v, name)
+        v = update_string(v, typ)
+        v = update(v, len(dims))
+        for d in dims:
+            v = update(v, 0 if d.isdigit() else 1)  # LCM_CONST, LCM_VAR
+            v = update_string(v, d)
+    h = v & mask
+    return ((h << 1) + (h >> 63)) & mask
+
+
+# hmi-bridge/lcm/command_t.lcm
+COMMAND_T = lcm_fingerprint([
+    ("request_id", "int64_t", []), ("client", "string", []), ("verb", "string", []),
+    ("n_args", "int32_t", []), ("args", "string", ["n_args"]), ("epoch", "byte", ["16"]),
+    ("counter", "int64_t", []), ("tag", "byte", ["32"])])
+FUZZ_KEY = bytes([0x5a] * 32)  # fuzz_hmi_commands.cpp's key file
+
+
+def lcm_string(text):
+    b = text.encode() + b"\0"
+    return struct.pack(">i", len(b)) + b
+
+
+def command(verb, args, request_id=1, counter=1, epoch=bytes(16), tag=bytes(32), n_args=None):
+    return (struct.pack(">Qq", COMMAND_T, request_id) + lcm_string("seed") + lcm_string(verb) +
+            struct.pack(">i", len(args) if n_args is None else n_args) +
+            b"".join(lcm_string(a) for a in args) + epoch + struct.pack(">q", counter) + tag)
+
+
+def signed_command(verb, args, cell, epoch, prefix="PLC", channel="PLC_CMD"):
+    """Signed as plc::hmi::sign does (hmi-bridge/src/command_auth.cpp)."""
+    body = command(verb, args, epoch=epoch)
+    lp = lambda b: struct.pack(">I", len(b)) + b  # noqa: E731
+    msg = (b"softplc-hmi\0" + bytes([2, 1]) + lp(prefix.encode()) + lp(cell.encode()) +
+           lp(channel.encode()) + epoch + lp(body))
+    return body[:-32] + hmac.new(FUZZ_KEY, msg, hashlib.sha256).digest()
+
+
+def hmi_commands():
+    """One command_t after a byte choosing the bridge (0 open, 1 keyed)."""
+    clear("hmi_commands")
+    put("hmi_commands", "junk", b"\x00junk")
+    for name, verb, args in [("describe", "describe", []),
+                             ("read", "read", ["Cell.target_kg", "Cell.run", "%QW0"]),
+                             ("write", "write", ["Cell.target_kg", "2.5"]),
+                             ("write_refused", "write", ["Cell.run", "TRUE"]),
+                             ("force", "force", ["Cell.run", "TRUE"]),
+                             ("unforce_all", "unforce", ["all", "restore"]),
+                             ("step_refused", "step", ["3"])]:
+        put("hmi_commands", name + "_open", b"\x00" + command(verb, args))
+    put("hmi_commands", "write_keyed_untagged",
+        b"\x01" + command("write", ["Cell.target_kg", "2.5"]))
+    put("hmi_commands", "describe_keyed", b"\x01" + command("describe", []))
+    # A right tag for an epoch the bridge never has: refused as stale.
+    put("hmi_commands", "write_keyed_stale_epoch",
+        b"\x01" + signed_command("write", ["Cell.target_kg", "2.5"], "filling", bytes(16)))
+    # Argument counts that lcm-gen's decoder would resize its vector to.
+    put("hmi_commands", "crash-negative-n_args",
+        b"\x00" + command("read", ["Cell.run"], n_args=-1))
+    put("hmi_commands", "crash-huge-n_args",
+        b"\x00" + command("read", ["Cell.run"], n_args=0x7FFFFFFF))
+
+
+def lcm_udpm_seeds():
+    """LCM udpm datagrams (liblcm 1.3.1's format, big-endian) for the
+    lcm_udpm target, written here field by field: part 0 reads records
+    [sender][time step][length u16 LE][datagram], part 1 a message to
+    encode and the order of its fragments."""
+    clear("lcm_udpm")
+
+    def lc02(seq, channel, payload):
+        return struct.pack(">II", 0x4C433032, seq) + channel + b"\0" + payload
+
+    def lc03(seq, size, offset, no, n, channel, piece):
+        head = struct.pack(">IIIIHH", 0x4C433033, seq, size, offset, no, n)
+        return head + (channel + b"\0" if no == 0 else b"") + piece
+
+    def records(*datagrams):
+        return b"\x00" + b"".join(bytes([sender, step]) + struct.pack("<H", len(d)) + d
+                                  for sender, step, d in datagrams)
+
+    body = bytes(range(256)) + bytes(range(44))  # 300 bytes
+    put("lcm_udpm", "short_valid.bin", records((1, 0, lc02(0, b"PLC_CMD", body[:120]))))
+    put("lcm_udpm", "fragments_valid.bin", records(
+        (1, 1, lc03(5, 300, 0, 0, 3, b"PLC_DESC", body[:100])),
+        (2, 1, lc02(9, b"PLC_VALUES", body[:40])),
+        (1, 1, lc03(5, 300, 200, 2, 3, b"", body[200:])),
+        (1, 1, lc03(5, 300, 100, 1, 3, b"", body[100:200]))))
+    # Issue 22: fragment 0 of a 64-byte message, 32 bytes at offset
+    # 0xFFFFFFF0 (60 bytes on PLC_CMD), then a valid message.
+    put("lcm_udpm", "wrapping_offset.bin", records(
+        (1, 0, lc03(1, 64, 0xFFFFFFF0, 0, 2, b"PLC_CMD", b"A" * 32)),
+        (1, 1, lc02(2, b"PLC_CMD", body[:16]))))
+    put("lcm_udpm", "hostile_mix.bin", records(
+        (3, 0, struct.pack(">III", 0x4C433033, 9, 64)),
+        (3, 0, lc03(4, 0xFFFFFFFF, 0, 0, 2, b"PLC_CMD", b"x" * 32)),
+        (3, 0, lc03(5, 64, 0, 0, 0, b"PLC_CMD", b"x" * 32)),
+        (3, 0, lc03(6, 64, 0, 7, 2, b"PLC_CMD", b"x" * 32)),
+        (3, 0, lc02(7, b"X" * 80, b"\x01")),
+        (4, 0, lc03(8, 100, 0, 0, 3, b"PLC_CMD", b"a" * 50)),
+        (4, 0, lc03(8, 100, 40, 1, 3, b"", b"b" * 30)),
+        (4, 0, lc03(8, 100, 80, 2, 3, b"", b"c" * 20)),
+        (5, 0, b"GET / HTTP/1.0\r\n")))
+    # Part 1: channel (length, letters), size/4 (u16 LE: 200,000 bytes, four
+    # fragments), generator seed, seqno, then shuffle and per-fragment bytes.
+    put("lcm_udpm", "round_trip.bin",
+        b"\x01" + bytes([10]) + bytes([15, 11, 2, 4, 21, 0, 11, 20, 4, 18]) +
+        struct.pack("<HII", 50000, 0x12345678, 42) + bytes([1, 0]) +
+        bytes([1, 8]) + lc02(1, b"PLC_CMD", b"") + bytes([2, 0, 0, 0xFF, 0, 0]))
+
+
 def recordings(plcrun, out, tmp):
     """A recording from scan 0 and one started mid-session (with a snapshot)."""
     out.mkdir(parents=True, exist_ok=True)
@@ -131,6 +266,8 @@ def main():
             put("debugger", f"commands{i}.txt", script)
 
         recordings(plcrun, CORPUS / "recording", tmp)
+        hmi_commands()
+        lcm_udpm_seeds()
 
         rows = trace_bytes(plcrun, tmp, 1500)
         # drive: selector = part * 3 + telegram (2 = telegram 111)

@@ -41,7 +41,7 @@ hmi:
 
 // A virtual-time debugger session of the demo cell with its bridge.
 struct HmiCell {
-  // Declared first: they outlive the bridge's LCM that calls them.
+  // Declared first: they outlive the bridge's transport that calls them.
   struct ValuesSink {
     HmiCell* h;
     void on(const softplc_hmi::values_t& m) {
@@ -78,13 +78,13 @@ struct HmiCell {
     bridge = std::make_unique<plc::hmi::Bridge>(host->regions().view());
     bridge->set_peer([this] { host->round(); });
     host->on_new_regions([this] { bridge->attach(host->regions().view()); });
-    // memq:// queues per lcm::LCM instance: the test's subscriptions are on
-    // the bridge's LCM, added here before anything handles it; the bridge's
-    // thread is never started (the test drives service() itself), so one
-    // thread subscribes, handles and publishes (LCM's threading rule).
-    plc::hmi::subscribe_checked<softplc_hmi::values_t>(bridge->lcm(), bridge->channels().values,
-                                                       &values_sink);
-    plc::hmi::subscribe_checked<softplc_hmi::reply_t>(bridge->lcm(), bridge->channels().reply,
+    // memq:// queues per transport: the test's subscriptions are on the
+    // bridge's transport, added here before anything handles it; the
+    // bridge's thread is never started (the test drives service() itself),
+    // so one thread subscribes, handles and publishes (the transport's rule).
+    plc::hmi::subscribe_checked<softplc_hmi::values_t>(bridge->transport(),
+                                                       bridge->channels().values, &values_sink);
+    plc::hmi::subscribe_checked<softplc_hmi::reply_t>(bridge->transport(), bridge->channels().reply,
                                                       &reply_sink);
   }
   ~HmiCell() {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "plc/hmi/checked_decode.hpp"
+#include "plc/hmi/memq_transport.hpp"
 
 using namespace plc::hmi;
 
@@ -54,6 +55,9 @@ TEST(HmiCheckedDecode, ShapesMatchTheLcmTypes) {
   softplc_hmi::stats_t s{};
   s.tasks.resize(2);
   s.n = 2;
+  s.transport_counter = {"datagrams", "bad_fragment"};
+  s.transport_count = {5, 1};
+  s.n_transport = 2;
   softplc_hmi::cell_description_t d{};
   d.vars.resize(3);
   d.n = 3;
@@ -102,26 +106,25 @@ TEST(HmiCheckedDecode, HostileCountsAreRefusedBeforeDecoding) {
     EXPECT_FALSE(checked_decode(good.data(), cut, out)) << cut;
 }
 
-// Through LCM as plcctl receives it (memq://, in-process): hostile replies
-// are dropped (on_malformed), the good one after them arrives.
+// Through a transport as plcctl receives it (memq://, in-process): hostile
+// replies are dropped (on_malformed), the good one after them arrives.
 TEST(HmiCheckedDecode, PlcctlSubscriptionDropsHostileMessages) {
-  lcm::LCM lcm("memq://");
-  ASSERT_TRUE(lcm.good());
+  MemqTransport memq;
   struct Sink {
     int good = 0, malformed = 0;
     void on(const softplc_hmi::reply_t& r) { good += r.request_id == 7; }
     void on_malformed() { ++malformed; }
   } sink;
-  auto* s = subscribe_checked<softplc_hmi::reply_t>(lcm, "PLC_REPLY", &sink);
+  auto* s = subscribe_checked<softplc_hmi::reply_t>(memq, "PLC_REPLY", &sink);
   auto b = encoded(reply_with_one_value());
   auto hostile = b;
   put_int32(hostile, 8 + 8 + 6 + 1 + 5 + 5, 0xFFFFFFFFU);
-  lcm.publish("PLC_REPLY", hostile.data(), unsigned(hostile.size()));
+  memq.publish("PLC_REPLY", hostile.data(), unsigned(hostile.size()));
   put_int32(hostile, 8 + 8 + 6 + 1 + 5 + 5, 0x7FFFFFFFU);
-  lcm.publish("PLC_REPLY", hostile.data(), unsigned(hostile.size()));
-  lcm.publish("PLC_REPLY", b.data(), unsigned(b.size()));
-  for (int i = 0; i < 10 && sink.good + sink.malformed < 3; ++i) lcm.handleTimeout(0);
-  lcm.unsubscribe(s);
+  memq.publish("PLC_REPLY", hostile.data(), unsigned(hostile.size()));
+  memq.publish("PLC_REPLY", b.data(), unsigned(b.size()));
+  for (int i = 0; i < 10 && sink.good + sink.malformed < 3; ++i) memq.handle_timeout(0);
+  memq.unsubscribe(s);
   EXPECT_EQ(sink.malformed, 2);
   EXPECT_EQ(sink.good, 1);
 }

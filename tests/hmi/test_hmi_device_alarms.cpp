@@ -66,10 +66,10 @@ const softplc_hmi::device_t* device(const softplc_hmi::diagnostics_t& d, const s
 }
 
 // One bridge round, then what it published handed to the test's
-// subscriptions (memq:// delivers on the next handle of the same LCM).
+// subscriptions (memq:// delivers on the next handle of the same transport).
 void round(plctest::HmiCell& h) {
   h.bridge->service();
-  for (int i = 0; i < 100 && h.bridge->lcm().handleTimeout(0) > 0; ++i) {
+  for (int i = 0; i < 100 && h.bridge->transport().handle_timeout(0) > 0; ++i) {
   }
 }
 
@@ -82,9 +82,9 @@ std::uint64_t slow_scans(debug::Debugger& dbg) {
 TEST(HmiBridge, DeviceLostAndBackAlarms) {
   plctest::HmiCell h(plctest::kHmiSection, "", cell_with_probe());
   Seen seen;
-  plc::hmi::subscribe_checked<softplc_hmi::alarm_t>(h.bridge->lcm(), h.bridge->channels().alarm,
-                                                    &seen);
-  plc::hmi::subscribe_checked<softplc_hmi::diagnostics_t>(h.bridge->lcm(),
+  plc::hmi::subscribe_checked<softplc_hmi::alarm_t>(h.bridge->transport(),
+                                                    h.bridge->channels().alarm, &seen);
+  plc::hmi::subscribe_checked<softplc_hmi::diagnostics_t>(h.bridge->transport(),
                                                           h.bridge->channels().diag, &seen);
   auto* sim = static_cast<io::SimPlugin*>(h.dbg->runtime().plugin("sim"));
   auto& model = static_cast<SwitchedLoopback&>(sim->device("probe")->model());
@@ -161,8 +161,8 @@ TEST(HmiBridge, DeviceLostAndBackAlarms) {
 TEST(HmiBridge, DeviceFlapBetweenTwoBridgeRoundsIsReported) {
   plctest::HmiCell h(plctest::kHmiSection, "", cell_with_probe());
   Seen seen;
-  plc::hmi::subscribe_checked<softplc_hmi::alarm_t>(h.bridge->lcm(), h.bridge->channels().alarm,
-                                                    &seen);
+  plc::hmi::subscribe_checked<softplc_hmi::alarm_t>(h.bridge->transport(),
+                                                    h.bridge->channels().alarm, &seen);
   auto* sim = static_cast<io::SimPlugin*>(h.dbg->runtime().plugin("sim"));
   auto& model = static_cast<SwitchedLoopback&>(sim->device("probe")->model());
   ASSERT_TRUE(h.dbg->step(5).ok);

@@ -15,12 +15,18 @@
 #include <chrono>
 #include <fstream>
 #include <mutex>
+#include <random>
 #include <sstream>
 #include <thread>
 
 #include "hmi_test_cell.hpp"
+#include "loopback_netns.hpp"
+#include "plc/hmi/checked_decode.hpp"
 #include "plc/hmi/host.hpp"
 #include "runtime/test_helpers.hpp"
+#include "softplc_hmi/alarm_t.hpp"
+#include "softplc_hmi/stats_t.hpp"
+#include "udpm_test_socket.hpp"
 
 using namespace plc;
 
@@ -41,8 +47,8 @@ std::string status_field(int pid, const std::string& key) {
   return "";
 }
 
-// The demo cell (real time, no watchdog) with `hmi` on memq://, its host
-// supervising plchmi from build/bin.
+// The demo cell (real time, no watchdog) with `hmi` on `url` (memq:// unless
+// said), its host supervising plchmi from build/bin.
 struct Supervised {
   CellConfig cfg;
   std::unique_ptr<Runtime> rt;
@@ -51,11 +57,12 @@ struct Supervised {
   mutable std::mutex mu;
   std::vector<std::string> log;
 
-  explicit Supervised(const std::string& extra = "", hmi::Supervisor::Backoff backoff = fast()) {
+  explicit Supervised(const std::string& extra = "", hmi::Supervisor::Backoff backoff = fast(),
+                      const std::string& url = "memq://") {
     std::string cell = plctest::demo_yaml();
     const auto wd = cell.find("watchdog: 10");
     if (wd != std::string::npos) cell.replace(wd, 12, "watchdog: 0 ");
-    cfg = parse_cell_config(cell + "\nhmi:\n  url: memq://\n  publish: [\"Tank.*\"]\n" + extra,
+    cfg = parse_cell_config(cell + "\nhmi:\n  url: " + url + "\n  publish: [\"Tank.*\"]\n" + extra,
                             "supervised.yaml");
     rt = std::make_unique<Runtime>(cfg);
     hmi::Host::Options o;
@@ -237,8 +244,8 @@ TEST(HmiSupervisedRealTime, BridgeRunsUnprivileged) {
     const bool known = target.rfind("/memfd:plc-hmi-", 0) == 0 ||
                        target.rfind("anon_inode:", 0) == 0 || target.rfind("pipe:", 0) == 0 ||
                        target.rfind("socket:", 0) == 0 || target.rfind("/dev/", 0) == 0;
-    const bool stdio = line.find(" 1 -> ") != std::string::npos ||
-                       line.find(" 2 -> ") != std::string::npos;
+    const bool stdio =
+        line.find(" 1 -> ") != std::string::npos || line.find(" 2 -> ") != std::string::npos;
     EXPECT_TRUE(known || stdio) << "plchmi holds " << line;
   }
   const std::string maps = plctest::read_file("/proc/" + std::to_string(pid) + "/maps");
@@ -323,4 +330,202 @@ TEST(HmiConfig, UserAndNetnsErrorsAreLocated) {
     EXPECT_NE(e.find(at), std::string::npos) << e;
     EXPECT_NE(e.find("/var/run/netns/no-such-namespace-here"), std::string::npos) << e;
   }
+}
+
+namespace {
+
+// The sockets open in this process ("socket:[...]" in /proc/self/fd).
+int open_sockets() {
+  const std::string fds =
+      plctest::run_command("ls -l /proc/" + std::to_string(getpid()) + "/fd").output;
+  return int(count(fds, "socket:["));
+}
+
+}  // namespace
+
+// Issue 22, "Hostile-bus tests": plchmi on udpm:// in a network namespace
+// of the test's own, plcrun's side (the host and a real-time cell) in this
+// process. The 60-byte wrapping-offset LC03 fragment that killed plcrun
+// inside liblcm, the other hostile datagrams of the issue's list and a
+// flood of 3000 random ones (seeded, a third with an LCM magic and our
+// command channel) go to plchmi's group and port: the cell scans on with
+// no more overruns than in a quiet second, plchmi stays the same process
+// (nothing crashed, nothing restarted), a command after the flood is
+// answered, and plchmi's stats_t counts the refusals by reason. plcrun's
+// side opened no socket: the network is plchmi's only.
+TEST(HmiSupervisedRealTime, HostileBusAgainstPlchmiLeavesTheCellScanning) {
+  std::string why;
+  auto ns = plctest::LoopbackNetns::create(why);
+  if (!ns) GTEST_SKIP() << "network namespaces unavailable, test skipped: " << why;
+  constexpr std::uint32_t kGroup = 0xEFFF4C5B;  // 239.255.76.91, a port of its own
+  constexpr std::uint16_t kPort = 7691;
+  const std::string url = "udpm://239.255.76.91:7691?ttl=0";
+  const int sockets_before = open_sockets();
+  Supervised s("  netns: " + ns->name() + "\n", Supervised::fast(), url);
+  s.run_cell(std::chrono::seconds(60));
+  s.host->start();
+  const int pid = s.wait_up();
+  ASSERT_GT(pid, 0) << s.lines();
+  EXPECT_EQ(open_sockets(), sockets_before) << "plcrun's side of the HMI opened a socket";
+
+  // The client and the attacker, both inside the namespace.
+  struct Peer {
+    std::unique_ptr<hmi::Transport> t;
+    std::unique_ptr<plctest::udpm::GroupSocket> raw;
+  };
+  Peer peer = ns->in([&] {
+    Peer p;
+    std::string err;
+    p.t = hmi::open_transport(url, err);
+    p.raw = std::make_unique<plctest::udpm::GroupSocket>(kGroup, kPort, false);
+    return p;
+  });
+  ASSERT_TRUE(peer.t);
+  struct Sink {
+    std::vector<softplc_hmi::stats_t> stats;
+    std::vector<softplc_hmi::reply_t> replies;
+    void on(const softplc_hmi::stats_t& m) { stats.push_back(m); }
+    void on(const softplc_hmi::reply_t& m) { replies.push_back(m); }
+  } sink;
+  hmi::subscribe_checked<softplc_hmi::stats_t>(*peer.t, "PLC_STATS", &sink);
+  hmi::subscribe_checked<softplc_hmi::reply_t>(*peer.t, "PLC_REPLY", &sink);
+
+  const TaskRuntime& fast = *s.rt->tasks()[0];
+  auto window = [&](const std::function<void()>& during) {
+    const TaskStats a = fast.stats.snapshot();
+    const auto end = Clock::now() + std::chrono::seconds(1);
+    during();
+    while (Clock::now() < end) peer.t->handle_timeout(20);
+    const TaskStats b = fast.stats.snapshot();
+    return std::pair{b.overruns - a.overruns, b.scans - a.scans};
+  };
+  const auto quiet = window([] {});
+  const auto hostile = window([&] {
+    peer.raw->send(plctest::udpm::wrapping_offset_fragment("PLC_CMD"));
+    for (const auto& [d, reason] : plctest::udpm::hostile_set("PLC_CMD")) peer.raw->send(d);
+    std::mt19937 rng(22);
+    for (int i = 0; i < 3000; ++i) {
+      plctest::udpm::Bytes d(std::uniform_int_distribution<std::size_t>(0, 1400)(rng));
+      for (auto& b : d) b = std::uint8_t(rng());
+      if (i % 3 == 0 && d.size() >= 24) {  // past the magic: into the headers' checks
+        const auto head =
+            i % 2 ? plctest::udpm::lc02(std::uint32_t(i), "PLC_CMD", {})
+                  : plctest::udpm::lc03(std::uint32_t(i), rng(), rng(), std::uint16_t(rng()),
+                                        std::uint16_t(rng()), "PLC_CMD", {});
+        std::copy(head.begin(), head.end(), d.begin());
+      }
+      peer.raw->send(d);
+    }
+  });
+  ::testing::Test::RecordProperty("overruns_quiet", int(quiet.first));
+  ::testing::Test::RecordProperty("overruns_hostile", int(hostile.first));
+  EXPECT_LE(hostile.first, quiet.first + 5)
+      << "quiet " << quiet.first << ", hostile " << hostile.first;
+  EXPECT_GT(hostile.second, 500U) << "the 1 ms task ran " << hostile.second << " scans";
+  EXPECT_EQ(s.host->bridge_pid(), pid) << s.lines();
+  EXPECT_EQ(kill(pid, 0), 0);
+
+  // A command after the flood: answered.
+  softplc_hmi::command_t c{};
+  c.request_id = 77;
+  c.client = "after-the-flood";
+  c.verb = "read";
+  c.args = {"Tank.level"};
+  c.n_args = 1;
+  peer.t->publish("PLC_CMD", &c);
+  for (int i = 0; i < 200 && sink.replies.empty(); ++i) peer.t->handle_timeout(10);
+  ASSERT_EQ(sink.replies.size(), 1U);
+  EXPECT_TRUE(sink.replies[0].ok) << sink.replies[0].refusal;
+  // plchmi's own counts of what it refused, by reason (stats_t, 1 Hz).
+  std::map<std::string, std::int64_t> counted;
+  for (int i = 0; i < 300 && counted["bad_magic"] == 0; ++i) {
+    peer.t->handle_timeout(10);
+    if (!sink.stats.empty())
+      for (int k = 0; k < sink.stats.back().n_transport; ++k)
+        counted[sink.stats.back().transport_counter[std::size_t(k)]] =
+            sink.stats.back().transport_count[std::size_t(k)];
+  }
+  EXPECT_GE(counted["bad_fragment"], 4) << "the wrapping offset and three more of the set";
+  EXPECT_GE(counted["truncated"], 1);
+  EXPECT_GE(counted["oversized"], 1);
+  EXPECT_GE(counted["channel_unterminated"], 1);
+  EXPECT_GE(counted["channel_too_long"], 1);
+  EXPECT_GE(counted["bad_magic"], 1);
+  EXPECT_EQ(s.host->bridge_pid(), pid) << s.lines();
+}
+
+// Issue 22, "Process isolation": plchmi killed with SIGKILL while the cell
+// runs (udpm:// in a network namespace of the test's own, a client there).
+// The cell scans on, plcrun's host logs the exit and starts plchmi again
+// after the backoff, and the new plchmi publishes the hmi_lost alarm on
+// PREFIX_ALARM with the cause and how long the HMI was down; the client's
+// command is answered by the new process.
+TEST(HmiSupervisedRealTime, KilledBridgeRaisesTheHmiLostAlarmOnceBack) {
+  std::string why;
+  auto ns = plctest::LoopbackNetns::create(why);
+  if (!ns) GTEST_SKIP() << "network namespaces unavailable, test skipped: " << why;
+  const std::string url = "udpm://239.255.76.92:7692?ttl=0";
+  Supervised s("  netns: " + ns->name() + "\n", Supervised::fast(), url);
+  s.run_cell(std::chrono::seconds(60));
+  s.host->start();
+  const int pid = s.wait_up();
+  ASSERT_GT(pid, 0) << s.lines();
+  auto client = ns->in([&] {
+    std::string err;
+    return hmi::open_transport(url, err);
+  });
+  ASSERT_TRUE(client);
+  struct Sink {
+    std::vector<softplc_hmi::alarm_t> alarms;
+    std::vector<softplc_hmi::reply_t> replies;
+    void on(const softplc_hmi::alarm_t& m) { alarms.push_back(m); }
+    void on(const softplc_hmi::reply_t& m) { replies.push_back(m); }
+  } sink;
+  hmi::subscribe_checked<softplc_hmi::alarm_t>(*client, "PLC_ALARM", &sink);
+  hmi::subscribe_checked<softplc_hmi::reply_t>(*client, "PLC_REPLY", &sink);
+  const TaskRuntime& fast = *s.rt->tasks()[0];
+  const std::uint64_t scans_before = fast.stats.snapshot().scans;
+  ASSERT_EQ(kill(pid, SIGKILL), 0);
+  const int next = s.wait_pid(pid);
+  ASSERT_GT(next, 0) << s.lines();
+  bool lost = false;
+  for (int i = 0; i < 300 && !lost; ++i) {  // bounded: 3 s
+    client->handle_timeout(10);
+    for (const auto& a : sink.alarms) lost |= a.kind == "hmi_lost";
+  }
+  ASSERT_TRUE(lost) << s.lines();
+  for (const auto& a : sink.alarms)
+    if (a.kind == "hmi_lost") {
+      EXPECT_EQ(a.source, "hmi");
+      EXPECT_NE(a.text.find("signal 9"), std::string::npos) << a.text;
+      EXPECT_NE(a.text.find("the HMI was down"), std::string::npos) << a.text;
+    }
+  EXPECT_GT(fast.stats.snapshot().scans, scans_before + 100) << "the cell stopped scanning";
+  EXPECT_NE(s.lines().find("plchmi exited (signal 9, KILL)"), std::string::npos) << s.lines();
+  EXPECT_NE(s.lines().find("plchmi back"), std::string::npos) << s.lines();
+  softplc_hmi::command_t c{};
+  c.request_id = 5;
+  c.client = "after-the-crash";
+  c.verb = "read";
+  c.args = {"Tank.level"};
+  c.n_args = 1;
+  client->publish("PLC_CMD", &c);
+  for (int i = 0; i < 200 && sink.replies.empty(); ++i) client->handle_timeout(10);
+  ASSERT_EQ(sink.replies.size(), 1U);
+  EXPECT_TRUE(sink.replies[0].ok) << sink.replies[0].refusal;
+}
+
+// plcrun itself holds no network code of the HMI: the transport (the only
+// code that parses LCM datagrams) is linked into plchmi and plcctl, not
+// into plcrun (hmi-bridge/CMakeLists.txt, plc_hmi_transport).
+TEST(HmiIsolation, PlcrunLinksNoTransportPlchmiDoes) {
+  const auto plcrun = plctest::run_command("nm -C " + plctest::bin_dir() + "/plcrun");
+  const auto plchmi = plctest::run_command("nm -C " + plctest::bin_dir() + "/plchmi");
+  if (plcrun.exit_code != 0 || plchmi.exit_code != 0) GTEST_SKIP() << "no nm, or stripped";
+  for (const char* symbol : {"plc::hmi::UdpmReceiver", "plc::hmi::open_transport",
+                             "plc::hmi::checked_decode", "plc::hmi::Bridge::"}) {
+    EXPECT_EQ(plcrun.output.find(symbol), std::string::npos) << symbol << " is in plcrun";
+  }
+  EXPECT_NE(plchmi.output.find("plc::hmi::UdpmReceiver"), std::string::npos);
+  EXPECT_NE(plchmi.output.find("plc::hmi::open_transport"), std::string::npos);
 }

@@ -10,9 +10,11 @@
 #include <sstream>
 
 #include "hmi_test_cell.hpp"
+#include "loopback_netns.hpp"
 #include "runtime/test_helpers.hpp"
 #include "softplc_hmi/cell_description_t.hpp"
 #include "softplc_hmi/values_t.hpp"
+#include "udpm_test_socket.hpp"
 
 namespace {
 
@@ -242,4 +244,134 @@ kill -TERM $PLC; wait $PLC
     ++lines;
   }
   EXPECT_GE(lines, 6);
+}
+
+namespace {
+
+// A command in the test's namespace, running on; its output (stdout and
+// stderr) is read line by line, and its exit status is printed last as
+// "<name>=<status>" (128 + signal when a signal ended it).
+struct Running {
+  std::FILE* out = nullptr;
+  Running(const plctest::LoopbackNetns& ns, const std::string& name, const std::string& cmd)
+      : out(::popen((ns.exec() + cmd + " 2>&1; echo " + name + "=$?").c_str(), "r")) {}
+  ~Running() {
+    if (out) ::pclose(out);
+  }
+  // The next line, or nullopt at the end (bounded by the command's own --for).
+  std::optional<std::string> line() {
+    char b[512];
+    if (!out || !std::fgets(b, sizeof b, out)) return std::nullopt;
+    return std::string(b);
+  }
+  std::string rest() {
+    std::string all;
+    for (int i = 0; i < 100000; ++i) {
+      auto l = line();
+      if (!l) break;
+      all += *l;
+    }
+    return all;
+  }
+};
+
+std::int64_t wall_us() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+// Issue 22's acceptance, as processes: the 60-byte wrapping-offset fragment
+// and the other hostile datagrams (hostile_set) sent three times to a
+// running plcrun's command channel and to the value and trace channels of a
+// running `plcctl watch` and `plcctl log`. All three keep running: watch
+// prints values sent after the last burst, log records them (and none of
+// the hostile bytes), plcrun answers `plcctl read` and counts the datagrams
+// (`plcctl stats`: "transport: ... bad_fragment N"), and each ends with 0.
+// With liblcm 1.3.1's receive path all three died with SIGSEGV at the first
+// burst. In a network namespace of the test's own, every wait bounded
+// (plcrun --for 8s, plcctl --for/--timeout).
+TEST(HmiUdpmRealTime, HostileDatagramsLeavePlcrunAndPlcctlRunning) {
+  std::string why;
+  auto ns = plctest::LoopbackNetns::create(why);
+  if (!ns) GTEST_SKIP() << "network namespaces unavailable, test skipped: " << why;
+  const std::string dir = ::testing::TempDir() + "hmi_hostile_" + std::to_string(::getpid());
+  ASSERT_EQ(sh("rm -rf " + dir + " && mkdir -p " + dir).exit_code, 0);
+  std::ofstream(dir + "/cell.yaml") << realtime_demo_cell(R"(
+hmi:
+  url: udpm://239.255.76.67:7667?ttl=0
+  rate: 50
+  publish: ["Tank.*"]
+)");
+  const std::string bin = plctest::bin_dir();
+  Running plcrun(*ns, "plcrun", bin + "/plcrun " + dir + "/cell.yaml --realtime --for 8s");
+  bool up = false;
+  for (int i = 0; i < 40 && !up; ++i)
+    up = sh(ns->exec() + bin + "/plcctl --timeout 200 read Tank.level").exit_code == 0;
+  ASSERT_TRUE(up) << "the bridge never answered\n" << plcrun.rest();
+  Running log(*ns, "log", bin + "/plcctl log " + dir + "/session.lcm --for 4s");
+  Running watch(*ns, "watch", bin + "/plcctl watch Tank.level --count 60 --for 5s");
+  auto tx =
+      ns->in([] { return std::make_unique<plctest::udpm::GroupSocket>(0xEFFF4C43, 7667, false); });
+  std::size_t bursts = 0;
+  auto burst = [&] {
+    for (const std::string channel : {"PLC_CMD", "PLC_VALUES", "PLC_TRACE"})
+      for (const auto& [d, reason] : plctest::udpm::hostile_set(channel)) tx->send(d);
+    ++bursts;
+  };
+  // Bursts after watch's 1st, 10th and 20th line (log started before
+  // watch: by then it has long subscribed); then lines until watch ends.
+  int lines = 0, after_last = 0;
+  std::string watched;
+  std::int64_t last_burst_us = 0;
+  for (int i = 0; i < 200; ++i) {
+    const auto l = watch.line();
+    if (!l) break;
+    watched += *l;
+    if (l->rfind("watch=", 0) == 0) break;
+    ++lines;
+    if (bursts < 3 && (lines == 1 || lines == 10 || lines == 20)) {
+      burst();
+      last_burst_us = wall_us();
+      after_last = 0;
+    } else {
+      ++after_last;
+    }
+  }
+  EXPECT_EQ(bursts, 3U) << watched;
+  EXPECT_GE(after_last, 10) << "watch printed too little after the last burst:\n" << watched;
+  EXPECT_NE(watched.find("watch=0"), std::string::npos) << watched;
+  const auto read = sh(ns->exec() + bin + "/plcctl --timeout 2000 read Tank.level");
+  EXPECT_EQ(read.exit_code, 0) << read.output;
+  const auto stats = sh(ns->exec() + bin + "/plcctl --timeout 3000 stats");
+  EXPECT_EQ(stats.exit_code, 0) << stats.output;
+  // The bridge reads every datagram to the group: 3 bursts x 3 channels x 3 bad fragments.
+  EXPECT_NE(stats.output.find("bad_fragment 27"), std::string::npos) << stats.output;
+  const std::string logged = log.rest();
+  EXPECT_NE(logged.find("log=0"), std::string::npos) << logged;
+  const std::string ran = plcrun.rest();
+  EXPECT_NE(ran.find("plcrun=0"), std::string::npos) << ran;
+
+  // The log: values recorded after the last burst, every event a message
+  // the bridge sent (it decodes as its channel's type), no hostile bytes.
+  lcm::LogFile f(dir + "/session.lcm", "r");
+  ASSERT_TRUE(f.good());
+  int values_after = 0, events = 0;
+  for (int i = 0; i < 100000; ++i) {
+    const lcm::LogEvent* e = f.readNextEvent();
+    if (!e) break;
+    ++events;
+    if (e->channel == "PLC_VALUES") {
+      softplc_hmi::values_t m;
+      EXPECT_TRUE(plc::hmi::checked_decode(e->data, std::size_t(e->datalen), m));
+      values_after += e->timestamp > last_burst_us;
+    } else if (e->channel == "PLC_TRACE") {
+      softplc_hmi::trace_sample_t m;
+      EXPECT_TRUE(plc::hmi::checked_decode(e->data, std::size_t(e->datalen), m));
+    }
+  }
+  EXPECT_GT(events, 20);
+  EXPECT_GT(values_after, 5);
 }

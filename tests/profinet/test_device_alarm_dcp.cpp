@@ -173,6 +173,39 @@ TEST_F(DeviceDcp, IdentifyByNameAnswersOnlyTheNamedDevice) {
   EXPECT_EQ(dcp_answers().size(), 1u);
 }
 
+// A name of odd length (rt-labs-dev, 11): the Set and the Identify carry
+// the padding octet, counted in DCPDataLength (IEC 61158-6-10 DCP, as
+// p-net sends it); an Identify that leaves the pad out of DCPDataLength
+// (as we sent it before) is answered too.
+TEST_F(DeviceDcp, OddLengthNameSetAndIdentifiedWithThePadCountedOrNot) {
+  pn::DcpSetRequest s;
+  s.station_name = "rt-labs-dev";
+  ctl_eth->send(pn::encode_dcp_set_request(kDevMac, kCtlMac, 5, s));
+  run(milliseconds(1));
+  auto a = dcp_answers();
+  ASSERT_EQ(a.size(), 1u);
+  std::vector<pn::DcpSetResult> results;
+  ASSERT_TRUE(pn::set_results_from(a[0], results));
+  ASSERT_EQ(results.size(), 1u);
+  EXPECT_EQ(results[0].error, pn::dcp::kErrorOk);
+  EXPECT_EQ(dev->station_name(), "rt-labs-dev");
+
+  auto counted = pn::encode_dcp_identify_request(kCtlMac, 6, std::string("rt-labs-dev"), 1);
+  const std::size_t data_length_at = 14 + 2 + 9;  // low octet of DCPDataLength
+  ASSERT_EQ(counted[data_length_at], 16);
+  auto uncounted = counted;
+  uncounted[data_length_at] = 15;
+  for (const auto& request : {counted, uncounted}) {
+    ctl_eth->send(request);
+    run(milliseconds(1));
+    a = dcp_answers();
+    ASSERT_EQ(a.size(), 1u);
+    pn::DcpIdentity id;
+    ASSERT_TRUE(pn::identity_from(a[0], id));
+    EXPECT_EQ(id.station_name, "rt-labs-dev");
+  }
+}
+
 TEST_F(DeviceDcp, SetNameAndIpThenConnectAtTheNewAddress) {
   pn::DcpSetRequest s;
   s.station_name = "conveyor";

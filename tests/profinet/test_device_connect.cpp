@@ -91,7 +91,33 @@ const std::vector<Refusal>& refusals() {
       // pf_cmdev_check_iocr_param
       {"IocrTypeUnknown", [](auto& q) { q.iocrs[0].iocr_type = 7; }, 0x02, 4},
       {"IocrLtNotProfinet", [](auto& q) { q.iocrs[0].lt = 0x0800; }, 0x02, 6},
-      {"IocrRtClass3", [](auto& q) { q.iocrs[0].iocr_properties = 3; }, 0x02, 7},
+      // RT_CLASS_3 passes the RT class check; its input FrameID range is 0x0100..0x7FFF.
+      {"IocrRtClass3InputFrameIdOfRtClass1", [](auto& q) { q.iocrs[0].iocr_properties = 3; }, 0x02,
+       9},
+      {"IocrRtClass6", [](auto& q) { q.iocrs[0].iocr_properties = 6; }, 0x02, 7},
+      {"AdvancedStartupWithRtClass1", [](auto& q) { q.ar.ar_properties |= 0x40000000U; }, 0x02, 7},
+      {"RtClass2InputFrameIdOfRtClass1", [](auto& q) { q.iocrs[0].iocr_properties = 2; }, 0x02, 9},
+      {"RtClass2DataLength1441",
+       [](auto& q) {
+         q.iocrs[0].iocr_properties = 2;
+         q.iocrs[0].frame_id = 0x8001;
+         q.iocrs[0].data_length = 1441;
+       },
+       0x02, 8},
+      {"RtClassUdpWithInitiatorMac",
+       [](auto& q) {
+         q.iocrs[0].iocr_properties = 4;
+         q.iocrs[0].lt = 0x0800;
+       },
+       0x01, 7},
+      {"RtClassUdpRtPortBelow0x400",
+       [](auto& q) {
+         q.iocrs[0].iocr_properties = 4;
+         q.iocrs[0].lt = 0x0800;
+         q.ar.cm_initiator_mac = {};
+         q.ar.initiator_udp_rt_port = 0x03FF;
+       },
+       0x01, 11},
       {"IocrReservedBitsSet", [](auto& q) { q.iocrs[0].iocr_properties |= 0x10; }, 0x02, 7},
       {"IocrDataLength39", [](auto& q) { q.iocrs[0].data_length = 39; }, 0x02, 8},
       {"IocrDataLength1441", [](auto& q) { q.iocrs[0].data_length = 1441; }, 0x02, 8},
@@ -124,6 +150,61 @@ const std::vector<Refusal>& refusals() {
        [](auto& q) { q.expected[1].modules[0].submodules[0].length_iops = 2; }, 0x03, 15},
       {"ExpectedSubmoduleLengthIocs2",
        [](auto& q) { q.expected[1].modules[0].submodules[0].length_iocs = 2; }, 0x03, 16},
+      {"ExpectedSubmoduleInNoIocr",
+       [](auto& q) {
+         for (auto& c : q.iocrs) {
+           auto& a = c.apis[0];
+           std::erase_if(a.data_objects, [](const auto& e) { return e.slot == 1; });
+           std::erase_if(a.iocs, [](const auto& e) { return e.slot == 1; });
+         }
+       },
+       0x03, 10},
+      {"ExpectedNoIoWithAnOutputDescription",
+       [](auto& q) {
+         auto& s = q.expected[0].modules[0].submodules[0];
+         s.wire_type = pn::submodule::kTypeNoIo;
+         s.descriptions = {{pn::submodule::kDataOutput, 0, 1, 1}};
+       },
+       0x03, 12},
+      {"ExpectedIoSubmoduleWithOneDescription",
+       [](auto& q) {
+         auto& s = q.expected[1].modules[0].submodules[0];
+         s.wire_type = pn::submodule::kTypeInputOutput;
+         s.descriptions = {{pn::submodule::kDataInput, 4, 1, 1}};
+       },
+       0x03, 12},
+      {"ExpectedSharedInputOnOutputSubmodule",
+       [](auto& q) {
+         auto& s = q.expected[1].modules[0].submodules[0];
+         s.wire_type = pn::submodule::kTypeOutput;
+         s.descriptions = {{pn::submodule::kDataOutput, 4, 1, 1}};
+         s.properties = pn::submodule::kSharedInput;
+       },
+       0x03, 12},
+      {"ExpectedReduceInputOnIoSubmodule",
+       [](auto& q) {
+         q.expected[1].modules[0].submodules[0].properties = pn::submodule::kReduceInputLength;
+       },
+       0x03, 12},
+      {"ExpectedReduceOutputOnIoSubmodule",
+       [](auto& q) {
+         q.expected[1].modules[0].submodules[0].properties = pn::submodule::kReduceOutputLength;
+       },
+       0x03, 12},
+      {"ExpectedDiscardIoxsOnNoIoSubmodule",
+       [](auto& q) {
+         q.expected[0].modules[0].submodules[0].properties = pn::submodule::kDiscardIoxs;
+       },
+       0x03, 12},
+      {"ExpectedNoIoWithData",
+       [](auto& q) {
+         auto& s = q.expected[0].modules[0].submodules[0];
+         s.wire_type = pn::submodule::kTypeNoIo;
+         s.descriptions = {{pn::submodule::kDataInput, 2, 1, 1}};
+       },
+       0x03, 14},
+      {"ExpectedDataLength1440",
+       [](auto& q) { q.expected[1].modules[0].submodules[0].input_length = 1440; }, 0x03, 14},
       // pf_cmdev_check_iocr_apis
       {"IocrApiNotExpected", [](auto& q) { q.iocrs[0].apis[0].api = 0x3A00; }, 0x02, 20},
       {"IocrDataObjectTwice",
@@ -139,8 +220,54 @@ const std::vector<Refusal>& refusals() {
          d.back().frame_offset = d.front().frame_offset;
        },
        0x02, 24},
+      {"IocrApiWithoutEntries",
+       [](auto& q) {
+         q.iocrs[0].apis[0].data_objects.clear();
+         q.iocrs[0].apis[0].iocs.clear();
+       },
+       0x02, 21},
+      {"IocrDataObjectOfUnexpectedSlot",
+       [](auto& q) {
+         q.iocrs[0].apis[0].data_objects.push_back({7, 1, 30});
+       },
+       0x02, 22},
+      {"IocrDataObjectOfUnexpectedSubslot",
+       [](auto& q) {
+         q.iocrs[0].apis[0].data_objects.push_back({1, 9, 30});
+       },
+       0x02, 23},
+      {"OutputIocrDataObjectOfNoIoSubmodule",
+       [](auto& q) {
+         q.iocrs[1].apis[0].data_objects.push_back({0, 1, 30});
+       },
+       0x02, 23},
+      {"IocrIocsTwice",
+       [](auto& q) { q.iocrs[0].apis[0].iocs.push_back(q.iocrs[0].apis[0].iocs[0]); }, 0x02, 27},
+      {"IocsOfUnexpectedSubmodule",
+       [](auto& q) {
+         q.iocrs[0].apis[0].iocs.push_back({5, 1, 30});
+       },
+       0x02, 27},
+      {"InputIocrIocsOfNoIoSubmodule",
+       [](auto& q) {
+         q.iocrs[0].apis[0].iocs.push_back({0, 1, 30});
+       },
+       0x02, 27},
+      {"IocsBeyondDataLength", [](auto& q) { q.iocrs[0].apis[0].iocs[0].frame_offset = 40; }, 0x02,
+       28},
+      {"IocsOnAnotherSubmodulesData", [](auto& q) { q.iocrs[0].apis[0].iocs[0].frame_offset = 0; },
+       0x02, 28},
       // pf_cmdev_check_apdu: block counts
       {"OutputIocrMissing", [](auto& q) { q.iocrs.pop_back(); }, 0x40, 2},
+      {"AlarmCrMissing", [](auto& q) { q.alarm_cr_blocks = 0; }, 0x40, 3},
+      {"AlarmCrTwice", [](auto& q) { q.alarm_cr_blocks = 2; }, 0x40, 3},
+      // RT_CLASS_3 without an IRInfoBlock.
+      {"RtClass3WithoutIrInfo",
+       [](auto& q) {
+         for (auto& c : q.iocrs) c.iocr_properties = 3;
+         q.iocrs[0].frame_id = 0x0100;
+       },
+       0x40, 3},
       // pf_cmdev_check_alarm_cr
       {"AlarmCrTypeNot1", [](auto& q) { q.alarm_cr.alarm_cr_type = 2; }, 0x04, 4},
       {"AlarmCrLtNotProfinet", [](auto& q) { q.alarm_cr.lt = 0x0800; }, 0x04, 5},
@@ -152,6 +279,8 @@ const std::vector<Refusal>& refusals() {
       {"AlarmCrMaxData1433", [](auto& q) { q.alarm_cr.max_alarm_data_length = 1433; }, 0x04, 10},
       {"AlarmCrHighPriorityNot6", [](auto& q) { q.alarm_cr.tag_header_high = 0xA000; }, 0x04, 11},
       {"AlarmCrLowPriorityNot5", [](auto& q) { q.alarm_cr.tag_header_low = 0xC000; }, 0x04, 12},
+      // pf_cmdev_check_ar_rpc
+      {"ArRpcServerPortBelow0x400", [](auto& q) { q.ar_rpc = pn::ArRpcBlockReq{0x03FF}; }, 0x07, 4},
   };
   return r;
 }
@@ -195,9 +324,16 @@ TEST_F(DeviceConnect, FaultSwitchRefusesWithTheGivenStatus) {
   EXPECT_TRUE(connect(connect_request()).ok());
 }
 
-TEST_F(DeviceConnect, UndecodableConnectIsRefusedAsUnknownBlocks) {
-  const std::vector<std::uint8_t> junk{0x01, 0x01, 0x00, 0x02, 0x01, 0x00};
-  const auto a = call(pn::rpc::kOpConnect, junk);
+// pf_cmrpc.c: an ARBlockReq whose BlockLength (2) leaves out its fields is
+// a faulty AR block length (0x01 0x01); a block type we do not read is
+// CMRPC "unknown blocks" (0x40 0x01).
+TEST_F(DeviceConnect, UndecodableConnectIsRefusedWithPnetsReadingCodes) {
+  const std::vector<std::uint8_t> short_ar{0x01, 0x01, 0x00, 0x02, 0x01, 0x00};
+  auto a = call(pn::rpc::kOpConnect, short_ar);
+  ASSERT_TRUE(a.has_value());
+  EXPECT_EQ(a->ndr.status, pn::connect_refusal(0x01, 0x01));
+  const std::vector<std::uint8_t> unknown{0x01, 0x55, 0x00, 0x02, 0x01, 0x00};
+  a = call(pn::rpc::kOpConnect, unknown);
   ASSERT_TRUE(a.has_value());
   EXPECT_EQ(a->ndr.status, pn::connect_refusal(0x40, 0x01));
 }

@@ -121,6 +121,43 @@ TEST(WireDcp, IdentifyRequestIsPaddedMulticast) {
   EXPECT_EQ(v.frame_id, 0xFEFE);
 }
 
+// IEC 61158-6-10 DCP: a block of odd DCPBlockLength is followed by one
+// padding octet, after the last block of a request too, and DCPDataLength
+// counts it (as p-net's pf_dcp.c sends it and Wireshark reads it); an even
+// block has none. Decoding takes the pad counted or not.
+TEST(WireDcp, OddBlocksArePaddedAndThePadIsCountedInDcpDataLength) {
+  for (const std::string name : {"rt-labs-dev", "hiwin-e1"}) {
+    const bool odd = name.size() % 2 != 0;
+    pn::PnFrameView v;
+    const auto id = pn::encode_dcp_identify_request(pt::kCtrlMac, 7, name, 1);
+    ASSERT_TRUE(pn::decode_pn_frame(id, v));
+    EXPECT_EQ(v.pdu[8] << 8 | v.pdu[9], 4 + name.size() + (odd ? 1 : 0)) << name;
+    EXPECT_EQ(v.pdu[12] << 8 | v.pdu[13], name.size());  // DCPBlockLength: no pad
+    if (odd) {
+      EXPECT_EQ(v.pdu[14 + name.size()], 0);
+    }
+    pn::DcpMessage m;
+    ASSERT_TRUE(pn::decode_dcp(v.frame_id, v.pdu, m));
+    EXPECT_EQ(pn::identify_filter(m), name);
+    // The same request with the pad left out of DCPDataLength still reads.
+    if (odd) {
+      std::vector<std::uint8_t> uncounted(v.pdu.begin(), v.pdu.end());
+      uncounted[9] = static_cast<std::uint8_t>(uncounted[9] - 1);
+      ASSERT_TRUE(pn::decode_dcp(v.frame_id, uncounted, m));
+      EXPECT_EQ(pn::identify_filter(m), name);
+    }
+    pn::DcpSetRequest set;
+    set.station_name = name;
+    const auto sf = pn::encode_dcp_set_request(pt::kDevMac, pt::kCtrlMac, 8, set);
+    ASSERT_TRUE(pn::decode_pn_frame(sf, v));
+    EXPECT_EQ(v.pdu[8] << 8 | v.pdu[9], 4 + 2 + name.size() + (odd ? 1 : 0)) << name;
+    pn::DcpSetRequest back;
+    ASSERT_TRUE(pn::decode_dcp(v.frame_id, v.pdu, m));
+    ASSERT_TRUE(pn::set_request_from(m, back));
+    EXPECT_EQ(back.station_name, name);
+  }
+}
+
 // IEC 61158-6-10 NameOfStation rules.
 TEST(WireDcp, StationNameRules) {
   EXPECT_TRUE(pn::valid_station_name("hiwin-e1"));
@@ -248,8 +285,12 @@ TEST(WireCyclic, LargeLayoutIsNotPaddedAndTooLargeIsRefused) {
   EXPECT_EQ(pn::compute_layout(exp, l).error, pn::WireError::BadLength);
 }
 
-// An IOCR whose offsets overlap or miss a submodule is refused.
-TEST(WireCyclic, LayoutFromIocrRefusesOverlapAndMissing) {
+// An IOCR whose offsets overlap another submodule's bytes or run past
+// DataLength, or that lists an entry twice, is refused; one that leaves a
+// submodule out is taken as p-net takes it (that submodule's bytes do not
+// travel), and so is a submodule's IOCS on its own data (p-net compares a
+// submodule with the others only).
+TEST(WireCyclic, LayoutFromIocrRefusesOverlapAndTakesMissingEntries) {
   const auto exp = pt::expected_submodules();
   pn::CyclicLayout ctrl;
   ASSERT_TRUE(pn::compute_layout(exp, ctrl));
@@ -258,9 +299,21 @@ TEST(WireCyclic, LayoutFromIocrRefusesOverlapAndMissing) {
   auto overlap = req.iocrs[0];
   overlap.apis[0].data_objects[1].frame_offset = 0;
   EXPECT_EQ(pn::layout_from_iocr(overlap, exp, l).error, pn::WireError::BadLength);
+  auto twice = req.iocrs[0];
+  twice.apis[0].data_objects.push_back(twice.apis[0].data_objects.back());
+  EXPECT_EQ(pn::layout_from_iocr(twice, exp, l).error, pn::WireError::BadValue);
   auto missing = req.iocrs[0];
   missing.apis[0].data_objects.pop_back();
-  EXPECT_EQ(pn::layout_from_iocr(missing, exp, l).error, pn::WireError::BadValue);
+  ASSERT_TRUE(pn::layout_from_iocr(missing, exp, l));
+  EXPECT_EQ(l.data.size(), ctrl.input.data.size() - 1);
+  auto no_iocs = req.iocrs[1];
+  for (auto& a : no_iocs.apis) a.iocs.clear();
+  ASSERT_TRUE(pn::layout_from_iocr(no_iocs, exp, l));
+  EXPECT_TRUE(l.iocs.empty());
+  auto own = req.iocrs[0];
+  for (auto& a : own.apis)
+    for (auto& s : a.iocs) s.frame_offset = 3;  // the drive's IOCS on the drive's data
+  ASSERT_TRUE(pn::layout_from_iocr(own, exp, l));
   auto past = req.iocrs[1];
   ASSERT_EQ(past.apis[0].api, pt::kApiDrive);
   ASSERT_EQ(past.apis[0].data_objects.size(), 1u);

@@ -45,13 +45,14 @@ inline std::vector<ExpectedSubmoduleBlockReq> expected_submodules() {
   return {dap, drive};
 }
 
-inline ConnectRequest connect_request(const CyclicLayout& layout) {
+inline ConnectRequest connect_request(const CyclicLayout& layout,
+                                      const std::string& ctrl_name = kCtrlStationName) {
   ConnectRequest req;
   req.ar.ar_uuid = kArUuid;
   req.ar.session_key = 1;
   req.ar.cm_initiator_mac = kCtrlMac;
   req.ar.cm_initiator_object_uuid = pnio_object_uuid(1, 0x0001, 0x00FF);
-  req.ar.station_name = kCtrlStationName;
+  req.ar.station_name = ctrl_name;
   IocrBlockReq in;
   in.iocr_type = iocr::kTypeInput;
   in.iocr_reference = 1;
@@ -67,14 +68,14 @@ inline ConnectRequest connect_request(const CyclicLayout& layout) {
   return req;
 }
 
-inline ConnectResponse connect_response() {
+inline ConnectResponse connect_response(const std::string& device_name = kStationName) {
   ConnectResponse res;
   res.ar.ar_uuid = kArUuid;
   res.ar.session_key = 1;
   res.ar.cm_responder_mac = kDevMac;
   res.iocrs = {{iocr::kTypeInput, 1, kInputFrameId}, {iocr::kTypeOutput, 2, kOutputFrameId}};
   res.alarm_cr.local_alarm_reference = 0x0003;
-  res.ar_server = ArServerBlock{kStationName};
+  res.ar_server = ArServerBlock{device_name};
   return res;
 }
 
@@ -114,10 +115,13 @@ inline void add_rpc(std::vector<Frame>& out, const std::string& what, bool ctrl_
                                                    static_cast<std::uint16_t>(seq * 2 + 1))});
 }
 
-inline std::vector<Frame> whole_session() {
+// The station names are parameters: names of odd length make DCP blocks
+// and the ARBlockReq/ARServerBlock odd-sized (padding).
+inline std::vector<Frame> whole_session(const std::string& device_name = kStationName,
+                                        const std::string& ctrl_name = kCtrlStationName) {
   std::vector<Frame> f;
   DcpIdentity id;
-  id.station_name = kStationName;
+  id.station_name = device_name;
   id.type_of_station = "HIWIN E1 servo";
   id.vendor_id = kVendorId;
   id.device_id = kDeviceId;
@@ -132,7 +136,7 @@ inline std::vector<Frame> whole_session() {
   f.push_back({"DCP identify response (unnamed)",
                encode_dcp_identify_response(kCtrlMac, kDevMac, 0x1001, unnamed)});
   DcpSetRequest set;
-  set.station_name = kStationName;
+  set.station_name = device_name;
   f.push_back({"DCP set name request", encode_dcp_set_request(kDevMac, kCtrlMac, 0x1002, set)});
   const DcpSetResult name_ok[] = {{dcp::kOptDevice, dcp::kSubDeviceNameOfStation, dcp::kErrorOk}};
   f.push_back(
@@ -144,7 +148,7 @@ inline std::vector<Frame> whole_session() {
   const DcpSetResult ip_ok[] = {{dcp::kOptIp, dcp::kSubIpParameter, dcp::kErrorOk}};
   f.push_back({"DCP set IP response", encode_dcp_set_response(kCtrlMac, kDevMac, 0x1003, ip_ok)});
   f.push_back(
-      {"DCP identify by name", encode_dcp_identify_request(kCtrlMac, 0x1004, kStationName, 1)});
+      {"DCP identify by name", encode_dcp_identify_request(kCtrlMac, 0x1004, device_name, 1)});
   f.push_back(
       {"DCP identify response", encode_dcp_identify_response(kCtrlMac, kDevMac, 0x1004, id)});
   const std::pair<std::uint8_t, std::uint8_t> get[] = {
@@ -155,8 +159,9 @@ inline std::vector<Frame> whole_session() {
 
   CyclicLayout layout;
   (void)compute_layout(expected_submodules(), layout);
-  add_rpc(f, "Connect", true, rpc::kOpConnect, 0, encode_connect_request(connect_request(layout)),
-          encode_connect_response(connect_response()));
+  add_rpc(f, "Connect", true, rpc::kOpConnect, 0,
+          encode_connect_request(connect_request(layout, ctrl_name)),
+          encode_connect_response(connect_response(device_name)));
 
   // Start-up records: one MultipleWrite (two records, the first odd-sized
   // so padding goes between them), then a single write.

@@ -32,16 +32,15 @@ Bridge::Bridge(std::unique_ptr<ipc::Regions> regions, int doorbell)
       settings_(regions_->settings()),
       where_(bounded(settings_.cell_file, sizeof settings_.cell_file)),
       ch_(bounded(settings_.prefix, sizeof settings_.prefix)),
-      lcm_(bounded(settings_.url, sizeof settings_.url)),
+      epoch_(new_epoch()),
       doorbell_(doorbell),
       rec_(std::make_unique<ipc::CommandRecord>()),
       reply_(std::make_unique<ipc::ReplyRecord>()) {
-  const std::string url = bounded(settings_.url, sizeof settings_.url);
-  if (!lcm_.good())
+  std::string url_error;
+  transport_ = open_transport(bounded(settings_.url, sizeof settings_.url), url_error);
+  if (!transport_)
     throw std::runtime_error(where_ + ":" + std::to_string(settings_.url_line) + ":" +
-                             std::to_string(settings_.url_column) + ": key 'url': LCM cannot open '" +
-                             url +
-                             "' (udpm needs a multicast route: ip route add 224.0.0.0/4 dev lo)");
+                             std::to_string(settings_.url_column) + ": key 'url': " + url_error);
   if (settings_.rate < 1 || settings_.rate > 1000)
     throw std::runtime_error(where_ + ": hmi: rate " + std::to_string(settings_.rate) +
                              " out of range");
@@ -52,22 +51,19 @@ Bridge::Bridge(std::unique_ptr<ipc::Regions> regions, int doorbell)
   }
   std::string err;
   if (!load_view(err)) throw std::runtime_error(where_ + ": hmi: " + err);
-  sub_ = lcm_.subscribeFunction(
-      ch_.cmd,
-      +[](const lcm::ReceiveBuffer* rb, const std::string&, Bridge* self) {
-        // Replies are published after the handler returns: publishing from
-        // inside LCM's dispatch re-enters it (memq).
-        self->in_handler_ = true;
-        self->on_command_bytes(rb->data, rb->data_size);
-        self->in_handler_ = false;
-      },
-      this);
+  sub_ = transport_->subscribe(ch_.cmd, [this](const ReceiveBuffer& rb, const std::string&) {
+    // Replies are published after the handler returns, with the other
+    // messages of the round.
+    in_handler_ = true;
+    on_command_bytes(rb.data, rb.data_size);
+    in_handler_ = false;
+  });
   regions_->control().bridge_pid.store(std::uint64_t(getpid()), std::memory_order_relaxed);
 }
 
 Bridge::~Bridge() {
   stop();
-  if (sub_) lcm_.unsubscribe(sub_);
+  if (sub_) transport_->unsubscribe(sub_);
 }
 
 void Bridge::attach(std::unique_ptr<ipc::Regions> regions) {
@@ -92,6 +88,7 @@ bool Bridge::load_view(std::string& err) {
     const ipc::CellLayout& c = v->cell;
     softplc_hmi::cell_description_t& d = v->desc;
     d.cell = c.cell;
+    set_epoch(d, epoch_);
     d.layout_hash = static_cast<std::int64_t>(c.layout_hash);
     d.stop_commands_allowed = settings_.stop_commands != 0;
     d.key_required = key_.has_value();
@@ -114,8 +111,8 @@ bool Bridge::load_view(std::string& err) {
       View::Slot s;
       s.last.resize(c.slots[k].items.size());
       s.requested = regions_->control().requests[k].load(std::memory_order_acquire);
-      s.waiting = regions_->slot_header(c.slots[k]).filled.load(std::memory_order_acquire) !=
-                  s.requested;
+      s.waiting =
+          regions_->slot_header(c.slots[k]).filled.load(std::memory_order_acquire) != s.requested;
       s.asked = now;
       // Poll closely for two of the task's periods after asking (and a bit).
       const auto period = std::chrono::nanoseconds(c.tasks[c.slots[k].task].period_ns);
@@ -154,17 +151,28 @@ void Bridge::count(std::uint64_t BridgeCounters::*counter, std::uint64_t n) {
   m.refused.store(counters_.refused, std::memory_order_relaxed);
   m.bad_tag.store(counters_.bad_tag, std::memory_order_relaxed);
   m.replayed.store(counters_.replayed, std::memory_order_relaxed);
+  m.stale.store(counters_.stale, std::memory_order_relaxed);
   m.malformed.store(counters_.malformed, std::memory_order_relaxed);
 }
 
+TagContext Bridge::tag_context(const std::string& channel) const {
+  return {bounded(settings_.prefix, sizeof settings_.prefix),
+          view_ ? view_->cell.cell : std::string(), channel};
+}
+
 softplc_hmi::cell_description_t Bridge::description() {
-  return view_ ? view_->desc : softplc_hmi::cell_description_t{};
+  if (!view_) return {};
+  softplc_hmi::cell_description_t d = view_->desc;
+  if (key_) sign(d, *key_, tag_context(ch_.desc));
+  return d;
 }
 
 void Bridge::publish_description() {
   if (!view_) return;
-  view_->desc.utime = utime_now();
-  lcm_.publish(ch_.desc, &view_->desc);
+  softplc_hmi::cell_description_t d = view_->desc;
+  d.utime = utime_now();
+  if (key_) sign(d, *key_, tag_context(ch_.desc));
+  transport_->publish(ch_.desc, &d);
 }
 
 // ---------------------------------------------------------------- values
@@ -202,8 +210,8 @@ int Bridge::publish_slot(std::size_t s) {
   m.n = int(m.values.size());
   tr.n = int(tr.index.size());
   if (m.n == 0) return 0;
-  lcm_.publish(ch_.values, &m);
-  lcm_.publish(ch_.trace, &tr);
+  transport_->publish(ch_.values, &m);
+  transport_->publish(ch_.trace, &tr);
   if (full) st.last_full = now;
   return 1;
 }
@@ -249,7 +257,7 @@ bool Bridge::fast_poll(Clock::time_point now) const {
 int Bridge::service(int wait_ms) {
   // Bounded: at most 1000 waiting messages per round.
   for (int i = 0; i < 1000; ++i) {
-    const int n = lcm_.handleTimeout(i == 0 ? wait_ms : 0);
+    const int n = transport_->handle_timeout(i == 0 ? wait_ms : 0);
     flush_replies();
     if (n <= 0) break;
   }
@@ -259,9 +267,9 @@ int Bridge::service(int wait_ms) {
   const int sent = poll_fills();
   tick(Clock::now());
   // What this round published reaches subscribers of this process's own
-  // LCM (memq://) at its next dispatch: now, within the round. Commands
+  // transport (memq://) at its next dispatch: now, within the round. Commands
   // that come meanwhile are queued for plcrun's next round.
-  for (int i = 0; i < 1000 && lcm_.handleTimeout(0) > 0; ++i) flush_replies();
+  for (int i = 0; i < 1000 && transport_->handle_timeout(0) > 0; ++i) flush_replies();
   flush_replies();
   return sent;
 }
@@ -305,14 +313,14 @@ void Bridge::run(const std::atomic<bool>& stop) {
     if (fast_poll(now)) {
       // A snapshot or a reply is due any moment: look again in 100 us
       // (plcrun's scan thread makes no system call to wake us).
-      for (int i = 0; i < 1000 && lcm_.handleTimeout(0) > 0; ++i) flush_replies();
+      for (int i = 0; i < 1000 && transport_->handle_timeout(0) > 0; ++i) flush_replies();
       flush_replies();
       const timespec ts{0, 100'000};
       nanosleep(&ts, nullptr);
       continue;
     }
     const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(next - now).count();
-    lcm_.handleTimeout(int(std::clamp<std::int64_t>(ms, 1, 100)));
+    transport_->handle_timeout(int(std::clamp<std::int64_t>(ms, 1, 100)));
     flush_replies();
   }
 }

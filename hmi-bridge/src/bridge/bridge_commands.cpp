@@ -53,17 +53,21 @@ void Bridge::on_command_bytes(const void* data, std::size_t size) {
 
 void Bridge::publish_reply(softplc_hmi::reply_t r) {
   r.n = int(r.values.size());
+  // Every reply is signed, refusals too: with a random request id (plcctl)
+  // a signed reply to someone else's request answers nothing of its own.
+  set_epoch(r, epoch_);
+  if (key_) sign(r, *key_, tag_context(ch_.reply));
   if (in_handler_) {
     if (replies_.size() < 1000) replies_.push_back(std::move(r));
   } else {
-    lcm_.publish(ch_.reply, &r);
+    transport_->publish(ch_.reply, &r);
   }
 }
 
 void Bridge::flush_replies() {
   std::vector<softplc_hmi::reply_t> out;
   out.swap(replies_);
-  for (const auto& r : out) lcm_.publish(ch_.reply, &r);
+  for (const auto& r : out) transport_->publish(ch_.reply, &r);
 }
 
 std::optional<softplc_hmi::reply_t> Bridge::handle(const softplc_hmi::command_t& c) {
@@ -76,14 +80,16 @@ std::optional<softplc_hmi::reply_t> Bridge::handle(const softplc_hmi::command_t&
     count(counter);
     return std::optional<softplc_hmi::reply_t>(r);
   };
-  if (key_) {
-    if (!verify(c, *key_))
-      return refuse("bad tag: the HMAC does not verify", &BridgeCounters::bad_tag);
-    if (!replay_.fresh(c.client, c.counter))
-      return refuse("replayed: counter " + std::to_string(c.counter) +
-                        " is not above the last one of client '" + c.client + "'",
-                    &BridgeCounters::replayed);
-    replay_.accept(c.client, c.counter);
+  // describe changes nothing and is how a client learns the epoch it must
+  // sign for: it needs no tag (what it publishes is signed). authenticate()
+  // counts its refusals itself.
+  if (c.verb != "describe") {
+    std::string why = authenticate(c);
+    if (!why.empty()) {
+      r.ok = false;
+      r.refusal = std::move(why);
+      return r;
+    }
   }
   const std::string& v = c.verb;
   const auto& a = c.args;
@@ -140,14 +146,14 @@ std::optional<softplc_hmi::reply_t> Bridge::handle(const softplc_hmi::command_t&
       if (o && o->kind == WireOperand::Var && view.cell.vars[o->value].address)
         address = view.cell.vars[o->value].address->to_string();
       if (o && o->kind == WireOperand::Address)
-        address = io::IecAddress{io::Area(o->area), io::AddrSize(o->size), o->value, o->bit}
-                      .to_string();
+        address =
+            io::IecAddress{io::Area(o->area), io::AddrSize(o->size), o->value, o->bit}.to_string();
       p.addresses.push_back(address);
       if (!o) continue;
       if (rec.n_operands == ipc::kMaxReadOperands)
-        return refuse("read: at most " + std::to_string(ipc::kMaxReadOperands) +
-                          " variables per command",
-                      &BridgeCounters::refused);
+        return refuse(
+            "read: at most " + std::to_string(ipc::kMaxReadOperands) + " variables per command",
+            &BridgeCounters::refused);
       rec.operands[rec.n_operands++] = *o;
     }
     if (rec.n_operands == 0) {  // nothing plcrun needs to read
@@ -224,8 +230,8 @@ std::optional<softplc_hmi::reply_t> Bridge::handle(const softplc_hmi::command_t&
     if (a.size() != 1) return refuse("break: needs one CONDITION", &BridgeCounters::refused);
     // Compiled here, against the layout: plcrun gets code, not text.
     std::vector<ipc::WireOperand> ops;
-    const debug::ConditionResolver resolve =
-        [&](const std::string& name, std::string& why) -> std::optional<std::uint16_t> {
+    const debug::ConditionResolver resolve = [&](const std::string& name,
+                                                 std::string& why) -> std::optional<std::uint16_t> {
       const auto o = operand(name, why);
       if (!o) return std::nullopt;
       if (o->kind == WireOperand::Var && view.cell.vars[o->value].type == VarType::STRING) {
@@ -274,6 +280,42 @@ std::optional<softplc_hmi::reply_t> Bridge::handle(const softplc_hmi::command_t&
     return queue(rec, std::move(p));
   }
   return refuse("unknown verb '" + v + "'", &BridgeCounters::refused);
+}
+
+std::string Bridge::authenticate(const softplc_hmi::command_t& c) {
+  if (!key_) return "";
+  auto counted = [this](std::string why, std::uint64_t BridgeCounters::*counter) {
+    count(counter);
+    return why;
+  };
+  // The tag first: only then is the epoch the command carries its sender's.
+  if (!verify(c, *key_, tag_context(ch_.cmd)))
+    return counted(
+        "bad tag: the HMAC does not verify (no tag, another key, or signed for another cell, "
+        "prefix or channel)",
+        &BridgeCounters::bad_tag);
+  if (epoch_of(c) != epoch_)
+    return counted("stale epoch: signed for epoch " + to_hex(epoch_of(c)) +
+                       ", this bridge started since with epoch " + to_hex(epoch_) +
+                       " (a client sends it again for the reply's epoch)",
+                   &BridgeCounters::stale);
+  switch (replay_.check(c.client, c.counter)) {
+    case ReplayGuard::Verdict::fresh:
+      break;
+    case ReplayGuard::Verdict::replayed:
+      return counted("replayed: counter " + std::to_string(c.counter) +
+                         " is not above the last one of client '" + c.client + "'",
+                     &BridgeCounters::replayed);
+    case ReplayGuard::Verdict::below_floor:
+      return counted("replayed: counter " + std::to_string(c.counter) + " of client '" + c.client +
+                         "' is not above " + std::to_string(replay_.floor()) +
+                         ", the last counter of a client the bridge forgot (it tracks " +
+                         std::to_string(ReplayGuard::kMaxClients) +
+                         " clients per epoch; is this client's clock behind?)",
+                     &BridgeCounters::replayed);
+  }
+  replay_.accept(c.client, c.counter);
+  return "";
 }
 
 std::optional<softplc_hmi::reply_t> Bridge::queue(ipc::CommandRecord& rec, Pending p) {
@@ -354,9 +396,8 @@ void Bridge::drain_replies() {
 void Bridge::expire_pending(Clock::time_point now) {
   // plcrun answers every record it takes; one that stays unanswered this
   // long (its reply ring was full) is forgotten.
-  std::erase_if(pending_, [now](const auto& e) {
-    return now - e.second.sent > std::chrono::seconds(30);
-  });
+  std::erase_if(pending_,
+                [now](const auto& e) { return now - e.second.sent > std::chrono::seconds(30); });
 }
 
 }  // namespace plc::hmi

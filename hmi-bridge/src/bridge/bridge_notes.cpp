@@ -97,8 +97,15 @@ void Bridge::publish_stats() {
   m.refused = std::int64_t(c.refused);
   m.bad_tag = std::int64_t(c.bad_tag);
   m.replayed = std::int64_t(c.replayed);
+  m.stale = std::int64_t(c.stale);
   m.malformed = std::int64_t(c.malformed);
-  lcm_.publish(ch_.stats, &m);
+  for (std::size_t i = 0; i < epoch_.size(); ++i) m.epoch[i] = std::int8_t(epoch_[i]);
+  for (const auto& [name, n] : transport_->counters().named()) {
+    m.transport_counter.push_back(name);
+    m.transport_count.push_back(std::int64_t(n));
+  }
+  m.n_transport = int(m.transport_count.size());
+  transport_->publish(ch_.stats, &m);
 }
 
 void Bridge::publish_diagnostics() {
@@ -130,9 +137,8 @@ void Bridge::publish_diagnostics() {
         // Active: the device as its task's scans see it is not online.
         if (n.seen_state != kOnline) {
           softplc_hmi::alarm_t a =
-              n.changes && !n.torn
-                  ? device_alarm(cell, i, n.from, n.to, n.scan, n.time_ns, true)
-                  : device_alarm(cell, i, n.seen_state, n.seen_state, 0, 0, false);
+              n.changes && !n.torn ? device_alarm(cell, i, n.from, n.to, n.scan, n.time_ns, true)
+                                   : device_alarm(cell, i, n.seen_state, n.seen_state, 0, 0, false);
           if (!n.changes) a.text = std::string(state_name(n.seen_state)) + " since the start";
           if (n.changes && n.torn) a.text = state_name(n.seen_state);
           m.alarms.push_back(a);
@@ -155,7 +161,7 @@ void Bridge::publish_diagnostics() {
   }
   m.n_devices = int(m.devices.size());
   m.n_alarms = int(m.alarms.size());
-  lcm_.publish(ch_.diag, &m);
+  transport_->publish(ch_.diag, &m);
 }
 
 int Bridge::publish_device_alarms() {
@@ -216,7 +222,7 @@ int Bridge::publish_device_alarms() {
     }
     announced.store(upto, std::memory_order_relaxed);
   }
-  for (const auto& a : out) lcm_.publish(ch_.alarm, &a);
+  for (const auto& a : out) transport_->publish(ch_.alarm, &a);
   return int(out.size());
 }
 

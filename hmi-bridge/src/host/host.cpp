@@ -55,7 +55,8 @@ std::uint64_t boot_epoch() {
   std::uint64_t e = 0;
   // Never 0: 0 means "no epoch" to a reader.
   while (e == 0)
-    if (getrandom(&e, sizeof e, 0) != sizeof e) e = std::uint64_t(utime_now()) ^ std::uint64_t(getpid());
+    if (getrandom(&e, sizeof e, 0) != sizeof e)
+      e = std::uint64_t(utime_now()) ^ std::uint64_t(getpid());
   return e;
 }
 
@@ -203,14 +204,15 @@ void Host::attach(Runtime& rt) {
   for (std::size_t t = 0; t < per_task.size(); ++t) {
     if (per_task[t].empty()) continue;
     if (cell.slots.size() == ipc::kMaxSlots)
-      throw ConfigError(cell_file_, cfg_.mark,
-                        "hmi: published variables in more than " +
-                            std::to_string(ipc::kMaxSlots) + " tasks");
+      throw ConfigError(
+          cell_file_, cfg_.mark,
+          "hmi: published variables in more than " + std::to_string(ipc::kMaxSlots) + " tasks");
     auto s = std::make_unique<ScanSnapshot>(int(t), std::move(per_task[t]));
     ipc::CellLayout::Slot slot;
     slot.task = std::uint32_t(t);
     slot.buffer_size = s->buffer_size();
-    for (const auto& it : s->items()) slot.items.push_back({std::uint32_t(it.index), std::uint32_t(it.offset)});
+    for (const auto& it : s->items())
+      slot.items.push_back({std::uint32_t(it.index), std::uint32_t(it.offset)});
     cell.slots.push_back(std::move(slot));
     l->snaps.push_back(std::move(s));
   }
@@ -321,8 +323,7 @@ void Host::serve(const ipc::CommandRecord& rec, const Layout& l, ipc::ReplyRecor
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   if (!session.owns_lock())
     return refuse(ipc::Reason::Busy, "busy: the debugger console is running a command");
-  if (&dbg_->runtime() != l.rt)
-    return refuse(ipc::Reason::Stale, "the cell was rebuilt meanwhile");
+  if (&dbg_->runtime() != l.rt) return refuse(ipc::Reason::Stale, "the cell was rebuilt meanwhile");
   st.host.served.fetch_add(1, std::memory_order_relaxed);
   execute(*check.command, l, reply);
   if (reply.reason != std::uint8_t(ipc::Reason::Ok))
@@ -367,28 +368,22 @@ void Host::execute(const HostCommand& c, const Layout& l, ipc::ReplyRecord& repl
       d = dbg_->unforce(name_of(l, c.target), c.restore);
       break;
     case Verb::UnforceAll: {
-      // Only what the HMI may force: a force the console set on anything
-      // else stays.
-      std::string text;
-      std::size_t released = 0, left = 0;
-      for (const std::string& name : dbg_->forced()) {
-        const auto it = l.index.find(name);
-        if (it == l.index.end() || !l.cell.vars[it->second].forceable) {
-          ++left;
-          continue;
-        }
-        const auto r = dbg_->unforce(name, c.restore);
-        released += r.ok ? 1 : 0;
-        text += r.text;
-      }
-      const std::string others =
-          left ? std::to_string(left) + " force(s) on variables the HMI may not force left in place"
-               : "";
-      if (released == 0)
-        d = {false, "unforce all: nothing the HMI may force is forced" +
-                        (left ? " (" + others + ")" : std::string()) + "\n"};
+      // Only what the HMI may force, in one step of the debugger (no scan
+      // sees some released and others not): a force the console set on
+      // anything else stays, value and all.
+      std::string kept;
+      d = dbg_->unforce_if(
+          [&](const std::string& name) {
+            const auto it = l.index.find(name);
+            if (it != l.index.end() && l.cell.vars[it->second].forceable) return true;
+            kept += "kept " + name + " (the cell's hmi: forceable patterns do not match it)\n";
+            return false;
+          },
+          c.restore);
+      if (d.ok)
+        d.text += kept;
       else
-        d = {true, text + (left ? others + "\n" : "")};
+        d.text = "unforce all: no force that this client may release\n" + kept;
       break;
     }
     case Verb::Pause:
@@ -592,7 +587,8 @@ std::vector<std::string> Host::summary() const {
   auto n = [](const std::atomic<std::uint64_t>& a) { return std::to_string(a.load()); };
   out.push_back("bridge: published " + n(c.published) + ", commands " + n(c.commands) +
                 ", refused " + n(c.refused) + ", bad tag " + n(c.bad_tag) + ", replayed " +
-                n(c.replayed) + ", malformed " + n(c.malformed) + " (as plchmi counted)");
+                n(c.replayed) + ", stale " + n(c.stale) + ", malformed " + n(c.malformed) +
+                " (as plchmi counted)");
   out.push_back("host: " + n(h.served) + " command(s) served, " + n(h.refused) +
                 " refused by plcrun (" + n(h.malformed) + " malformed), " + n(h.skipped) +
                 " ring resets, " + n(h.replies_lost) + " replies lost");

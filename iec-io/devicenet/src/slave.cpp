@@ -94,7 +94,14 @@ void Slave::tick(TIME now) {
   watchdogs(now);
   const TIME dt = now - last_tick_;
   last_tick_ = now;
-  model_->step(now, dt, outputs_, inputs_);
+  model_->step_io(now, dt, outputs_, outputs_new_, inputs_);
+  outputs_new_ = false;
+}
+
+void Slave::deliver_outputs(TIME now) {
+  if (!outputs_new_) return;
+  model_->step_io(now, TIME{0}, outputs_, true, inputs_);
+  outputs_new_ = false;
 }
 
 void Slave::on_frame(const can::Frame& f, TIME now) {
@@ -174,6 +181,7 @@ void Slave::on_explicit(const can::Frame& f, bool unconnected, TIME now) {
     // after a power cycle (connections gone; the master re-allocates).
     reset_pending_ = false;
     release(0xFF);
+    outputs_new_ = false;  // a poll of this tick was for the device before its reset
     model_->power_cycle();
   }
 }
@@ -345,6 +353,7 @@ std::size_t Slave::serve_object(std::uint8_t service, std::uint8_t cls, std::uin
       if (data.size() < buf.size()) return error_response(resp, em::kNotEnoughData);
       if (data.size() > buf.size()) return error_response(resp, em::kTooMuchData);
       std::copy(data.begin(), data.end(), buf.begin());
+      outputs_new_ = true;
       return ok(resp, service);
     }
     case kClassConnection: {
@@ -395,6 +404,7 @@ std::size_t Slave::serve_object(std::uint8_t service, std::uint8_t cls, std::uin
       break;
   }
   // Every other object belongs to the model (explicit_message.hpp mapping).
+  deliver_outputs(now);
   std::array<std::uint8_t, kMaxExplicitMessage> req{};
   if (body.size() + 2 > req.size()) return error_response(resp, em::kTooMuchData);
   req[0] = cls;
@@ -428,10 +438,12 @@ void Slave::on_poll(const can::Frame& f, TIME now) {
   }
   poll_last_ = now;
   ++counters_.polls;
-  if (data.size() == outputs_.size())
+  if (data.size() == outputs_.size()) {
     std::copy(data.begin(), data.end(), outputs_.begin());
-  else
+    outputs_new_ = true;
+  } else {
     ++counters_.wrong_size_polls;  // shorter: data ignored, we still produce
+  }
   // Fault switch "wrong sizes": answer with a length the master did not configure.
   std::vector<std::uint8_t> produced(inputs_);
   if (faults_.size_error > 0) produced.resize(produced.size() + std::size_t(faults_.size_error), 0);

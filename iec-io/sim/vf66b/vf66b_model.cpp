@@ -34,12 +34,16 @@ void Vf66bModel::power_up() {
   in_inst_ = acdrive::input_instance(act_.j10);
   speed_scale_ = act_.j11;
   monitors_ = acdrive::monitor_selection(act_.j12);
-  // [reading] §9.2: RefFromNet iff b-10 = 3 at power-up; CtrlFromNet by
-  // analogy iff b-11 = 3 (§13.4 item 14), each further gated by the
-  // NetCtrl/NetRef request (attr 5 / 0x2A attr 4), which starts at 1.
+  // §4.1 of the manual (spec §9.2): at power-up the card sets NetRef
+  // (0x2A attr 4) to network iff b-10 = 3, else to local, and ignores the
+  // master's speed reference unless b-10 = 3. [reading] §13.4 item 14: the
+  // run command source likewise, NetCtrl (0x29 attr 5) = 1 iff b-11 = 3.
+  // Both are requests the master may change (Set, bits 5/6 of 21);
+  // CtrlFromNet/RefFromNet grant them only with b-11/b-10 = 3.
   ref_permitted_ = act_.b10 == 3;
   ctrl_permitted_ = act_.b11 == 3;
-  net_ctrl_ = net_ref_ = true;
+  net_ref_ = ref_permitted_;
+  net_ctrl_ = ctrl_permitted_;
   state_ = DriveState::Startup;
   startup_left_s_ = std::chrono::duration<double>(act_.startup_time).count();
   st_f_ = act_.st_f;
@@ -47,7 +51,6 @@ void Vf66bModel::power_up() {
   run1_ = run2_ = fault_rst_ = false;
   prev_run1_ = prev_run2_ = false;
   just_reset_ = false;
-  start_ = rev_ = false;
   speed_ref_ = 0;
   ext_ref_rpm_ = 0;
   motor_type_ = act_.motor_type;
@@ -81,6 +84,9 @@ void Vf66bModel::io_connection_lost() {
 }
 
 // ------------------------------------------------------------------ cyclic
+// [reading] Run1/Run2/FaultRst/NetCtrl/NetRef/SpeedRef hold the last value
+// written, by an explicit Set or by a consumed output message; see the
+// header. consume() is the output message's write.
 void Vf66bModel::consume(std::span<const std::uint8_t> from_plc) {
   if (from_plc.size() != output_size()) {
     // §13.1.2: I/O only when the length matches; the frame is ignored.
@@ -110,8 +116,11 @@ void Vf66bModel::consume(std::span<const std::uint8_t> from_plc) {
     acdrive::decode(from_plc, o);
     // §13.3: with PLC-L on, words 1-2 are only PLC relays.
     if (!act_.i00) {
-      start_ = o.bits.start;
-      rev_ = o.bits.rev;
+      // [reading] Start/Rev are the drive's run command, which Run1/Run2
+      // (0x29 attrs 3/4) also write: Start with Rev off = Run1, with Rev on
+      // = Run2.
+      new_run1 = o.bits.start && !o.bits.rev;
+      new_run2 = o.bits.start && o.bits.rev;
       rst = o.bits.fault_reset2;
       // External faults 1-4 (with or without the 86A relay) are codes 29-32,
       // present while their bit is on.
@@ -201,9 +210,15 @@ void Vf66bModel::update_state(double dt_s) {
   RunEvent ev = RunEvent::Stop;
   if (ctrl_from_net() && st_f_) {
     if (acdrive::is_extended_output(out_inst_)) {
-      // [reading] extended mode: Start and Rev are levels (terminal style).
-      ev = act_.i00 ? RunEvent::Stop
-                    : (!start_ ? RunEvent::Stop : (rev_ ? RunEvent::Run2 : RunEvent::Run1));
+      // [reading] extended mode: the run command is a level (terminal
+      // style), Start = Run1 or Run2 by Rev; both on (only by explicit Sets)
+      // is no action, as in Table 3.4.3.
+      if (act_.i00 || (!run1_ && !run2_))
+        ev = RunEvent::Stop;
+      else if (run1_ != run2_)
+        ev = run1_ ? RunEvent::Run1 : RunEvent::Run2;
+      else
+        ev = RunEvent::None;
     } else {
       ev = run_event(prev_run1_, prev_run2_, run1_, run2_);
       // §13.4 item 21, optional: after a reset the held run level restarts.
@@ -291,13 +306,18 @@ void Vf66bModel::update_ramp(double dt_s) {
 
 void Vf66bModel::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
                       std::span<std::uint8_t> to_plc) {
+  step_io(now, dt, from_plc, true, to_plc);  // the sim plugin: an output message every cycle
+}
+
+void Vf66bModel::step_io(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
+                         bool new_message, std::span<std::uint8_t> to_plc) {
   now_ = now;
   const double dt_s = std::chrono::duration<double>(dt).count();
   if (act_.fault_code && !injected_ && now >= act_.fault_at) {
     injected_ = true;
     trip(act_.fault_code, act_.fault_persists);
   }
-  consume(from_plc);
+  if (new_message) consume(from_plc);
   update_state(dt_s);
   update_ramp(dt_s);
   // A stop completes in the step that reaches zero speed.
@@ -307,11 +327,13 @@ void Vf66bModel::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
 }
 
 // ------------------------------------------------------------------ produce
-std::int16_t Vf66bModel::speed_actual_bus() const {
+std::int16_t Vf66bModel::bus_of(double rpm) const {
   // Saturates at the INT range (§13.3: the scale limits the speed).
-  const double v = std::nearbyint(std::ldexp(speed_, speed_scale_));
+  const double v = std::nearbyint(std::ldexp(rpm, speed_scale_));
   return static_cast<std::int16_t>(std::clamp(v, -32768.0, 32767.0));
 }
+
+std::int16_t Vf66bModel::speed_actual_bus() const { return bus_of(speed_); }
 
 namespace {
 std::uint16_t sat_u16(double v) {
@@ -362,7 +384,7 @@ std::uint16_t Vf66bModel::monitor_value(unsigned number) const {
 acdrive::ExtStatusBits Vf66bModel::status_bits() const {
   acdrive::ExtStatusBits s;
   const bool gate = state_ == DriveState::Enabled || state_ == DriveState::Stopping;
-  s.run_or_jog_input = acdrive::is_extended_output(out_inst_) ? start_ : (run1_ != run2_);
+  s.run_or_jog_input = run1_ != run2_;
   s.inverter_running = gate;
   s.reverse_command = running2_;
   s.power_failure = !main_power_;

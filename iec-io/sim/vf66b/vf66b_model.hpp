@@ -26,7 +26,37 @@
 // * the extended assemblies' status bits, fault field, monitors (§7.6) and
 //   ProtectErrorCode/monitor triple (§7.7);
 // * the restart-after-reset behaviour of §9.2/§13.4 item 21 as an option
-//   (restart_after_reset), strict ODVA edges by default.
+//   (restart_after_reset), strict ODVA edges by default;
+// * NetRef (0x2A attr 4) at power-up: network iff b-10 = 3, else local
+//   (manual §4.1, spec §9.2); NetCtrl (0x29 attr 5) likewise from b-11.
+//
+// Explicit Set and I/O, which wins [reading]. Every Set/Get attribute the
+// tables mark supported takes Set_Attribute_Single (Tables 3.3.2, 3.4.2,
+// 3.5.2), also those the active output assembly carries: Run1, Run2,
+// FaultRst, NetCtrl, NetRef and SpeedRef (Table 3.7.1; Start/Rev, Fault
+// Reset2 and Speed Reference2 of 100..108, §7.5). The manual makes no
+// exception and says nothing about precedence, so each such datum holds the
+// last value written, by an explicit Set or by a consumed output message:
+// * while the I/O connection is established and polled, every poll command
+//   overwrites it; an explicit Set stands until the next poll (a FaultRst
+//   0->1 edge is taken when it is written, so an explicit fault reset works
+//   whatever the next poll carries; a Run1 0->1 written between two polls
+//   is a Run event of Table 3.4.3, the poll after it a Stop if it carries
+//   Run1 = Run2 = 0);
+// * without an I/O connection (not allocated, Configuring, Timed Out,
+//   released) nothing overwrites it: an explicit Set stands; the values of
+//   the last poll stand likewise until written again (a timeout under
+//   network control trips fault 18, §12);
+// * the in-process sim plugin delivers the outputs every cycle (step()):
+//   each step is a new output message, served after that cycle's explicit
+//   requests, so there the outputs always win.
+// Hosts tell the model which steps carry a new message through step_io()
+// (the DeviceNet slave: a poll command or a Set of the output assembly's
+// data, in arrival order with the explicit requests). NetCtrl/NetRef and
+// b-11/b-10 decide whether the network run command and reference are used
+// at all (CtrlFromNet/RefFromNet), whichever path wrote them. In 100..108
+// Start with Rev off is Run1, with Rev on Run2, and SpeedRef reads and
+// writes Speed Reference2 in r/min x 2^SpeedScale.
 //
 // Readings chosen where the manual is silent: see fblocks/acdrive/README.md
 // ("Readings of §13.4"); each is also marked [reading] where the code acts
@@ -108,6 +138,8 @@ class Vf66bModel : public io::DeviceModel {
   [[nodiscard]] std::size_t output_size() const override;
   void step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
             std::span<std::uint8_t> to_plc) override;
+  void step_io(TIME now, TIME dt, std::span<const std::uint8_t> from_plc, bool new_message,
+               std::span<std::uint8_t> to_plc) override;
   io::RecordError query_record(std::uint16_t index, std::span<const std::uint8_t> request,
                                std::span<std::uint8_t> out, std::size_t& length) override;
   [[nodiscard]] bool answering() const override { return answering_; }
@@ -151,6 +183,7 @@ class Vf66bModel : public io::DeviceModel {
   void produce(std::span<std::uint8_t> to_plc) const;
   void fault_reset_edge();
   [[nodiscard]] bool ready_attr() const;
+  [[nodiscard]] std::int16_t bus_of(double rpm) const;  // r/min x 2^SpeedScale, saturated
   [[nodiscard]] std::int16_t speed_actual_bus() const;
   [[nodiscard]] std::uint16_t monitor_value(unsigned number) const;
   [[nodiscard]] acdrive::ExtStatusBits status_bits() const;
@@ -159,7 +192,6 @@ class Vf66bModel : public io::DeviceModel {
                                 std::size_t& length) const;
   io::RecordError set_attribute(std::uint8_t cls, std::uint8_t attr,
                                 std::span<const std::uint8_t> data);
-  [[nodiscard]] bool carried_by_output(std::uint8_t cls, std::uint8_t attr) const;
 
   Vf66bConfig settings_;  // keypad (edited any time)
   Vf66bConfig act_;       // read at power-up
@@ -173,12 +205,12 @@ class Vf66bModel : public io::DeviceModel {
   bool answering_ = true;
   bool st_f_ = true, main_power_ = true;
 
-  // Control Supervisor / AC/DC Drive attributes
-  bool run1_ = false, run2_ = false, fault_rst_ = false;
+  // Control Supervisor / AC/DC Drive attributes, written by explicit Sets
+  // and by output messages (the last write holds, see above)
+  bool run1_ = false, run2_ = false, fault_rst_ = false;  // 100..108: Start/Rev, Fault Reset2
   bool net_ctrl_ = false, net_ref_ = false;
-  std::int16_t speed_ref_ = 0;        // bus units (attr 8)
-  double ext_ref_rpm_ = 0;            // extended mode: Speed Reference2 in r/min
-  bool start_ = false, rev_ = false;  // extended mode run levels
+  std::int16_t speed_ref_ = 0;  // bus units (attr 8)
+  double ext_ref_rpm_ = 0;      // 100..108: Speed Reference2 (and attr 8) in r/min
   std::uint8_t motor_type_ = 7;
   std::uint16_t rated_current_ = 100, rated_voltage_ = 200;
   bool running1_ = false, running2_ = false;

@@ -9,9 +9,10 @@
 // row), 0x08 a service other than Get/Set_Attribute_Single, 0x0E Set on a
 // Get attribute, 0x13/0x15 Set data shorter/longer than the attribute's
 // type, 0x09 a value outside the attribute's range. [reading] 0x10 (device
-// state conflict) for a Set of a datum the active output assembly writes
-// every cycle (it would be overwritten at once) and for a Set of SpeedScale
-// while the drive runs (J-11 is "not changeable during operation").
+// state conflict) for a Set of SpeedScale while the drive runs (J-11 is
+// "not changeable during operation"). Every other Set/Get attribute takes a
+// Set whatever the output assembly carries: the last write holds until the
+// next output message writes it (vf66b_model.hpp).
 #include <algorithm>
 
 #include "plc/fb/acdrive/profile_objects.hpp"
@@ -42,20 +43,6 @@ std::uint8_t drive_mode_of(Vf66bMode m) {
 }
 
 }  // namespace
-
-bool Vf66bModel::carried_by_output(std::uint8_t cls, std::uint8_t attr) const {
-  const bool ext = acdrive::is_extended_output(out_inst_);
-  if (cls == kControlSupervisor) {
-    if (attr == 3 || attr == 12) return true;      // Run1, FaultRst: 20, 21; Start/Fault Reset2
-    if (attr == 4) return out_inst_ == 21 || ext;  // Run2; Rev in extended mode
-    if (attr == 5) return out_inst_ == 21;         // NetCtrl
-  }
-  if (cls == kAcDcDrive) {
-    if (attr == 8) return true;             // SpeedRef; Speed Reference2
-    if (attr == 4) return out_inst_ == 21;  // NetRef
-  }
-  return false;
-}
 
 io::RecordError Vf66bModel::get_attribute(std::uint8_t cls, std::uint8_t attr,
                                           std::span<std::uint8_t> out, std::size_t& length) const {
@@ -118,7 +105,7 @@ io::RecordError Vf66bModel::get_attribute(std::uint8_t cls, std::uint8_t attr,
       v = speed_actual_bus();
       break;
     case kAcDcDrive << 8 | 8:
-      v = speed_ref_;
+      v = acdrive::is_extended_output(out_inst_) ? bus_of(ext_ref_rpm_) : speed_ref_;
       break;
     case kAcDcDrive << 8 | 22:
       v = speed_scale_;
@@ -162,7 +149,6 @@ io::RecordError Vf66bModel::set_attribute(std::uint8_t cls, std::uint8_t attr,
       break;
   }
   if (a->type == AttrType::Bool && v > 1) return err(em::kInvalidAttributeValue);
-  if (carried_by_output(cls, attr)) return err(em::kDeviceStateConflict);
   const bool running = state_ == DriveState::Enabled || state_ == DriveState::Stopping ||
                        state_ == DriveState::FaultStop;
   switch (cls << 8 | attr) {
@@ -197,7 +183,10 @@ io::RecordError Vf66bModel::set_attribute(std::uint8_t cls, std::uint8_t attr,
       if (v != drive_mode_of(act_.mode)) return err(em::kInvalidAttributeValue);
       break;
     case kAcDcDrive << 8 | 8:
-      speed_ref_ = static_cast<std::int16_t>(v);
+      if (acdrive::is_extended_output(out_inst_))
+        ext_ref_rpm_ = acdrive::bus_to_rpm(static_cast<std::int16_t>(v), speed_scale_);
+      else
+        speed_ref_ = static_cast<std::int16_t>(v);
       break;
     case kAcDcDrive << 8 | 22:
       if (running) return err(em::kDeviceStateConflict);

@@ -18,7 +18,6 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
-#include <lcm/lcm-cpp.hpp>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -32,6 +31,7 @@
 #include "plc/hmi/ipc/notes.hpp"
 #include "plc/hmi/ipc/regions.hpp"
 #include "plc/hmi/pattern.hpp"
+#include "plc/hmi/transport.hpp"
 #include "softplc_hmi/alarm_t.hpp"
 #include "softplc_hmi/cell_description_t.hpp"
 #include "softplc_hmi/command_t.hpp"
@@ -46,6 +46,7 @@ struct BridgeCounters {
   std::uint64_t refused = 0;    // refused: access, unknown verb, plcrun or the debugger said no
   std::uint64_t bad_tag = 0;    // HMAC did not verify (or missing with a key)
   std::uint64_t replayed = 0;   // counter not above the client's last one
+  std::uint64_t stale = 0;      // signed for another epoch (a capture from before a restart)
   std::uint64_t malformed = 0;  // did not decode as a command_t
 };
 
@@ -91,20 +92,25 @@ class Bridge {
   int publish_device_alarms();
 
   [[nodiscard]] BridgeCounters counters() const;
-  // What describe publishes.
+  // What describe publishes, signed with a key.
   [[nodiscard]] softplc_hmi::cell_description_t description();
+  // This bridge's boot epoch (command_auth.hpp): made when it is
+  // constructed, kept over rebuilds of the runtime (goto, restart).
+  [[nodiscard]] const Epoch& epoch() const { return epoch_; }
   [[nodiscard]] const Channels& channels() const { return ch_; }
-  [[nodiscard]] lcm::LCM& lcm() { return lcm_; }
+  // Our LCM transport (transport.hpp): its counters, and in tests (memq://)
+  // the subscriptions that see what the bridge publishes.
+  [[nodiscard]] Transport& transport() { return *transport_; }
 
-  // Decodes and handles one command message (the LCM handler; the fuzz
-  // target feeds it raw bytes). Never throws.
+  // Decodes and serves one command message (the handler; the fuzz target
+  // feeds it raw bytes). Never throws.
   void on_command_bytes(const void* data, std::size_t size);
 
  private:
   struct View;
   struct Pending;
   using Clock = std::chrono::steady_clock;
-  void sync();                      // the peer's round (lockstep)
+  void sync();                       // the peer's round (lockstep)
   bool load_view(std::string& err);  // the layout of the current generation
   void check_generation();
   int poll_fills();
@@ -120,23 +126,31 @@ class Bridge {
   std::optional<softplc_hmi::reply_t> queue(ipc::CommandRecord& rec, Pending p);
   void count(std::uint64_t BridgeCounters::*counter, std::uint64_t n = 1);
   [[nodiscard]] bool fast_poll(Clock::time_point now) const;
+  // The key's checks of a command that changes something: "" when it
+  // passes (no key: always), else the refusal, counted.
+  std::string authenticate(const softplc_hmi::command_t& c);
+  // What a tag binds on `channel` (the cell's name from the layout).
+  [[nodiscard]] TagContext tag_context(const std::string& channel) const;
 
   std::unique_ptr<ipc::Regions> regions_;
   ipc::Settings settings_;
   std::string where_;  // "cell.yaml" for messages
   Channels ch_;
   std::optional<Key> key_;
-  ReplayGuard replay_;
-  lcm::LCM lcm_;
-  lcm::Subscription* sub_ = nullptr;
+  // This process's boot epoch (command_auth.hpp): a plchmi started again
+  // has a new one, and with it an empty replay guard.
+  Epoch epoch_;
+  ReplayGuard replay_;  // counters within epoch_: both live as long as the bridge
+  std::unique_ptr<Transport> transport_;
+  Transport::Subscription* sub_ = nullptr;
   int doorbell_ = -1;
   std::function<void()> peer_;
   std::unique_ptr<View> view_;
   std::map<std::uint32_t, Pending> pending_;  // token -> the command waiting for plcrun
   std::uint32_t next_token_ = 1;
-  std::unique_ptr<ipc::CommandRecord> rec_;   // reused
-  std::unique_ptr<ipc::ReplyRecord> reply_;   // reused
-  bool in_handler_ = false;                    // inside LCM's dispatch
+  std::unique_ptr<ipc::CommandRecord> rec_;    // reused
+  std::unique_ptr<ipc::ReplyRecord> reply_;    // reused
+  bool in_handler_ = false;                    // inside the transport's dispatch
   std::vector<softplc_hmi::reply_t> replies_;  // to publish after it
   std::thread thread_;
   std::atomic<bool> stop_{false};

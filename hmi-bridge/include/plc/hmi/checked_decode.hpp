@@ -8,18 +8,16 @@
 // follow, every string length at least 1 and inside the message, nothing
 // left over), and only then lets the generated decoder run.
 //
-// subscribe_checked subscribes through LCM's plain-function subscription
-// (subscribeFunction with a context pointer), never through lcm-cpp's typed
-// or member-function ones: those decode unchecked, and GCC 12's
-// -fsanitize=vptr miscompiles their pointer-to-member call
-// (LCMMHSubscription::cb_func: SEGV in every ASan+UBSan build).
+// subscribe_checked subscribes a handler that sees only what checked_decode
+// accepted (lcm-cpp's typed subscriptions, which the bridge no longer uses,
+// decoded unchecked).
 #pragma once
 
 #include <cstddef>
 #include <exception>
-#include <lcm/lcm-cpp.hpp>
 #include <string>
 
+#include "plc/hmi/transport.hpp"
 #include "softplc_hmi/alarm_t.hpp"
 #include "softplc_hmi/cell_description_t.hpp"
 #include "softplc_hmi/command_t.hpp"
@@ -36,8 +34,8 @@ inline constexpr std::size_t kMaxMessageBytes = 1 << 22;
 
 // The shape of an encoding after its 8-byte fingerprint: b byte/boolean,
 // i int32, l int64, d double, s string, n int32 element count, (..) a struct,
-// *X X repeated by the last count of the same struct, 32X X repeated 32
-// times. Whether data (fingerprint included) has exactly that shape with
+// *X X repeated by the last count of the same struct, NX X repeated N
+// times (16b, 32b). Whether data (fingerprint included) has exactly that shape with
 // plausible counts. The shapes follow hmi-bridge/lcm/*.lcm (a test encodes
 // each type and checks that its shape consumes it exactly).
 bool plausible_encoding(const char* shape, const void* data, std::size_t size);
@@ -45,12 +43,12 @@ bool plausible_encoding(const char* shape, const void* data, std::size_t size);
 template <class T>
 const char* shape_of();
 // clang-format off
-template <> inline const char* shape_of<softplc_hmi::command_t>() { return "lssn*sl32b"; }
-template <> inline const char* shape_of<softplc_hmi::reply_t>() { return "lsbssn*(sssssb)"; }
+template <> inline const char* shape_of<softplc_hmi::command_t>() { return "lssn*s16bl32b"; }
+template <> inline const char* shape_of<softplc_hmi::reply_t>() { return "lsbssn*(sssssb)16b32b"; }
 template <> inline const char* shape_of<softplc_hmi::values_t>() { return "lslllsbn*(isb)"; }
 template <> inline const char* shape_of<softplc_hmi::trace_sample_t>() { return "llsn*i*d"; }
-template <> inline const char* shape_of<softplc_hmi::stats_t>() { return "lsn*(slllllls)lllllll"; }
-template <> inline const char* shape_of<softplc_hmi::cell_description_t>() { return "lslbbn*(ssssbbb)"; }
+template <> inline const char* shape_of<softplc_hmi::stats_t>() { return "ls16bn*(slllllls)lllllllln*s*l"; }
+template <> inline const char* shape_of<softplc_hmi::cell_description_t>() { return "ls16blbbn*(ssssbbb)32b"; }
 template <> inline const char* shape_of<softplc_hmi::diagnostics_t>() { return "lsn*(sssssiissl)n*(sssbssslll)"; }
 template <> inline const char* shape_of<softplc_hmi::alarm_t>() { return "sssbssslll"; }
 // clang-format on
@@ -70,17 +68,15 @@ bool checked_decode(const void* data, std::size_t size, T& out) {
 // as T go to handler->on_malformed() when it has one, else nowhere.
 // The handler must outlive the subscription (unsubscribe it first).
 template <class T, class Handler>
-lcm::Subscription* subscribe_checked(lcm::LCM& lcm, const std::string& channel, Handler* handler) {
-  return lcm.subscribeFunction(
-      channel,
-      +[](const lcm::ReceiveBuffer* rb, const std::string&, Handler* h) {
-        T m;
-        if (checked_decode(rb->data, rb->data_size, m))
-          h->on(m);
-        else if constexpr (requires { h->on_malformed(); })
-          h->on_malformed();
-      },
-      handler);
+Transport::Subscription* subscribe_checked(Transport& transport, const std::string& channel,
+                                           Handler* handler) {
+  return transport.subscribe(channel, [handler](const ReceiveBuffer& rb, const std::string&) {
+    T m;
+    if (checked_decode(rb.data, rb.data_size, m))
+      handler->on(m);
+    else if constexpr (requires { handler->on_malformed(); })
+      handler->on_malformed();
+  });
 }
 
 }  // namespace plc::hmi

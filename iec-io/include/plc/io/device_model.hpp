@@ -35,6 +35,20 @@ class DeviceModel {
   virtual void step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
                     std::span<std::uint8_t> to_plc) = 0;
 
+  // step() for a host whose transport delivers the outputs as discrete I/O
+  // messages (a DeviceNet slave's polled I/O): `new_message` says whether
+  // from_plc holds an I/O message consumed since the previous step; without
+  // one, from_plc is the last message again. A model whose objects can also
+  // be written by explicit services uses this to let an explicit Set stand
+  // until the next I/O message (Vf66bModel). The default ignores the flag:
+  // the outputs apply at every step, as in the in-process sim plugin, which
+  // calls step() and delivers the outputs every cycle.
+  virtual void step_io(TIME now, TIME dt, std::span<const std::uint8_t> from_plc, bool new_message,
+                       std::span<std::uint8_t> to_plc) {
+    (void)new_message;
+    step(now, dt, from_plc, to_plc);
+  }
+
   // Acyclic services. Read: fill `out`, set `length`; return None or an
   // error. The default refuses every index.
   virtual RecordError read_record(std::uint16_t index, std::span<std::uint8_t> out,

@@ -1,11 +1,15 @@
-// The Connect checks of p-net's pf_cmdev.c (see connect_check.hpp). The
-// numbers in the refusals are p-net's ErrorCode2 values for the field that
-// failed; comments name the p-net function each group comes from.
+// check_connect() (connect_check.hpp): the AR, IOCR, AlarmCR and ARRPC
+// block checks and the block counts of p-net's pf_cmdev_check_apdu; the
+// expected submodules and the IOCR entries are in their own files
+// (connect_parts.hpp). The numbers in the refusals are p-net's ErrorCode2
+// values for the field that failed; comments name the p-net function each
+// group comes from.
 #include "plc/profinet/device/connect_check.hpp"
 
 #include <algorithm>
 #include <cctype>
-#include <vector>
+
+#include "connect_parts.hpp"
 
 namespace plc::profinet {
 
@@ -13,13 +17,9 @@ namespace {
 
 using connect_error::kAlarmCrBlock;
 using connect_error::kArBlock;
+using connect_error::kArRpcBlock;
 using connect_error::kCmrpc;
-using connect_error::kExpectedBlock;
 using connect_error::kIocrBlock;
-
-constexpr std::uint16_t kRtClass1 = 1;
-constexpr std::uint16_t kRtClassUdp = 4;
-constexpr std::uint16_t kRtClassStream = 5;
 
 std::optional<PnioStatus> fail(std::uint8_t code1, std::uint8_t code2) {
   return connect_refusal(code1, code2);
@@ -56,177 +56,98 @@ bool power_of_two_1_128(std::uint16_t v) {
   return v == 1 || v == 2 || v == 4 || v == 8 || v == 16 || v == 32 || v == 64 || v == 128;
 }
 
-// pf_cmdev_check_iocr_param (one IOCR). Only RT_CLASS_1 frames are
-// exchanged by this device, so another RT class is refused like an
-// out-of-range one (ErrorCode2 7).
-std::optional<PnioStatus> check_iocr(const IocrBlockReq& c, bool startup_advanced,
+bool in(std::uint16_t v, std::uint16_t first, std::uint16_t last) {
+  return v >= first && v <= last;
+}
+
+// The FrameID ranges p-net checks (IEC 61158-6-10 "FrameID"): unicast for
+// an input CR, multicast for a multicast CR; RT_CLASS_STREAM is not checked.
+bool unicast_frame_id_ok(std::uint32_t rt, std::uint16_t id) {
+  switch (rt) {
+    case rt_class::kClass1:
+    case rt_class::kUdp:
+      return in(id, 0xC000, 0xF7FF);
+    case rt_class::kClass2:
+      return in(id, 0x8000, 0xBBFF);
+    case rt_class::kClass3:
+      return in(id, 0x0100, 0x7FFF);
+    default:
+      return true;
+  }
+}
+bool multicast_frame_id_ok(std::uint32_t rt, std::uint16_t id) {
+  switch (rt) {
+    case rt_class::kClass1:
+    case rt_class::kUdp:
+      return in(id, 0xF800, 0xFBFF);
+    case rt_class::kClass2:
+      return in(id, 0xBC00, 0xBFFF);
+    case rt_class::kClass3:
+      return in(id, 0x0100, 0x7FFF);
+    default:
+      return true;
+  }
+}
+
+// pf_cmdev_check_iocr_param, for one IOCR. (Its first check, device access
+// -> CMRPC 0x01, cannot fail here: check_ar() refused device access.)
+std::optional<PnioStatus> check_iocr(const IocrBlockReq& c, const ArBlockReq& ar,
                                      const DeviceDescription& dev) {
-  const std::uint32_t rt_class = c.iocr_properties & 0xFU;
+  const std::uint32_t rt = rt_class_of(c);
+  const bool advanced = (ar.ar_properties >> 30) & 1U;
+  const bool udp = rt == rt_class::kUdp;
+  const bool frame_class =
+      rt == rt_class::kClass1 || rt == rt_class::kClass2 || rt == rt_class::kClass3;
+  const bool multicast = c.iocr_type == 3 || c.iocr_type == 4;
   const std::uint32_t reserved1 = (c.iocr_properties >> 4) & 0x1FFU;
   const std::uint32_t reserved3 = c.iocr_properties >> 24;
   if (c.iocr_type < iocr::kTypeInput || c.iocr_type > 4) return fail(kIocrBlock, 4);
-  if (rt_class != kRtClassUdp && c.lt != iocr::kLtProfinet) return fail(kIocrBlock, 6);
-  if (rt_class == kRtClassUdp && c.lt != 0x0800) return fail(kIocrBlock, 6);
-  if (!startup_advanced && (rt_class < 1 || rt_class > kRtClassStream)) return fail(kIocrBlock, 7);
-  if (startup_advanced && (rt_class < 2 || rt_class > kRtClassStream)) return fail(kIocrBlock, 7);
-  if (rt_class != kRtClass1) return fail(kIocrBlock, 7);  // not supported here
+  if (udp ? c.lt != 0x0800 : c.lt != iocr::kLtProfinet) return fail(kIocrBlock, 6);
+  // Legacy start-up: RT_CLASS_1..STREAM; advanced start-up: from RT_CLASS_2 on.
+  if (rt < (advanced ? rt_class::kClass2 : rt_class::kClass1) || rt > rt_class::kStream)
+    return fail(kIocrBlock, 7);
   if (reserved1 != 0 || reserved3 != 0) return fail(kIocrBlock, 7);
-  if (c.data_length < iocr::kMinCSduLength || c.data_length > iocr::kMaxCSduLength)
+  // DataLength: checked for RT_CLASS_UDP (12..1440) and RT_CLASS_1 (40..1440) only.
+  if ((udp && (c.data_length < 12 || c.data_length > iocr::kMaxCSduLength)) ||
+      (rt == rt_class::kClass1 &&
+       (c.data_length < iocr::kMinCSduLength || c.data_length > iocr::kMaxCSduLength)))
     return fail(kIocrBlock, 8);
-  if ((c.iocr_type == 3 || c.iocr_type == 4) && (c.frame_id < 0xF800 || c.frame_id > 0xFBFF))
+  if (multicast && !multicast_frame_id_ok(rt, c.frame_id)) return fail(kIocrBlock, 9);
+  if (c.iocr_type == iocr::kTypeInput && !unicast_frame_id_ok(rt, c.frame_id))
     return fail(kIocrBlock, 9);
-  if (c.iocr_type == iocr::kTypeInput && !is_rt_class1(c.frame_id)) return fail(kIocrBlock, 9);
   if (!power_of_two_1_128(c.send_clock_factor)) return fail(kIocrBlock, 10);
-  if (c.reduction_ratio < 1 || c.reduction_ratio > 512 ||
-      (c.reduction_ratio >= 256 && c.send_clock_factor > 64) ||
-      (c.reduction_ratio == 512 && c.send_clock_factor > 32) ||
-      dev.min_device_interval > send_interval(c.send_clock_factor, c.reduction_ratio))
+  const std::uint16_t rr = c.reduction_ratio, scf = c.send_clock_factor;
+  if (frame_class && (rr < 1 || rr > 512 || (rr >= 256 && scf > 64) || (rr == 512 && scf > 32) ||
+                      dev.min_device_interval > send_interval(scf, rr)))
     return fail(kIocrBlock, 11);
-  if (c.phase == 0 || c.phase > c.reduction_ratio) return fail(kIocrBlock, 12);
+  if (udp && (rr < 1 || rr > 16384 || (rr >= 8192 && scf > 64) || (rr == 16384 && scf > 32)))
+    return fail(kIocrBlock, 11);
+  if (c.phase == 0 || c.phase > rr) return fail(kIocrBlock, 12);
   if (c.frame_send_offset != iocr::kFrameSendOffsetBestEffort &&
-      (c.frame_send_offset >= std::uint32_t{c.send_clock_factor} * 31250U ||
-       c.frame_send_offset >= 0x003D0900U))
+      (c.frame_send_offset >= std::uint32_t{scf} * 31250U || c.frame_send_offset >= 0x003D0900U))
     return fail(kIocrBlock, 14);
-  // DataHoldFactor 1..0x1E00 and the hold time at most 1.92 s.
-  if (c.data_hold_factor < 1 || c.data_hold_factor > 0x1E00 ||
-      (std::uint64_t{c.data_hold_factor} * c.reduction_ratio * c.send_clock_factor * 1000U) / 32U >
-          1920000U)
+  // DataHoldFactor 1..0x1E00, and the hold time at most 1.92 s (RT_CLASS_1..3)
+  // or 61.44 s (UDP), in p-net's 32-bit arithmetic, which wraps for large
+  // products (connect_warnings() reports what that lets through).
+  const std::uint32_t hold_us = std::uint32_t{c.data_hold_factor} * rr * scf * 1000U / 32U;
+  if (c.data_hold_factor < 1 || c.data_hold_factor > 0x1E00 || (udp && hold_us > 61440000U) ||
+      (frame_class && hold_us > 1920000U))
     return fail(kIocrBlock, 16);
-  if ((c.iocr_tag_header & 0x0FFFU) != 0) return fail(kIocrBlock, 17);  // VLAN ID 0
-  if ((c.iocr_tag_header >> 13) != 6) return fail(kIocrBlock, 17);      // priority 6
-  if ((c.iocr_type == 3 || c.iocr_type == 4) && (c.multicast_mac[0] & 0x01) == 0)
-    return fail(kIocrBlock, 18);
+  // IOCRTagHeader: p-net reads the VLAN ID as bits 0..10 and wants 0 there,
+  // and priority 6.
+  if ((c.iocr_tag_header & 0x07FFU) != 0 || (c.iocr_tag_header >> 13) != 6)
+    return fail(kIocrBlock, 17);
+  if (multicast && (c.multicast_mac[0] & 0x01) == 0) return fail(kIocrBlock, 18);
   if (c.apis.empty()) return fail(kIocrBlock, 19);
-  return std::nullopt;
-}
-
-const ModuleDescription* find_module(const DeviceDescription& dev, std::uint16_t slot) {
-  for (const auto& m : dev.modules)
-    if (m.slot == slot) return &m;
-  return nullptr;
-}
-const SubmoduleDescription* find_submodule(const ModuleDescription& m, std::uint16_t subslot) {
-  for (const auto& s : m.submodules)
-    if (s.subslot == subslot) return &s;
-  return nullptr;
-}
-
-bool used_in_some_iocr(const ConnectRequest& req, std::uint32_t api, std::uint16_t slot,
-                       std::uint16_t subslot) {
-  for (const auto& c : req.iocrs)
-    for (const auto& a : c.apis) {
-      if (a.api != api) continue;
-      for (const auto& e : a.data_objects)
-        if (e.slot == slot && e.subslot == subslot) return true;
-      for (const auto& e : a.iocs)
-        if (e.slot == slot && e.subslot == subslot) return true;
-    }
-  return false;
-}
-
-// pf_cmdev_exp_apis_configure / _exp_modules_configure / _exp_submodule_configure
-std::optional<PnioStatus> check_expected(const ConnectRequest& req,
-                                         const std::vector<const ExpectedModule*>& mods,
-                                         const DeviceDescription& dev) {
-  if (mods.empty()) return fail(kExpectedBlock, 4);
-  for (std::size_t i = 0; i < mods.size(); ++i) {
-    const ExpectedModule& m = *mods[i];
-    for (std::size_t j = 0; j < i; ++j)
-      if (mods[j]->api == m.api && mods[j]->slot == m.slot) return fail(kExpectedBlock, 6);
-    if (m.slot > 0x7FFF) return fail(kExpectedBlock, 6);
-    const ModuleDescription* real = find_module(dev, m.slot);
-    if (!real) return fail(kExpectedBlock, 6);  // no such slot on this device
-    if (m.module_ident == 0) return fail(kExpectedBlock, 7);
-    if (m.submodules.empty()) return fail(kExpectedBlock, 9);
-    for (std::size_t k = 0; k < m.submodules.size(); ++k) {
-      const ExpectedSubmodule& s = m.submodules[k];
-      for (std::size_t l = 0; l < k; ++l)
-        if (m.submodules[l].subslot == s.subslot) return fail(kExpectedBlock, 10);
-      if (!used_in_some_iocr(req, m.api, m.slot, s.subslot)) return fail(kExpectedBlock, 10);
-      if (s.subslot > 0x9FFF) return fail(kExpectedBlock, 10);
-      if (!find_submodule(*real, s.subslot)) return fail(kExpectedBlock, 10);
-      if (s.subslot >= kInterfaceSubslot && m.api != 0) return fail(kExpectedBlock, 10);
-      if (s.input_length > 1439 || s.output_length > 1439) return fail(kExpectedBlock, 14);
-      if (s.length_iops != 1) return fail(kExpectedBlock, 15);
-      if (s.length_iocs != 1) return fail(kExpectedBlock, 16);
-    }
-  }
-  return std::nullopt;
-}
-
-const ExpectedSubmodule* find_expected(const std::vector<const ExpectedModule*>& mods,
-                                       std::uint32_t api, std::uint16_t slot, std::uint16_t subslot,
-                                       bool& slot_found) {
-  slot_found = false;
-  for (const ExpectedModule* m : mods) {
-    if (m->api != api || m->slot != slot) continue;
-    slot_found = true;
-    for (const auto& s : m->submodules)
-      if (s.subslot == subslot) return &s;
-  }
-  return nullptr;
-}
-
-struct Area {
-  std::uint32_t start, length;
-  bool iocs;
-};
-bool overlap(const Area& a, const Area& b) {
-  if (a.length == 0 || b.length == 0) return false;
-  return a.start < b.start + b.length && b.start < a.start + a.length;
-}
-
-// pf_cmdev_check_iocr_apis (after pf_cmdev_iocr_setup_desc has laid out data,
-// IOPS and IOCS of every entry).
-std::optional<PnioStatus> check_iocr_apis(const ConnectRequest& req,
-                                          const std::vector<const ExpectedModule*>& mods) {
-  for (const IocrBlockReq& c : req.iocrs) {
-    const bool input_cr = c.iocr_type == iocr::kTypeInput;
-    std::vector<Area> areas;
-    for (const IocrApi& a : c.apis) {
-      bool api_known = false;
-      for (const ExpectedModule* m : mods) api_known = api_known || m->api == a.api;
-      if (!api_known) return fail(kIocrBlock, 20);
-      if (a.data_objects.empty() && a.iocs.empty()) return fail(kIocrBlock, 21);
-      for (std::size_t i = 0; i < a.data_objects.size(); ++i) {
-        const IocrEntry& e = a.data_objects[i];
-        for (std::size_t j = 0; j < a.data_objects.size(); ++j)
-          if (j != i && a.data_objects[j].slot == e.slot && a.data_objects[j].subslot == e.subslot)
-            return fail(kIocrBlock, 23);
-        bool slot_found = false;
-        const ExpectedSubmodule* s = find_expected(mods, a.api, e.slot, e.subslot, slot_found);
-        if (!slot_found) return fail(kIocrBlock, 22);
-        if (!s) return fail(kIocrBlock, 23);
-        const std::uint16_t type = s->type();
-        if (!input_cr && (type == submodule::kTypeNoIo || type == submodule::kTypeInput))
-          return fail(kIocrBlock, 23);
-        if (input_cr && type == submodule::kTypeOutput) return fail(kIocrBlock, 23);
-        const std::uint32_t len = input_cr ? s->input_length : s->output_length;
-        areas.push_back({e.frame_offset, len, false});
-        areas.push_back({e.frame_offset + len, s->length_iops, false});
-      }
-      for (std::size_t i = 0; i < a.iocs.size(); ++i) {
-        const IocrEntry& e = a.iocs[i];
-        for (std::size_t j = 0; j < a.iocs.size(); ++j)
-          if (j != i && a.iocs[j].slot == e.slot && a.iocs[j].subslot == e.subslot)
-            return fail(kIocrBlock, 27);
-        bool slot_found = false;
-        const ExpectedSubmodule* s = find_expected(mods, a.api, e.slot, e.subslot, slot_found);
-        if (!s) return fail(kIocrBlock, 27);
-        const std::uint16_t type = s->type();
-        if (input_cr && (type == submodule::kTypeNoIo || type == submodule::kTypeInput))
-          return fail(kIocrBlock, 27);
-        if (!input_cr && type == submodule::kTypeOutput) return fail(kIocrBlock, 27);
-        areas.push_back({e.frame_offset, s->length_iocs, true});
-      }
-    }
-    for (std::size_t i = 0; i < areas.size(); ++i) {
-      const Area& x = areas[i];
-      if (x.start + x.length > c.data_length) return fail(kIocrBlock, x.iocs ? 28 : 24);
-      for (std::size_t j = 0; j < i; ++j)
-        if (overlap(x, areas[j])) return fail(kIocrBlock, x.iocs ? 28 : 24);
-    }
-  }
+  // RT over UDP: p-net wants the initiator MAC all zero (AR 0x07) and the
+  // initiator's UDP RT port above 0x03FF (AR 0x0B).
+  if (udp && std::any_of(ar.cm_initiator_mac.begin(), ar.cm_initiator_mac.end(),
+                         [](std::uint8_t b) { return b != 0; }))
+    return fail(kArBlock, 7);
+  if (udp && ar.initiator_udp_rt_port <= 0x03FF) return fail(kArBlock, 11);
+  // Beyond p-net: a C_SDU above 1440 bytes does not fit a frame (p-net
+  // cannot run it either; it checks the length for RT_CLASS_1 and UDP only).
+  if (c.data_length > iocr::kMaxCSduLength) return fail(kIocrBlock, 8);
   return std::nullopt;
 }
 
@@ -246,70 +167,91 @@ std::optional<PnioStatus> check_alarm_cr(const AlarmCrBlockReq& a) {
   return std::nullopt;
 }
 
-std::vector<const ExpectedModule*> expected_modules(const ConnectRequest& req) {
-  std::vector<const ExpectedModule*> out;
-  for (const auto& b : req.expected)
-    for (const auto& m : b.modules) out.push_back(&m);
-  return out;
+const ModuleDescription* device_module(const DeviceDescription& dev, std::uint16_t slot) {
+  for (const auto& m : dev.modules)
+    if (m.slot == slot) return &m;
+  return nullptr;
+}
+const SubmoduleDescription* device_submodule(const ModuleDescription& m, std::uint16_t subslot) {
+  for (const auto& s : m.submodules)
+    if (s.subslot == subslot) return &s;
+  return nullptr;
 }
 
 }  // namespace
 
 std::optional<PnioStatus> check_connect(const ConnectRequest& req, const DeviceDescription& dev) {
   if (auto e = check_ar(req.ar)) return e;
-  const bool advanced = (req.ar.ar_properties >> 30) & 1U;
   for (const auto& c : req.iocrs)
-    if (auto e = check_iocr(c, advanced, dev)) return e;
-  const auto mods = expected_modules(req);
-  if (auto e = check_expected(req, mods, dev)) return e;
-  if (auto e = check_iocr_apis(req, mods)) return e;
-  const auto inputs = std::count_if(req.iocrs.begin(), req.iocrs.end(),
-                                    [](const auto& c) { return c.iocr_type == iocr::kTypeInput; });
-  const auto outputs = std::count_if(req.iocrs.begin(), req.iocrs.end(), [](const auto& c) {
-    return c.iocr_type == iocr::kTypeOutput;
-  });
-  if (inputs == 0 || outputs == 0) return fail(kCmrpc, connect_error::kCmrpcIocrMissing);
-  // One input and one output CR: the only layout this device exchanges.
-  if (inputs != 1 || outputs != 1) return fail(kCmrpc, connect_error::kCmrpcWrongBlockCount);
+    if (auto e = check_iocr(c, req.ar, dev)) return e;
+  const auto apis = connect_detail::expected_apis(req);
+  if (auto e = connect_detail::check_expected(req, apis, dev)) return e;
+  if (auto e = connect_detail::check_iocr_entries(req, apis)) return e;
+  const auto count = [&](std::uint16_t type) {
+    return std::count_if(req.iocrs.begin(), req.iocrs.end(),
+                         [&](const auto& c) { return c.iocr_type == type; });
+  };
+  if (count(iocr::kTypeInput) == 0 || count(iocr::kTypeOutput) == 0)
+    return fail(kCmrpc, connect_error::kCmrpcIocrMissing);
+  if (req.alarm_cr_blocks != 1) return fail(kCmrpc, connect_error::kCmrpcWrongBlockCount);
+  // RT_CLASS_3 needs an IRInfoBlock, which this device (as a p-net device
+  // without one configured) never has.
+  if (std::any_of(req.iocrs.begin(), req.iocrs.end(),
+                  [](const auto& c) { return rt_class_of(c) == rt_class::kClass3; }))
+    return fail(kCmrpc, connect_error::kCmrpcWrongBlockCount);
   if (auto e = check_alarm_cr(req.alarm_cr)) return e;
+  // pf_cmdev_check_ar_rpc
+  if (req.ar_rpc && req.ar_rpc->initiator_rpc_server_port < 0x0400) return fail(kArRpcBlock, 4);
   return std::nullopt;
+}
+
+std::uint16_t output_frame_id(const IocrBlockReq& output, std::uint16_t input_frame_id) {
+  if (output.frame_id != 0xFFFF && is_cyclic(output.frame_id) && output.frame_id != input_frame_id)
+    return output.frame_id;
+  std::uint16_t first = frame_id::kRtClass1First, last = frame_id::kRtClass1Last;
+  if (rt_class_of(output) == rt_class::kClass2) {
+    first = frame_id::kRtClass2First;
+    last = frame_id::kRtClass2Last;
+  } else if (rt_class_of(output) == rt_class::kClass3) {
+    first = frame_id::kRtClass3First;
+    last = frame_id::kRtClass3Last;
+  }
+  return first != input_frame_id ? first : static_cast<std::uint16_t>(std::min(first + 1, +last));
 }
 
 std::optional<ModuleDiffBlock> module_diff(const ConnectRequest& req,
                                            const DeviceDescription& dev) {
   ModuleDiffBlock diff;
-  for (const ExpectedModule* m : expected_modules(req)) {
-    const ModuleDescription* real = find_module(dev, m->slot);
-    ModuleDiffModule md;
-    md.slot = m->slot;
-    if (!real) {
-      md.state = module_state::kNoModule;
-    } else if (real->module_ident != m->module_ident) {
-      md.state = module_state::kWrongModule;
-      md.module_ident = real->module_ident;
-    } else {
-      md.module_ident = real->module_ident;
-      for (const ExpectedSubmodule& s : m->submodules) {
-        const SubmoduleDescription* rs = find_submodule(*real, s.subslot);
-        if (!rs) {
-          md.submodules.push_back({s.subslot, 0, submodule_state::kNoSubmodule});
-        } else if (rs->submodule_ident != s.submodule_ident || rs->api != m->api ||
-                   rs->input_length != s.input_length || rs->output_length != s.output_length) {
-          // Our reading: an ident we have but with other data lengths cannot
-          // carry the model's bytes either, so it is reported Wrong too.
-          md.submodules.push_back({s.subslot, rs->submodule_ident, submodule_state::kWrong});
+  for (const auto& api : connect_detail::expected_apis(req))
+    for (const ExpectedModule* m : api.modules) {
+      const ModuleDescription* real = device_module(dev, m->slot);
+      ModuleDiffModule md;
+      md.slot = m->slot;
+      if (!real) {
+        md.state = module_state::kNoModule;
+      } else if (real->module_ident != m->module_ident) {
+        md.state = module_state::kWrongModule;
+        md.module_ident = real->module_ident;
+      } else {
+        md.module_ident = real->module_ident;
+        for (const ExpectedSubmodule& s : m->submodules) {
+          const SubmoduleDescription* rs = device_submodule(*real, s.subslot);
+          if (!rs) {
+            md.submodules.push_back({s.subslot, 0, submodule_state::kNoSubmodule});
+          } else if (rs->submodule_ident != s.submodule_ident || rs->api != m->api ||
+                     rs->input_length != s.input_length || rs->output_length != s.output_length) {
+            // Our reading: an ident we have but with other data lengths cannot
+            // carry the model's bytes either, so it is reported Wrong too.
+            md.submodules.push_back({s.subslot, rs->submodule_ident, submodule_state::kWrong});
+          }
         }
+        if (md.submodules.empty()) continue;
       }
-      if (md.submodules.empty()) continue;
+      auto it = std::find_if(diff.apis.begin(), diff.apis.end(),
+                             [&](const ModuleDiffApi& a) { return a.api == m->api; });
+      if (it == diff.apis.end()) it = diff.apis.insert(diff.apis.end(), ModuleDiffApi{m->api, {}});
+      it->modules.push_back(std::move(md));
     }
-    auto api = std::find_if(diff.apis.begin(), diff.apis.end(),
-                            [&](const ModuleDiffApi& a) { return a.api == m->api; });
-    if (api == diff.apis.end()) {
-      diff.apis.push_back({m->api, {}});
-      api = diff.apis.end() - 1;
-    }
-    api->modules.push_back(std::move(md));
-  }
   if (diff.apis.empty()) return std::nullopt;
   return diff;
 }

@@ -89,6 +89,8 @@ std::string describe(const PnDeviceEvent& e) {
       return "name set";
     case PnDeviceEvent::Kind::IpSet:
       return "ip set";
+    case PnDeviceEvent::Kind::Warning:
+      return "warning: " + e.text;
   }
   return "?";
 }
@@ -412,11 +414,13 @@ PnioStatus PnDevice::serve_connect(std::span<const std::uint8_t> args, Ipv4 from
                                    std::vector<std::uint8_t>& out, nanoseconds now) {
   ++counters_.connects;
   ConnectRequest req;
-  if (!decode_connect_request(args, req)) {
+  std::optional<PnioStatus> unreadable = check_connect_blocks(args);
+  if (!unreadable && !decode_connect_request(args, req))
+    unreadable = connect_refusal(connect_error::kCmrpc, connect_error::kCmrpcUnknownBlocks);
+  if (unreadable) {
     ++counters_.connects_refused;
-    const auto s = connect_refusal(connect_error::kCmrpc, connect_error::kCmrpcUnknownBlocks);
-    emit({PnDeviceEvent::Kind::Refused, s});
-    return s;
+    emit({PnDeviceEvent::Kind::Refused, *unreadable});
+    return *unreadable;
   }
   if (ar_ && ar_->req.ar.ar_uuid == req.ar.ar_uuid) {  // the answer got lost: same again
     out = ar_->connect_response;
@@ -461,27 +465,31 @@ PnioStatus PnDevice::serve_connect(std::span<const std::uint8_t> args, Ipv4 from
   ar_ = std::move(ar);
   state_ = PnDeviceState::Parameterizing;
   emit({PnDeviceEvent::Kind::Connected});
+  for (auto& w : connect_warnings(ar_->req)) {
+    PnDeviceEvent e{PnDeviceEvent::Kind::Warning};
+    e.text = std::move(w);
+    emit(e);
+  }
   return {};
 }
 
 // Layouts, frame IDs, timing and per-submodule status of an accepted
-// Connect. A layout the wire codec cannot build is refused like p-net's
-// IOCR overlap check (IOCR block, 24).
+// Connect. check_connect() has refused every layout the wire codec cannot
+// build; should one get through, it is refused like p-net's IOCR overlap
+// check (IOCR block, 24).
 std::optional<PnioStatus> PnDevice::setup_ar(const ConnectRequest& req, Ar& ar) {
   const IocrBlockReq* in = nullptr;
   const IocrBlockReq* out = nullptr;
-  for (const auto& c : req.iocrs) (c.iocr_type == iocr::kTypeInput ? in : out) = &c;
-  if (!layout_from_iocr(*in, req.expected, ar.in_layout) ||
+  for (const auto& c : req.iocrs) {
+    if (c.iocr_type == iocr::kTypeInput) in = &c;
+    if (c.iocr_type == iocr::kTypeOutput) out = &c;
+  }
+  if (!in || !out || !layout_from_iocr(*in, req.expected, ar.in_layout) ||
       !layout_from_iocr(*out, req.expected, ar.out_layout))
     return connect_refusal(connect_error::kIocrBlock, 24);
   ar.in_frame_id = in->frame_id;
-  // The consumer picks the output FrameID: the controller's proposal when it
-  // is a valid RT_CLASS_1 one, else the one after the input's.
-  ar.out_frame_id = is_rt_class1(out->frame_id) && out->frame_id != in->frame_id
-                        ? out->frame_id
-                        : static_cast<std::uint16_t>(in->frame_id == frame_id::kRtClass1Last
-                                                         ? frame_id::kRtClass1First
-                                                         : in->frame_id + 1);
+  // The consumer picks the output FrameID (p-net's rule, connect_check.hpp).
+  ar.out_frame_id = output_frame_id(*out, in->frame_id);
   ar.interval = send_interval(in->send_clock_factor, in->reduction_ratio);
   ar.counter_step = static_cast<std::uint16_t>(in->send_clock_factor * in->reduction_ratio);
   ar.data_hold =

@@ -241,7 +241,10 @@ WireStatus decode_block(const BlockView& v, AlarmCrBlockReq& out) {
   out.max_alarm_data_length = r.u16();
   out.tag_header_high = r.u16();
   out.tag_header_low = r.u16();
-  return finish(r, "AlarmCRBlockReq truncated");
+  if (r.failed()) return wire_fail(WireError::Truncated, "AlarmCRBlockReq truncated");
+  if (r.remaining() != 0)
+    return wire_fail(WireError::BadLength, "AlarmCRBlockReq longer than its fields");
+  return kWireOk;
 }
 
 void encode_block(ByteBuilder& b, const AlarmCrBlockRes& v) {
@@ -264,10 +267,29 @@ WireStatus decode_block(const BlockView& v, AlarmCrBlockRes& out) {
 // --- ExpectedSubmoduleBlockReq ----------------------------------------------------
 
 std::uint16_t ExpectedSubmodule::type() const {
+  if (wire_type) return *wire_type;
   if (input_length > 0 && output_length > 0) return submodule::kTypeInputOutput;
   if (output_length > 0) return submodule::kTypeOutput;
   if (input_length > 0) return submodule::kTypeInput;
   return submodule::kTypeNoIo;
+}
+
+std::vector<DataDescription> ExpectedSubmodule::wire_descriptions() const {
+  if (!descriptions.empty()) return descriptions;
+  // Input first (NO_IO: one input description of length 0), then output.
+  std::vector<DataDescription> d;
+  const std::uint16_t t = type();
+  if (t != submodule::kTypeOutput)
+    d.push_back({submodule::kDataInput, input_length, length_iocs, length_iops});
+  if (t == submodule::kTypeOutput || t == submodule::kTypeInputOutput)
+    d.push_back({submodule::kDataOutput, output_length, length_iocs, length_iops});
+  return d;
+}
+
+const DataDescription* ExpectedSubmodule::description(std::uint16_t direction) const {
+  for (const auto& d : descriptions)
+    if (d.direction == direction) return &d;
+  return nullptr;
 }
 
 void encode_block(ByteBuilder& b, const ExpectedSubmoduleBlockReq& v) {
@@ -280,29 +302,24 @@ void encode_block(ByteBuilder& b, const ExpectedSubmoduleBlockReq& v) {
     b.u16(m.module_properties);
     b.u16(static_cast<std::uint16_t>(m.submodules.size()));
     for (const auto& sm : m.submodules) {
-      const std::uint16_t type = sm.type();
       b.u16(sm.subslot);
       b.u32(sm.submodule_ident);
-      b.u16(static_cast<std::uint16_t>((sm.properties & ~0x0003u) | type));
-      // DataDescription: input first (NO_IO: one input description of
-      // length 0), then output.
-      if (type != submodule::kTypeOutput) {
-        b.u16(submodule::kDataInput);
-        b.u16(sm.input_length);
-        b.u8(sm.length_iocs);
-        b.u8(sm.length_iops);
-      }
-      if (type == submodule::kTypeOutput || type == submodule::kTypeInputOutput) {
-        b.u16(submodule::kDataOutput);
-        b.u16(sm.output_length);
-        b.u8(sm.length_iocs);
-        b.u8(sm.length_iops);
+      b.u16(static_cast<std::uint16_t>((sm.properties & ~0x0003u) | (sm.type() & 0x0003u)));
+      for (const auto& d : sm.wire_descriptions()) {
+        b.u16(d.direction);
+        b.u16(d.length);
+        b.u8(d.length_iocs);
+        b.u8(d.length_iops);
       }
     }
   }
   end_block(b, s);
 }
 
+// Reads what is there and keeps it (wire_type, descriptions): the values
+// are the device's to check (connect_check.hpp), with p-net's codes. The
+// number of DataDescriptions follows from the Type: two for an IO
+// submodule, else one.
 WireStatus decode_block(const BlockView& v, ExpectedSubmoduleBlockReq& out) {
   if (auto st = need_type(v, block::kExpectedSubmoduleBlockReq); !st) return st;
   ByteReader r(v.body);
@@ -320,38 +337,48 @@ WireStatus decode_block(const BlockView& v, ExpectedSubmoduleBlockReq& out) {
       sm.subslot = r.u16();
       sm.submodule_ident = r.u32();
       const std::uint16_t props = r.u16();
-      const std::uint16_t type = props & 0x0003;
+      sm.wire_type = props & 0x0003;
       sm.properties = props & ~std::uint16_t{0x0003};
-      const int descriptions = type == submodule::kTypeInputOutput ? 2 : 1;
-      for (int d = 0; d < descriptions && !r.failed(); ++d) {
-        const std::uint16_t dir = r.u16();
-        const std::uint16_t len = r.u16();
-        sm.length_iocs = r.u8();
-        sm.length_iops = r.u8();
-        if (r.failed()) break;
-        const bool in = dir == submodule::kDataInput, outd = dir == submodule::kDataOutput;
-        if (!in && !outd) return wire_fail(WireError::BadValue, "unknown DataDescription");
-        if (type == submodule::kTypeOutput && !outd)
-          return wire_fail(WireError::BadValue, "output submodule with an input description");
-        if ((type == submodule::kTypeInput || type == submodule::kTypeNoIo) && !in)
-          return wire_fail(WireError::BadValue, "input submodule with an output description");
-        if (type == submodule::kTypeInputOutput && (d == 0) != in)
-          return wire_fail(WireError::BadValue, "IO submodule descriptions not input, output");
-        if (type == submodule::kTypeNoIo && len != 0)
-          return wire_fail(WireError::BadValue, "NO_IO submodule with data");
-        if (sm.length_iocs != 1 || sm.length_iops != 1)
-          return wire_fail(WireError::BadValue, "LengthIOCS/LengthIOPS not 1");
-        (in ? sm.input_length : sm.output_length) = len;
+      const int count = *sm.wire_type == submodule::kTypeInputOutput ? 2 : 1;
+      for (int d = 0; d < count && !r.failed(); ++d) {
+        DataDescription dd;
+        dd.direction = r.u16();
+        dd.length = r.u16();
+        dd.length_iocs = r.u8();
+        dd.length_iops = r.u8();
+        sm.descriptions.push_back(dd);
       }
-      if (!r.failed() && type != submodule::kTypeNoIo && sm.type() != type)
-        return wire_fail(WireError::BadValue, "submodule type disagrees with its data lengths");
-      m.submodules.push_back(sm);
+      if (const auto* in = sm.description(submodule::kDataInput)) sm.input_length = in->length;
+      if (const auto* o = sm.description(submodule::kDataOutput)) sm.output_length = o->length;
+      if (!sm.descriptions.empty()) {
+        sm.length_iocs = sm.descriptions.front().length_iocs;
+        sm.length_iops = sm.descriptions.front().length_iops;
+      }
+      m.submodules.push_back(std::move(sm));
     }
     out.modules.push_back(std::move(m));
   }
   if (r.failed()) return wire_fail(WireError::Truncated, "ExpectedSubmoduleBlockReq truncated");
   if (r.remaining() != 0)
     return wire_fail(WireError::BadLength, "ExpectedSubmoduleBlockReq longer than its fields");
+  return kWireOk;
+}
+
+// --- ARRPCBlockReq ------------------------------------------------------------------
+
+void encode_block(ByteBuilder& b, const ArRpcBlockReq& v) {
+  const auto s = begin_block(b, block::kArRpcBlockReq);
+  b.u16(v.initiator_rpc_server_port);
+  end_block(b, s);
+}
+
+WireStatus decode_block(const BlockView& v, ArRpcBlockReq& out) {
+  if (auto st = need_type(v, block::kArRpcBlockReq); !st) return st;
+  ByteReader r(v.body);
+  out.initiator_rpc_server_port = r.u16();
+  if (r.failed()) return wire_fail(WireError::Truncated, "ARRPCBlockReq truncated");
+  if (r.remaining() != 0)
+    return wire_fail(WireError::BadLength, "ARRPCBlockReq longer than its fields");
   return kWireOk;
 }
 
@@ -426,8 +453,9 @@ std::vector<std::uint8_t> encode_connect_request(const ConnectRequest& req) {
   ByteBuilder b(out);
   encode_block(b, req.ar);
   for (const auto& c : req.iocrs) encode_block(b, c);
-  encode_block(b, req.alarm_cr);
+  for (std::uint16_t i = 0; i < req.alarm_cr_blocks; ++i) encode_block(b, req.alarm_cr);
   for (const auto& e : req.expected) encode_block(b, e);
+  if (req.ar_rpc) encode_block(b, *req.ar_rpc);
   return out;
 }
 
@@ -444,8 +472,9 @@ std::vector<std::uint8_t> encode_connect_response(const ConnectResponse& res) {
 
 WireStatus decode_connect_request(std::span<const std::uint8_t> args, ConnectRequest& out) {
   out = ConnectRequest{};
+  out.alarm_cr_blocks = 0;
   ByteReader r(args);
-  bool have_ar = false, have_alarm = false;
+  bool have_ar = false;
   while (r.remaining() > 0) {
     BlockView v;
     if (auto st = read_block(r, v); !st) return st;
@@ -461,23 +490,26 @@ WireStatus decode_connect_request(std::span<const std::uint8_t> args, ConnectReq
         st = decode_block(v, out.iocrs.emplace_back());
         break;
       case block::kAlarmCrBlockReq:
-        if (have_alarm) return wire_fail(WireError::BadBlockType, "second AlarmCRBlockReq");
-        have_alarm = true;
+        if (out.alarm_cr_blocks >= 64)
+          return wire_fail(WireError::BadValue, "too many AlarmCRBlockReq");
+        ++out.alarm_cr_blocks;
         st = decode_block(v, out.alarm_cr);
         break;
       case block::kExpectedSubmoduleBlockReq:
         st = decode_block(v, out.expected.emplace_back());
         break;
+      case block::kArRpcBlockReq:
+        st = decode_block(v, out.ar_rpc.emplace());  // a second one replaces the first
+        break;
       default:
-        // Optional request blocks (PrmServer, MCR, ARRPC, ARVendor, IRInfo,
-        // ...) are refused: neither our controller nor our device uses them.
+        // The other optional request blocks (PrmServer, MCR, ARVendor,
+        // IRInfo, ...) are refused, as a p-net device built with its
+        // default options refuses them.
         return wire_fail(WireError::BadBlockType, "unexpected block in a Connect request");
     }
     if (!st) return st;
   }
   if (!have_ar) return wire_fail(WireError::BadBlockType, "Connect request without ARBlockReq");
-  if (!have_alarm)
-    return wire_fail(WireError::BadBlockType, "Connect request without AlarmCRBlockReq");
   return kWireOk;
 }
 

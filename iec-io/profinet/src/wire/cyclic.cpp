@@ -1,8 +1,10 @@
-// RT_CLASS_1 frames and the IO data object layout (IEC 61158-6-10 §4.7,
-// IOCRBlockReq: IODataObjectFrameOffset / IOCSFrameOffset).
+// Cyclic RT frames (RT_CLASS_1, and RT_CLASS_2 alike) and the IO data
+// object layout (IEC 61158-6-10 §4.7, IOCRBlockReq:
+// IODataObjectFrameOffset / IOCSFrameOffset).
 #include "plc/profinet/wire/cyclic.hpp"
 
 #include <algorithm>
+#include <utility>
 
 namespace plc::profinet {
 
@@ -88,15 +90,30 @@ WireStatus layout_from_iocr(const IocrBlockReq& req,
   const bool input = req.iocr_type == iocr::kTypeInput;
   if (!input && req.iocr_type != iocr::kTypeOutput)
     return wire_fail(WireError::BadValue, "IOCRType neither input nor output");
-  if (req.data_length < iocr::kMinCSduLength || req.data_length > iocr::kMaxCSduLength)
-    return wire_fail(WireError::BadLength, "IOCR DataLength outside 40..1440");
-  out.c_sdu_length = req.data_length;
-  std::vector<bool> used(req.data_length, false);
-  auto claim = [&](std::size_t at, std::size_t n) {
-    if (at + n > used.size()) return false;
+  if (req.data_length > iocr::kMaxCSduLength)
+    return wire_fail(WireError::BadLength, "IOCR DataLength above 1440");
+  // The frame's C_SDU is never shorter than 40 bytes, also where a device
+  // takes a shorter DataLength (p-net does not check it for RT_CLASS_2):
+  // the entries are checked against DataLength, the frame has 40.
+  out.c_sdu_length =
+      static_cast<std::uint16_t>(std::max<std::size_t>(req.data_length, iocr::kMinCSduLength));
+  // Which submodule owns each byte: the bytes of two submodules must not
+  // overlap; a submodule's IOCS on its own data is not refused (p-net
+  // compares each submodule only with the others).
+  std::vector<int> owner(req.data_length, -1);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> owners;  // (api, slot << 16 | subslot)
+  auto owner_of = [&](std::uint32_t api, std::uint16_t slot, std::uint16_t subslot) {
+    const std::pair<std::uint32_t, std::uint32_t> key{api, std::uint32_t{slot} << 16 | subslot};
+    for (std::size_t i = 0; i < owners.size(); ++i)
+      if (owners[i] == key) return static_cast<int>(i);
+    owners.push_back(key);
+    return static_cast<int>(owners.size() - 1);
+  };
+  auto claim = [&](std::size_t at, std::size_t n, int who) {
+    if (at + n > owner.size()) return false;
     for (std::size_t i = at; i < at + n; ++i) {
-      if (used[i]) return false;
-      used[i] = true;
+      if (owner[i] != -1 && owner[i] != who) return false;
+      owner[i] = who;
     }
     return true;
   };
@@ -109,20 +126,19 @@ WireStatus layout_from_iocr(const IocrBlockReq& req,
             if (sm.subslot == subslot) return &sm;
     return nullptr;
   };
-  std::size_t want_data = 0, want_iocs = 0;
-  each_submodule(expected, [&](std::uint32_t, std::uint16_t, const ExpectedSubmodule& sm) {
-    const bool mine = input ? in_input_cr(sm) : in_output_cr(sm);
-    const bool other = input ? in_output_cr(sm) : in_input_cr(sm);
-    want_data += mine ? 1 : 0;
-    want_iocs += other ? 1 : 0;
-  });
+  // An expected submodule need not be listed: p-net runs such an AR, the
+  // submodule's data (or consumer state) then simply does not travel.
   for (const auto& a : req.apis) {
     for (const auto& e : a.data_objects) {
       const auto* sm = find_sub(a.api, e.slot, e.subslot);
       if (!sm || !(input ? in_input_cr(*sm) : in_output_cr(*sm)))
         return wire_fail(WireError::BadValue, "IO data object of no expected submodule");
+      if (out.find(a.api, e.slot, e.subslot))
+        return wire_fail(WireError::BadValue, "IO data object listed twice");
+      // DiscardIOXS: neither data nor IOPS travel for this submodule.
+      if (sm->properties & submodule::kDiscardIoxs) continue;
       const std::uint16_t len = input ? sm->input_length : sm->output_length;
-      if (!claim(e.frame_offset, len + 1u))
+      if (!claim(e.frame_offset, len + 1u, owner_of(a.api, e.slot, e.subslot)))
         return wire_fail(WireError::BadLength, "IO data object overlaps or runs past DataLength");
       out.data.push_back({a.api, e.slot, e.subslot, e.frame_offset, len});
     }
@@ -130,13 +146,14 @@ WireStatus layout_from_iocr(const IocrBlockReq& req,
       const auto* sm = find_sub(a.api, e.slot, e.subslot);
       if (!sm || !(input ? in_output_cr(*sm) : in_input_cr(*sm)))
         return wire_fail(WireError::BadValue, "IOCS of no expected submodule");
-      if (!claim(e.frame_offset, 1))
+      if (out.find_iocs(a.api, e.slot, e.subslot))
+        return wire_fail(WireError::BadValue, "IOCS listed twice");
+      if (sm->properties & submodule::kDiscardIoxs) continue;
+      if (!claim(e.frame_offset, 1, owner_of(a.api, e.slot, e.subslot)))
         return wire_fail(WireError::BadLength, "IOCS overlaps or runs past DataLength");
       out.iocs.push_back({a.api, e.slot, e.subslot, e.frame_offset});
     }
   }
-  if (out.data.size() != want_data || out.iocs.size() != want_iocs)
-    return wire_fail(WireError::BadValue, "IOCR does not list every expected submodule once");
   return kWireOk;
 }
 
@@ -185,8 +202,7 @@ WireStatus decode_cyclic(std::span<const std::uint8_t> frame, std::size_t c_sdu_
                          CyclicView& out) {
   PnFrameView v;
   if (auto st = decode_pn_frame(frame, v); !st) return st;
-  if (!is_rt_class1(v.frame_id))
-    return wire_fail(WireError::BadFrameId, "not an RT_CLASS_1 FrameID");
+  if (!is_cyclic(v.frame_id)) return wire_fail(WireError::BadFrameId, "not a cyclic RT FrameID");
   std::size_t n = c_sdu_length;
   if (n == 0) {
     if (v.pdu.size() < iocr::kMinCSduLength + 4)

@@ -190,8 +190,7 @@ std::vector<std::uint8_t> encode_dcp(const DcpMessage& m) {
   const std::size_t len_at = b.pos();
   b.u16(0);
   const std::size_t start = b.pos();
-  for (std::size_t i = 0; i < m.blocks.size(); ++i) {
-    const auto& blk = m.blocks[i];
+  for (const auto& blk : m.blocks) {
     b.u8(blk.option);
     b.u8(blk.suboption);
     if (m.service_id == dcp::kServiceGet && m.service_type == dcp::kTypeRequest) continue;
@@ -199,9 +198,13 @@ std::vector<std::uint8_t> encode_dcp(const DcpMessage& m) {
     b.u16(static_cast<std::uint16_t>(len));
     if (blk.info) b.u16(*blk.info);
     b.bytes(blk.data);
-    // Pad to even between blocks (IEC 61158-6-10: "Padding" after odd
-    // blocks; none after the last one of a request).
-    if (len % 2 != 0 && (i + 1 < m.blocks.size() || m.service_type != dcp::kTypeRequest)) b.u8(0);
+    // A block of odd DCPBlockLength is followed by one padding octet (IEC
+    // 61158-6-10 DCP; not counted in DCPBlockLength). The last block of a
+    // request gets it too and DCPDataLength counts it, as p-net's pf_dcp.c
+    // and profinet-py send it: Wireshark's packet-pn-dcp.c reads the octet
+    // whenever the frame goes on (a 60-byte Ethernet frame always does) and
+    // reports "parse error" when DCPDataLength leaves it out.
+    if (len % 2 != 0) b.u8(0);
   }
   b.patch_u16(len_at, static_cast<std::uint16_t>(b.pos() - start));
   return out;

@@ -112,6 +112,11 @@ class Debugger final : public ScanHooks {
   Reply unforce(const std::string& name, bool restore);
   // The names of the variables forced now, as they were given to force.
   std::vector<std::string> forced();
+  // Every force whose name (as it was forced) `release` accepts, in one
+  // step: no scan sees some of them released and others not. The others
+  // stay, value and all. Refused when it releases nothing. The HMI bridge's
+  // `unforce all`: only what its forceable patterns match.
+  Reply unforce_if(const std::function<bool(const std::string& name)>& release, bool restore);
   Reply pause();
   // n scans of each task, or of `task` only.
   Reply step(std::uint64_t n = 1, const std::string& task = "");

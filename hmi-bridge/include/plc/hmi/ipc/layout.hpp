@@ -29,7 +29,7 @@ namespace plc::hmi::ipc {
 
 inline constexpr std::uint32_t kStateMagic = 0x53484c50;    // "PLHS"
 inline constexpr std::uint32_t kControlMagic = 0x43484c50;  // "PLHC"
-inline constexpr std::uint32_t kVersion = 1;
+inline constexpr std::uint32_t kVersion = 2;
 inline constexpr std::size_t kMaxSlots = 64;  // tasks with published variables
 inline constexpr std::uint32_t kCommandCapacity = 32;
 inline constexpr std::uint32_t kReplyCapacity = 16;
@@ -94,7 +94,7 @@ struct SlotHeader {
 // for anything else).
 struct BridgeCounters {
   std::atomic<std::uint64_t> published{0}, dropped{0}, commands{0}, refused{0}, bad_tag{0},
-      replayed{0}, malformed{0};
+      replayed{0}, stale{0}, malformed{0};
 };
 
 struct ControlHeader {

@@ -10,8 +10,12 @@
 // DeviceNet 0x03, Assembly 0x04 attribute 3, Connection 0x05 instances 1
 // (explicit) and 2 (poll) incl. the expected packet rate; every other
 // explicit request goes to the model's query_record (explicit_message.hpp).
-// Polled I/O reaches DeviceModel::step; when the poll connection times out
-// (4 x EPR without a poll) the model hears io_connection_lost().
+// Polled I/O reaches DeviceModel::step_io, which says whether a new poll
+// command (or a Set of the output assembly's data) arrived since the last
+// step; a message is handed to the model before the next explicit request
+// that goes to it, so the model sees I/O messages and explicit services in
+// the order they came. When the poll connection times out (4 x EPR without
+// a poll) the model hears io_connection_lost().
 #pragma once
 
 #include <cstdint>
@@ -94,6 +98,9 @@ class Slave {
   void send_response(std::span<const std::uint8_t> msg);
   void release(std::uint8_t choice);
   void watchdogs(TIME now);
+  // Hands a consumed output message to the model at once (a zero-length
+  // step), so that an explicit request after it in the same tick comes later.
+  void deliver_outputs(TIME now);
 
   SlaveConfig cfg_;
   std::unique_ptr<io::DeviceModel> model_;
@@ -120,6 +127,7 @@ class Slave {
   std::size_t tx_next_ = 0;  // next fragment of tx_ to send after an ack
   IoReassembler poll_rx_;
   std::vector<std::uint8_t> inputs_, outputs_;
+  bool outputs_new_ = false;  // outputs_ holds a message the model has not stepped with
   bool reset_pending_ = false;
 };
 

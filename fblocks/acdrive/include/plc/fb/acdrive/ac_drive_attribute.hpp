@@ -21,6 +21,10 @@
 // attributes of the tables, else unsigned), DataLength, Data (raw answer).
 // Done/Error hold while Execute stays TRUE, and for one scan when Execute
 // fell before the answer came.
+// Set of 0x29 attr 12 FaultRst = 1 is a fault reset (0->1, Table 3.4.2).
+// Run1/Run2/NetCtrl/NetRef/SpeedRef take a Set too, but the drive holds the
+// last write, and the AcDrive's next output message writes them again
+// (fblocks/acdrive/README.md, "Explicit Set and I/O: which wins").
 #pragma once
 
 #include <array>

@@ -8,11 +8,13 @@
 //  * DCP: Identify All / by NameOfStation (answer delayed by
 //    (MAC mod ResponseDelayFactor) x 10 ms), Get and Set NameOfStation / IP,
 //    DeviceID, DeviceRole, DeviceOptions; Hello at start if asked.
-//  * RPC Connect (opnum 0): checks the AR, IOCR, AlarmCR and expected
-//    submodule blocks as p-net's pf_cmdev.c does (connect_check.hpp) and
-//    refuses with the same PNIO status; a ModuleDiffBlock lists expected
-//    (sub)modules whose ident differs from ours. Output frames start right
-//    after the Connect response.
+//  * RPC Connect (opnum 0): reads and checks the blocks as p-net's
+//    pf_cmrpc.c and pf_cmdev.c do (connect_check.hpp), refuses with the same
+//    PNIO status and accepts what p-net accepts (a Warning event for each
+//    point against IEC 61158-6-10 that p-net lets through); a
+//    ModuleDiffBlock lists expected (sub)modules whose ident differs from
+//    ours. RT_CLASS_1 and RT_CLASS_2 IOCRs alike (p-net runs both the same
+//    way). Output frames start right after the Connect response.
 //  * Write (opnum 3), single or MultipleWrite 0xE040: records go to the
 //    model's write_record (the NORD F-parameters, the E1 parameter channel);
 //    Read (opnum 2): the model's read_record.
@@ -21,7 +23,7 @@
 //    repeated every `app_ready_retry` until the controller answers 0x8112
 //    DONE; data exchange begins once that answer and a valid output frame
 //    are both there.
-//  * Cyclic RT_CLASS_1: our input frame every SendClockFactor x
+//  * Cyclic RT frames: our input frame every SendClockFactor x
 //    ReductionRatio x 31.25 us to the controller's MAC (CycleCounter,
 //    DataStatus 0x35, IOPS/IOCS good); controller frames are taken only as
 //    p-net takes them (output_acceptance.hpp). The data-hold watchdog
@@ -120,11 +122,13 @@ struct PnDeviceEvent {
     Released,
     AlarmAcked,
     NameSet,
-    IpSet
+    IpSet,
+    Warning  // an accepted Connect against IEC 61158-6-10 (connect_warnings())
   };
   Kind kind;
   PnioStatus status{};  // Refused: the status sent
   ArEnd end = ArEnd::Released;
+  std::string text{};  // Warning: what and which clause
 };
 [[nodiscard]] std::string describe(const PnDeviceEvent& e);
 

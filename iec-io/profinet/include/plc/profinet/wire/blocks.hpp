@@ -27,6 +27,7 @@ inline constexpr std::uint16_t kArBlockReq = 0x0101;
 inline constexpr std::uint16_t kIocrBlockReq = 0x0102;
 inline constexpr std::uint16_t kAlarmCrBlockReq = 0x0103;
 inline constexpr std::uint16_t kExpectedSubmoduleBlockReq = 0x0104;
+inline constexpr std::uint16_t kArRpcBlockReq = 0x0107;
 inline constexpr std::uint16_t kPrmEndReq = 0x0110;            // IODControlReq (PrmEnd)
 inline constexpr std::uint16_t kApplicationReadyReq = 0x0112;  // IOXControlReq (ApplicationReady)
 inline constexpr std::uint16_t kReleaseReq = 0x0114;           // IODReleaseReq
@@ -175,27 +176,53 @@ inline constexpr std::uint16_t kTypeNoIo = 0;
 inline constexpr std::uint16_t kTypeInput = 1;
 inline constexpr std::uint16_t kTypeOutput = 2;
 inline constexpr std::uint16_t kTypeInputOutput = 3;
+// SubmoduleProperties bits 2..5.
+inline constexpr std::uint16_t kSharedInput = 0x0004;
+inline constexpr std::uint16_t kReduceInputLength = 0x0008;
+inline constexpr std::uint16_t kReduceOutputLength = 0x0010;
+inline constexpr std::uint16_t kDiscardIoxs = 0x0020;
 // DataDescription
 inline constexpr std::uint16_t kDataInput = 1;
 inline constexpr std::uint16_t kDataOutput = 2;
 }  // namespace submodule
 
+// One DataDescription of an expected submodule, as it is on the wire.
+struct DataDescription {
+  std::uint16_t direction = submodule::kDataInput;
+  std::uint16_t length = 0;  // SubmoduleDataLength
+  std::uint8_t length_iocs = 1;
+  std::uint8_t length_iops = 1;
+};
+
 // One expected submodule: ident, and its IO data lengths (without IOPS).
-// The type and DataDescriptions follow from the lengths: none -> NO_IO
-// (one input description of length 0), input, output or both.
+// What a controller builds: the type and DataDescriptions follow from the
+// lengths (none -> NO_IO with one input description of length 0, input,
+// output or both). What a device decodes also keeps the Type and the
+// DataDescriptions exactly as received, because a device checks those one
+// by one (p-net's pf_cmdev.c: ExpectedSubmoduleBlockReq codes 12..16);
+// the encoder writes them as they are when present.
 struct ExpectedSubmodule {
   std::uint16_t subslot = 0;
   std::uint32_t submodule_ident = 0;
-  std::uint16_t properties = 0;  // bits 2.. (shared input, reduce lengths...); type is derived
+  std::uint16_t properties = 0;  // bits 2.. (shared input, reduce lengths...); type is apart
   std::uint16_t input_length = 0;
   std::uint16_t output_length = 0;
   std::uint8_t length_iocs = 1;
   std::uint8_t length_iops = 1;
+  std::optional<std::uint16_t> wire_type{};     // SubmoduleProperties.Type as received
+  std::vector<DataDescription> descriptions{};  // as received (empty: derived from the lengths)
+  // wire_type when present, else derived from the lengths.
   [[nodiscard]] std::uint16_t type() const;
-  [[nodiscard]] bool has_input() const {
-    return type() != submodule::kTypeOutput;
-  }  // NO_IO counts as input
-  [[nodiscard]] bool has_output() const { return output_length > 0; }
+  // In the input CR (NO_IO counts as input) / in the output CR.
+  [[nodiscard]] bool has_input() const { return type() != submodule::kTypeOutput; }
+  [[nodiscard]] bool has_output() const {
+    return type() == submodule::kTypeOutput || type() == submodule::kTypeInputOutput;
+  }
+  // The DataDescriptions as they go on the wire: `descriptions` when
+  // present, else the ones the lengths give.
+  [[nodiscard]] std::vector<DataDescription> wire_descriptions() const;
+  // The first description of that direction (p-net's lookup), or nullptr.
+  [[nodiscard]] const DataDescription* description(std::uint16_t direction) const;
 };
 struct ExpectedModule {
   std::uint32_t api = 0;
@@ -248,14 +275,25 @@ struct ArServerBlock {
   std::string station_name;
 };
 
+// ARRPCBlockReq 0x0107: the controller's RPC server port.
+struct ArRpcBlockReq {
+  std::uint16_t initiator_rpc_server_port = kRpcUdpPort;
+};
+
 // The whole Connect request (blocks in the order of IEC 61158-6-10
 // IODConnectReq: ARBlockReq, IOCRBlockReq*, AlarmCRBlockReq,
-// ExpectedSubmoduleBlockReq*).
+// ExpectedSubmoduleBlockReq*, [ARRPCBlockReq]). A decoder takes the blocks
+// in any order (controllers put the ExpectedSubmoduleBlockReqs before the
+// AlarmCRBlockReq too) and counts the AlarmCRBlockReqs (the device refuses
+// other than one, as p-net does); the encoder writes `alarm_cr`
+// `alarm_cr_blocks` times.
 struct ConnectRequest {
   ArBlockReq ar;
   std::vector<IocrBlockReq> iocrs;
   AlarmCrBlockReq alarm_cr;
+  std::uint16_t alarm_cr_blocks = 1;
   std::vector<ExpectedSubmoduleBlockReq> expected;
+  std::optional<ArRpcBlockReq> ar_rpc{};
 };
 // The whole Connect response (IODConnectRes: ARBlockRes, IOCRBlockRes*,
 // AlarmCRBlockRes, ModuleDiffBlock (only when something differs),
@@ -271,8 +309,9 @@ struct ConnectResponse {
 // The NDR args (blocks) of a Connect request/response.
 std::vector<std::uint8_t> encode_connect_request(const ConnectRequest& req);
 std::vector<std::uint8_t> encode_connect_response(const ConnectResponse& res);
-// Decode the args; refuse unknown/misplaced block types, wrong versions,
-// lengths that disagree, a missing ARBlock or AlarmCRBlock.
+// Decode the args; refuse unknown block types, wrong versions, lengths
+// that disagree, a missing or second ARBlockReq (a response: a missing
+// ARBlockRes or AlarmCRBlockRes).
 WireStatus decode_connect_request(std::span<const std::uint8_t> args, ConnectRequest& out);
 WireStatus decode_connect_response(std::span<const std::uint8_t> args, ConnectResponse& out);
 
@@ -286,6 +325,7 @@ void encode_block(ByteBuilder& b, const AlarmCrBlockRes& v);
 void encode_block(ByteBuilder& b, const ExpectedSubmoduleBlockReq& v);
 void encode_block(ByteBuilder& b, const ModuleDiffBlock& v);
 void encode_block(ByteBuilder& b, const ArServerBlock& v);
+void encode_block(ByteBuilder& b, const ArRpcBlockReq& v);
 WireStatus decode_block(const BlockView& v, ArBlockReq& out);
 WireStatus decode_block(const BlockView& v, ArBlockRes& out);
 WireStatus decode_block(const BlockView& v, IocrBlockReq& out);
@@ -295,6 +335,7 @@ WireStatus decode_block(const BlockView& v, AlarmCrBlockRes& out);
 WireStatus decode_block(const BlockView& v, ExpectedSubmoduleBlockReq& out);
 WireStatus decode_block(const BlockView& v, ModuleDiffBlock& out);
 WireStatus decode_block(const BlockView& v, ArServerBlock& out);
+WireStatus decode_block(const BlockView& v, ArRpcBlockReq& out);
 
 // --- Record read / write ------------------------------------------------------
 

@@ -1,5 +1,6 @@
-// RT_CLASS_1 cyclic frames (IEC 61158-6-10 §4.7 "RT", "C_SDU"; the IO data
-// object layout of §5.2.2.3 / the IOCRBlockReq):
+// Cyclic RT frames (IEC 61158-6-10 §4.7 "RT", "C_SDU"; RT_CLASS_1 and
+// RT_CLASS_2 frames have the same layout in their own FrameID ranges; the
+// IO data object layout of §5.2.2.3 / the IOCRBlockReq):
 //   Ethernet header [VLAN] 0x8892 | FrameID | C_SDU (40..1440 bytes) |
 //   CycleCounter (2) | DataStatus (1) | TransferStatus (1)
 // The C_SDU holds, per submodule, its IO data followed by its IOPS (an
@@ -73,9 +74,12 @@ WireStatus compute_layout(std::span<const ExpectedSubmoduleBlockReq> expected, C
 // and DataLength of `layout` written into `req` (its other fields kept).
 void apply_layout(const IocrLayout& layout, IocrBlockReq& req);
 // The layout an IOCRBlockReq describes, given the expected submodules (for
-// their lengths): what a device does with a Connect request. Refuses
-// offsets that overlap or run past DataLength, and submodules missing from
-// either list.
+// their lengths): what a device does with a Connect request. Refuses an
+// entry of no expected submodule with data in that direction, an entry
+// listed twice, bytes past DataLength and two submodules' bytes that
+// overlap. An expected submodule the IOCR does not list is not refused (as
+// p-net does; connect_check.hpp warns); a DiscardIOXS submodule gets no
+// bytes. c_sdu_length is DataLength, at least 40.
 WireStatus layout_from_iocr(const IocrBlockReq& req,
                             std::span<const ExpectedSubmoduleBlockReq> expected, IocrLayout& out);
 
@@ -112,10 +116,10 @@ struct CyclicView {
   CyclicHeader header;
   std::span<const std::uint8_t> c_sdu;
 };
-// Parses a frame whose C_SDU has `c_sdu_length` bytes (known from the
-// Connect); a frame with padding beyond the APDU status (short frames on
-// some NICs) is accepted, a shorter one refused. `c_sdu_length` 0: takes
-// everything up to the last 4 bytes.
+// Parses a frame (any cyclic FrameID, is_cyclic()) whose C_SDU has
+// `c_sdu_length` bytes (known from the Connect); a frame with padding beyond the APDU status (short
+// frames on some NICs) is accepted, a shorter one refused. `c_sdu_length` 0: takes everything up to
+// the last 4 bytes.
 WireStatus decode_cyclic(std::span<const std::uint8_t> frame, std::size_t c_sdu_length,
                          CyclicView& out);
 

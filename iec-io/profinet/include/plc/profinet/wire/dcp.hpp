@@ -5,7 +5,9 @@
 //   DCPDataLength (2) | blocks
 // block: Option (1) | Suboption (1) | DCPBlockLength (2) |
 //   [BlockInfo (2) in responses/Hello; BlockQualifier (2) in Set requests] |
-//   data | pad to an even length (the pad is not counted in DCPBlockLength).
+//   data | pad to an even length (the pad is not counted in DCPBlockLength
+//   but is in DCPDataLength, after the last block too; decoding takes the
+//   pad counted or not).
 // Services: Get 3, Set 4, Identify 5, Hello 6. ServiceType: 0 request,
 // 1 response success, 5 response "not supported".
 #pragma once

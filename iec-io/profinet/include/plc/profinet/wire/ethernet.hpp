@@ -34,8 +34,14 @@ inline constexpr Mac kDcpHelloMulticast{0x01, 0x0E, 0xCF, 0x00, 0x00, 0x01};
 
 // FrameIDs (IEC 61158-6-10 Table "FrameID range").
 namespace frame_id {
+inline constexpr std::uint16_t kRtClass3First = 0x0100;  // RT_CLASS_3 (and streams)
+inline constexpr std::uint16_t kRtClass3Last = 0x7FFF;
+inline constexpr std::uint16_t kRtClass2First = 0x8000;  // RT_CLASS_2 unicast
+inline constexpr std::uint16_t kRtClass2Last = 0xBBFF;
 inline constexpr std::uint16_t kRtClass1First = 0xC000;  // RT_CLASS_1 unicast
 inline constexpr std::uint16_t kRtClass1Last = 0xF7FF;
+inline constexpr std::uint16_t kCyclicLast =
+    0xFBFF;  // end of the cyclic ranges (RT_CLASS_1 multicast)
 inline constexpr std::uint16_t kAlarmHigh = 0xFC01;
 inline constexpr std::uint16_t kAlarmLow = 0xFE01;
 inline constexpr std::uint16_t kDcpHello = 0xFEFC;
@@ -45,6 +51,11 @@ inline constexpr std::uint16_t kDcpIdentifyResponse = 0xFEFF;
 }  // namespace frame_id
 [[nodiscard]] constexpr bool is_rt_class1(std::uint16_t id) {
   return id >= frame_id::kRtClass1First && id <= frame_id::kRtClass1Last;
+}
+// Any cyclic RT FrameID (RT_CLASS_3 .. RT_CLASS_1 multicast): the frame
+// layout is the same in every range, only the schedule differs.
+[[nodiscard]] constexpr bool is_cyclic(std::uint16_t id) {
+  return id >= frame_id::kRtClass3First && id <= frame_id::kCyclicLast;
 }
 [[nodiscard]] constexpr bool is_dcp(std::uint16_t id) {
   return id >= frame_id::kDcpHello && id <= frame_id::kDcpIdentifyResponse;
