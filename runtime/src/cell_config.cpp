@@ -264,11 +264,10 @@ class Loader {
     h.present = true;
     h.mark = mark_of(n);
     expect_map(n, "hmi");
-    check_keys(
-        n,
-        {"url", "prefix", "rate", "publish", "writable", "forceable", "stop_commands", "key_file",
-         "user", "netns"},
-        "hmi");
+    check_keys(n,
+               {"url", "prefix", "rate", "publish", "writable", "forceable", "stop_commands",
+                "key_file", "user", "netns"},
+               "hmi");
     h.url.mark = h.prefix.mark = h.rate.mark = h.stop_commands.mark = h.mark;
     if (n["url"]) {
       h.url = scalar(n["url"], "url");
@@ -325,8 +324,8 @@ class Loader {
       const std::string& ns = h.netns.value;
       // A name under /var/run/netns (as `ip netns` makes them), or a path.
       if (ns.empty() || (ns[0] != '/' && ns.find('/') != std::string::npos))
-        fail(n["netns"], "key 'netns': '" + ns +
-                             "' is neither a name of `ip netns list` nor an absolute path");
+        fail(n["netns"],
+             "key 'netns': '" + ns + "' is neither a name of `ip netns list` nor an absolute path");
     }
     return h;
   }

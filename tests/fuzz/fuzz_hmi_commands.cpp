@@ -1,12 +1,11 @@
 // Fuzz target: the HMI bridge's command decoding and handling
 // (Bridge::on_command_bytes) and plcrun's serving of the record it makes
 // (Host::round, through the shared memory, both halves in lockstep) on the
-// filling cell in virtual time, over memq://. The first byte picks the bridge: one with a shared key (nothing
-// the fuzzer sends can carry a right HMAC tag, so no command may ever be
-// applied: traps if one is) or one without (writes and forces only where the
-// patterns allow; stopping commands refused). The keyed bridge's epoch is
-// random (command_auth.hpp), so a fuzzed command cannot carry a tag for it
-// even by replaying a seed's bytes. The rest, at most 64 kB (one LCM
+// filling cell in virtual time, over memq://. The first byte picks the bridge: one with a shared
+// key (nothing the fuzzer sends can carry a right HMAC tag, so no command may ever be applied:
+// traps if one is) or one without (writes and forces only where the patterns allow; stopping
+// commands refused). The keyed bridge's epoch is random (command_auth.hpp), so a fuzzed command
+// cannot carry a tag for it even by replaying a seed's bytes. The rest, at most 64 kB (one LCM
 // datagram), is the message. Every input is counted as malformed, refused
 // (access, bad tag, stale epoch, replay) or applied, never a crash.
 #include <sys/stat.h>

@@ -28,8 +28,14 @@ CellLayout small_layout() {
   l.image_memory = 16;
   l.tasks = {{"fast", 1'000'000}, {"slow", 10'000'000}};
   l.devices = {{"tank1", "sim", "%IB0", "%QB0", 0, 2, 2}};
-  CellLayout::Var a{"Tank.level", VarType::INT, io::IecAddress{io::Area::Input, io::AddrSize::Word, 0, 0}, 0,
-                    true, false, false, false};
+  CellLayout::Var a{"Tank.level",
+                    VarType::INT,
+                    io::IecAddress{io::Area::Input, io::AddrSize::Word, 0, 0},
+                    0,
+                    true,
+                    false,
+                    false,
+                    false};
   CellLayout::Var b{"Tank.high_level", VarType::INT, std::nullopt, 0, true, true, false, false};
   CellLayout::Var c{"Tank.name", VarType::STRING, std::nullopt, 1, true, false, false, true};
   l.vars = {a, b, c};
@@ -152,7 +158,7 @@ TEST(HmiIpc, SeqBlockReadsAreNeverTorn) {
   std::vector<std::uint64_t> mem(64, 0);
   SeqBlock block(reinterpret_cast<unsigned char*>(mem.data()), 64 * 8 - SeqBlock::kHeader);
   std::vector<unsigned char> out;
-  EXPECT_FALSE(block.read(out));  // never written
+  EXPECT_FALSE(block.read(out));                                   // never written
   EXPECT_FALSE(block.write(std::vector<unsigned char>(1000, 1)));  // does not fit
   std::atomic<bool> stop{false};
   std::atomic<int> writes{0};
@@ -169,7 +175,8 @@ TEST(HmiIpc, SeqBlockReadsAreNeverTorn) {
     if (writes.load() == 0) continue;
     if (block.read(out)) {
       ASSERT_EQ(out.size(), 400U);
-      ASSERT_TRUE(std::all_of(out.begin(), out.end(), [&](unsigned char c) { return c == out[0]; }));
+      ASSERT_TRUE(
+          std::all_of(out.begin(), out.end(), [&](unsigned char c) { return c == out[0]; }));
       ++whole;
     }
   }

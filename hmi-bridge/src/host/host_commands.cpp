@@ -72,8 +72,8 @@ RecordCheck check_record(const ipc::CommandRecord& r, const ipc::CellLayout& l,
   if (r.restore > 1) return refuse(Reason::Malformed, "restore flag " + std::to_string(r.restore));
   if (r.generation != generation)
     return refuse(Reason::Stale, "made for generation " + std::to_string(r.generation) +
-                                     " of the cell, which is now at " +
-                                     std::to_string(generation) + " (rebuilt since)");
+                                     " of the cell, which is now at " + std::to_string(generation) +
+                                     " (rebuilt since)");
   if (stopping(verb) && !stop_commands)
     return refuse(Reason::NoStops, "not allowed: the cell's hmi: stop_commands is false");
   HostCommand c;

@@ -109,8 +109,8 @@ int child_main(void* p) {
 // the locale read.
 std::vector<std::string> child_environment() {
   std::vector<std::string> env = {"PATH=/usr/local/bin:/usr/bin:/bin"};
-  for (const char* name : {"LANG", "LC_ALL", "TZ", "ASAN_OPTIONS", "UBSAN_OPTIONS", "TSAN_OPTIONS",
-                           "LSAN_OPTIONS"})
+  for (const char* name :
+       {"LANG", "LC_ALL", "TZ", "ASAN_OPTIONS", "UBSAN_OPTIONS", "TSAN_OPTIONS", "LSAN_OPTIONS"})
     if (const char* v = std::getenv(name)) env.push_back(std::string(name) + "=" + v);
   return env;
 }
@@ -229,7 +229,8 @@ void Supervisor::stop(std::chrono::milliseconds grace) {
   int status = 0;
   bool reaped = false;
   while (!reaped) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
     if (left.count() <= 0) break;
     if (pidfd_ >= 0) {
       pollfd p{pidfd_, POLLIN, 0};

@@ -22,8 +22,7 @@ bool get_address(WireIn& r, std::optional<io::IecAddress>& out) {
   const std::uint32_t byte = r.u32();
   if (!r.ok() || has > 1) return false;
   if (!has) return true;
-  if (area > std::uint8_t(io::Area::Memory) || size > std::uint8_t(io::AddrSize::LWord) ||
-      bit > 7)
+  if (area > std::uint8_t(io::Area::Memory) || size > std::uint8_t(io::AddrSize::LWord) || bit > 7)
     return false;
   out = io::IecAddress{io::Area(area), io::AddrSize(size), byte, bit};
   return true;

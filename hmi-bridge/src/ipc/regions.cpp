@@ -82,7 +82,8 @@ std::unique_ptr<Regions> Regions::create(const Settings& settings, CellLayout& l
 
   auto* ct = new (r->control_) ControlHeader();
   ct->size = r->control_size_;
-  ct->commands = {align_up(sizeof(ControlHeader)), align_up(sizeof(CommandRecord) * kCommandCapacity)};
+  ct->commands = {align_up(sizeof(ControlHeader)),
+                  align_up(sizeof(CommandRecord) * kCommandCapacity)};
   r->write_layout(layout);
   st->generation.store(2, std::memory_order_release);
   r->state_map_.seal_future_writes();
@@ -204,8 +205,8 @@ std::optional<CellLayout> Regions::read_layout(std::uint64_t& generation,
   // A private copy: plcrun may start a rewrite while this decodes.
   std::vector<unsigned char> copy(n);
   for (std::size_t i = 0; i < n; ++i)
-    copy[i] = std::atomic_ref<unsigned char>(state_[s.layout.offset + i])
-                  .load(std::memory_order_relaxed);
+    copy[i] =
+        std::atomic_ref<unsigned char>(state_[s.layout.offset + i]).load(std::memory_order_relaxed);
   std::atomic_thread_fence(std::memory_order_acquire);
   if (s.generation.load(std::memory_order_relaxed) != g1) {
     error = "plcrun rewrote the cell layout meanwhile";

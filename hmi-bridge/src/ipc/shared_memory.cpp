@@ -52,8 +52,7 @@ Mapping Mapping::create(const char* name, std::size_t size) {
 }
 
 void Mapping::seal_future_writes() {
-  if (fcntl(fd_, F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE | F_SEAL_SEAL) !=
-      0)
+  if (fcntl(fd_, F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_FUTURE_WRITE | F_SEAL_SEAL) != 0)
     fail("fcntl(F_ADD_SEALS)");
 }
 

@@ -31,8 +31,8 @@ class Supervisor {
  public:
   using Clock = std::chrono::steady_clock;
   struct Backoff {
-    std::chrono::milliseconds first{500};       // after the first crash
-    std::chrono::milliseconds max{30'000};      // doubling up to this
+    std::chrono::milliseconds first{500};           // after the first crash
+    std::chrono::milliseconds max{30'000};          // doubling up to this
     std::chrono::milliseconds reset_after{60'000};  // up this long: back to `first`
   };
   struct Spawn {
@@ -46,7 +46,7 @@ class Supervisor {
   };
   struct Event {
     enum class Kind { Started, Exited, StartFailed } kind;
-    std::string text;  // Exited: "exited (signal 11)"; StartFailed: why
+    std::string text;                         // Exited: "exited (signal 11)"; StartFailed: why
     std::chrono::milliseconds restart_in{0};  // Exited, StartFailed: the next try
     Clock::duration up_for{};                 // Exited: how long it ran
   };

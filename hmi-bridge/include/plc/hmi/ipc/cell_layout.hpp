@@ -52,7 +52,7 @@ struct CellLayout {
   };
 
   std::string cell;
-  std::uint64_t layout_hash = 0;  // Runtime::layout_hash()
+  std::uint64_t layout_hash = 0;                                      // Runtime::layout_hash()
   std::uint32_t image_input = 0, image_output = 0, image_memory = 0;  // bytes
   std::vector<Task> tasks;
   std::vector<Device> devices;

@@ -45,10 +45,10 @@ struct Section {
 
 // plcrun's counters of what it did with the command ring.
 struct HostCounters {
-  std::atomic<std::uint64_t> served{0};     // records that reached the debugger
-  std::atomic<std::uint64_t> refused{0};    // records refused by plcrun (any Reason but Ok)
-  std::atomic<std::uint64_t> malformed{0};  // ... of them Malformed, Stale or BadOperand
-  std::atomic<std::uint64_t> skipped{0};    // command ring positions that were not plausible
+  std::atomic<std::uint64_t> served{0};        // records that reached the debugger
+  std::atomic<std::uint64_t> refused{0};       // records refused by plcrun (any Reason but Ok)
+  std::atomic<std::uint64_t> malformed{0};     // ... of them Malformed, Stale or BadOperand
+  std::atomic<std::uint64_t> skipped{0};       // command ring positions that were not plausible
   std::atomic<std::uint64_t> replies_lost{0};  // reply ring full
 };
 

@@ -43,8 +43,8 @@ struct DiagNote {
 // The bridge process's outages, newest last.
 struct OutageNote {
   struct Outage {
-    std::uint64_t number = 0;  // 1 = the first since plcrun started
-    std::string cause;         // "exited (signal 11)", "exited with status 3"
+    std::uint64_t number = 0;     // 1 = the first since plcrun started
+    std::string cause;            // "exited (signal 11)", "exited with status 3"
     std::int64_t down_utime = 0;  // CLOCK_REALTIME, microseconds
     std::int64_t up_utime = 0;    // 0 while it is still down
   };

@@ -74,9 +74,9 @@ inline constexpr std::size_t kMaxCodeOperands = debug::ConditionCode::kMaxOperan
 inline constexpr std::size_t kMaxStep = 1'000'000;
 
 struct CommandRecord {
-  std::uint32_t token = 0;  // plchmi's own number, echoed in the reply
-  std::uint8_t verb = 0;    // Verb
-  std::uint8_t restore = 0; // Unforce, UnforceAll: write back the value from before the force
+  std::uint32_t token = 0;       // plchmi's own number, echoed in the reply
+  std::uint8_t verb = 0;         // Verb
+  std::uint8_t restore = 0;      // Unforce, UnforceAll: write back the value from before the force
   std::uint16_t n_operands = 0;  // Read: operands; Break: the code's operands
   std::uint64_t generation = 0;  // the layout the indices refer to
   std::uint64_t count = 0;       // Step: scans; Break: hits; Delete: id
