@@ -153,10 +153,13 @@ class StatusLine {
   std::chrono::steady_clock::time_point t0_, last_{};
 };
 
-void print_summary(const Runtime& rt) {
+// `retained`: how the run started from the retain file (none: no retain).
+void print_summary(const Runtime& rt, const retain::StartReport* retained) {
   const double sim = std::chrono::duration<double>(rt.now()).count();
   std::printf("== summary: cell '%s', %s time ==\n", rt.cell_name().c_str(),
               rt.mode() == io::ClockMode::Virtual ? "virtual" : "real");
+  // First, so that a warm start that fell back to a cold one is not missed.
+  if (retained) std::printf("retain: %s\n", retained->headline().c_str());
   std::printf("simulated time: %.3f s   wall time: %.3f s", sim, rt.wall_seconds());
   if (rt.mode() == io::ClockMode::Virtual && rt.wall_seconds() > 0)
     std::printf("   virtual-to-real speed: %.0fx", sim / rt.wall_seconds());
@@ -187,6 +190,10 @@ void print_summary(const Runtime& rt) {
 
 // A controlled stop saves the last state (the scans are over) and says
 // what the writer did. False when the final save failed.
+// Thrown from the debugger's first build when the retain start is refused
+// (every copy damaged, on_damage_policy says stop): the cell must not run.
+struct RetainRefused {};
+
 bool report_retain_stop(retain::Manager& retained) {
   const std::string err = retained.stop();
   const retain::WriterStats st = retained.stats();
@@ -227,7 +234,8 @@ int plcrun_main(int argc, char** argv) {
     ("commands", po::value<std::string>()->value_name("FILE"), "run debugger commands from FILE (then the console if --debug)")
     ("record", po::value<std::string>()->value_name("FILE"), "record every scan's device inputs into FILE (for --replay)")
     ("replay", po::value<std::string>()->value_name("FILE"), "replay a recording instead of the devices, checking the outputs")
-    ("warm", "warm start: RETAIN and PERSISTENT variables from the retain file (the default when a valid one exists)")
+    ("warm", "warm start: RETAIN and PERSISTENT variables from the retain file; refused when every copy is damaged (unless on_damage: cold)")
+    ("warm-or-cold", "warm start when a valid retain file exists, else cold, also when every copy is damaged (the default, whatever on_damage says)")
     ("cold", "cold start: only PERSISTENT variables from the retain file, everything else initial")
     ("reset-retain", "remove the retain file first: every variable at its initial value")
     ("quiet,q", "no live status line")
@@ -292,11 +300,13 @@ int plcrun_main(int argc, char** argv) {
     return 2;
   }
 
-  if (vm.count("warm") + vm.count("cold") + vm.count("reset-retain") > 1) {
-    std::cerr << "plcrun: --warm, --cold and --reset-retain exclude each other\n";
+  const std::size_t start_modes =
+      vm.count("warm") + vm.count("warm-or-cold") + vm.count("cold") + vm.count("reset-retain");
+  if (start_modes > 1) {
+    std::cerr << "plcrun: --warm, --warm-or-cold, --cold and --reset-retain exclude each other\n";
     return 2;
   }
-  const bool start_mode_given = vm.count("warm") || vm.count("cold") || vm.count("reset-retain");
+  const bool start_mode_given = start_modes > 0;
 
   std::unique_ptr<Runtime> rt;
   io::ClockMode mode = io::ClockMode::Virtual;
@@ -364,7 +374,8 @@ int plcrun_main(int argc, char** argv) {
   }
 
   if (start_mode_given && !cfg.retain.present) {
-    std::cerr << "plcrun: --warm/--cold/--reset-retain: the config has no 'retain:' section\n";
+    std::cerr << "plcrun: --warm/--warm-or-cold/--cold/--reset-retain: the config has no 'retain:' "
+                 "section\n";
     return 2;
   }
   // A cell with an `hmi:` section runs as a debugger session (the bridge's
@@ -383,14 +394,26 @@ int plcrun_main(int argc, char** argv) {
   if (start_mode_given && (vm.count("replay") || console)) {
     // A replay and a console session (goto and restart re-run from the
     // start) need the initial values; they neither load nor save retain data.
-    std::cerr << "plcrun: --warm/--cold/--reset-retain apply to a plain run or a cell with an "
-                 "hmi: section, not to --replay, --debug or --commands\n";
+    std::cerr << "plcrun: --warm/--warm-or-cold/--cold/--reset-retain apply to a plain run or a "
+                 "cell with an hmi: section, not to --replay, --debug or --commands\n";
     return 2;
+  }
+  // Whether this run loads and saves retain data: its file must be
+  // writable before anything starts, not at the first save.
+  const bool uses_retain = cfg.retain.present && !vm.count("replay") && !console;
+  if (uses_retain) {
+    try {
+      retain::check_file(cfg);
+    } catch (const ConfigError& e) {
+      std::cerr << e.what() << "\n";
+      return 2;
+    }
   }
   // An HMI alone (no console) never rebuilds the runtime (the bridge has no
   // goto or restart): retain is loaded and saved exactly as in a plain run.
-  const bool hmi_retain = hmi && !console && cfg.retain.present && !vm.count("replay");
+  const bool hmi_retain = hmi && uses_retain;
   const retain::StartMode start_mode = vm.count("warm")           ? retain::StartMode::Warm
+                                       : vm.count("warm-or-cold") ? retain::StartMode::WarmOrCold
                                        : vm.count("cold")         ? retain::StartMode::Cold
                                        : vm.count("reset-retain") ? retain::StartMode::Reset
                                                                   : retain::StartMode::Auto;
@@ -427,17 +450,25 @@ int plcrun_main(int argc, char** argv) {
     o.span = span;
     if (vm.count("replay")) o.replay_file = vm["replay"].as<std::string>();
     if (vm.count("record")) o.record_file = vm["record"].as<std::string>();
+    retain::StartReport retain_start;
     o.on_build = [&, b = bridge.get()](Runtime& r) {
       if (b) b->attach(r);
       if (hmi_retain && !retained) {  // the first (and only) build: before its first scan
         retained = std::make_unique<retain::Manager>(r, cfg.retain);
-        for (const auto& line : retained->start(start_mode).lines())
+        retain_start = retained->start(start_mode);
+        for (const auto& line : retain_start.lines())
           std::fprintf(stderr, "plcrun: retain: %s\n", line.c_str());
+        // Before the runtime starts (Debugger::build): no scan runs.
+        if (retain_start.refused) throw RetainRefused();
+        if (b && retain_start.fell_back())
+          b->add_start_alarm("retain_cold_start", "retain", retain_start.headline());
       }
     };
     std::unique_ptr<debug::Debugger> dbg;
     try {
       dbg = std::make_unique<debug::Debugger>([&cfg] { return std::make_unique<Runtime>(cfg); }, o);
+    } catch (const RetainRefused&) {
+      return 1;
     } catch (const debug::RecordingError& e) {
       std::cerr << "plcrun: " << e.what() << "\n";
       return 1;
@@ -507,7 +538,7 @@ int plcrun_main(int argc, char** argv) {
         dbg->stop_cell();
         retain_failed = !finish_retain();
         std::fflush(stdout);
-        print_summary(dbg->runtime());
+        print_summary(dbg->runtime(), hmi_retain ? &retain_start : nullptr);
       }
     } else if (!run_debug_session(*dbg, file, g_console)) {
       std::cerr << "plcrun: cannot read command file '" << file << "'\n";
@@ -532,7 +563,7 @@ int plcrun_main(int argc, char** argv) {
     dbg->stop_cell();
     finish_retain();
     std::fflush(stdout);
-    print_summary(dbg->runtime());
+    print_summary(dbg->runtime(), hmi_retain ? &retain_start : nullptr);
     g_debugger = nullptr;
     dbg.reset();
     std::printf("stopped by %s; outputs at their safe values\n",
@@ -560,10 +591,13 @@ int plcrun_main(int argc, char** argv) {
 
   // A replay needs the initial values the recording started from.
   std::unique_ptr<retain::Manager> retained;
-  if (cfg.retain.present && !replayer) {
+  retain::StartReport retain_start;
+  if (uses_retain) {
     retained = std::make_unique<retain::Manager>(*rt, cfg.retain);
-    for (const auto& line : retained->start(start_mode).lines())
+    retain_start = retained->start(start_mode);
+    for (const auto& line : retain_start.lines())
       std::fprintf(stderr, "plcrun: retain: %s\n", line.c_str());
+    if (retain_start.refused) return 1;  // nothing has started
   }
 
   std::unique_ptr<debug::Trace> trace;
@@ -647,7 +681,7 @@ int plcrun_main(int argc, char** argv) {
   if (retained && !report_retain_stop(*retained)) rc = 1;
   if (status) status->done();
   if (trace) trace->stop();
-  print_summary(*rt);
+  print_summary(*rt, retained ? &retain_start : nullptr);
   if (vm.count("print-vars")) {
     std::printf("final values:\n");
     for (const auto& p : split_csv(vm["print-vars"].as<std::string>())) {

@@ -154,7 +154,7 @@ TEST(RetainConfig, LocatedErrors) {
   EXPECT_EQ(err("retain: {file: x, memory: [\"%QB0\"]}"),
             "c.yaml:3:28: key 'memory': %QB0 is not a %M address (only memory is retained)");
   EXPECT_EQ(err("retain: {file: x, every: 1s}"),
-            "c.yaml:3:19: unknown key 'every' in retain (expected one of: file, memory, "
+            "c.yaml:3:19: unknown key 'every' in retain (expected one of: file, memory, on_damage, "
             "save_every)");
   const CellConfig ok = parse_cell_config(
       "image: {memory: 16}\ntasks: [{name: m, period: 1ms, programs: []}]\nretain: {file: "
@@ -410,8 +410,9 @@ TEST(RetainPlcrun, FillingCellListsClassesAndRestartsWarm) {
 
   auto both = plctest::run_command(plcrun + " " + cfg + " --cold --warm");
   EXPECT_EQ(both.exit_code, 2);
-  EXPECT_NE(both.output.find("--warm, --cold and --reset-retain exclude each other"),
-            std::string::npos);
+  EXPECT_NE(
+      both.output.find("--warm, --warm-or-cold, --cold and --reset-retain exclude each other"),
+      std::string::npos);
   auto none = plctest::run_command(plcrun + " " + plctest::source_dir() +
                                    "/programs/filling_cell/cell.yaml --warm");
   EXPECT_EQ(none.exit_code, 2);

@@ -15,6 +15,7 @@ const char* mode_name(StartMode m) {
     case StartMode::Reset:
       return "reset";
     case StartMode::Auto:
+    case StartMode::WarmOrCold:
       break;
   }
   return "start";
@@ -34,25 +35,46 @@ std::string listed(const std::vector<std::string>& v) {
 
 }  // namespace
 
+OnDamage on_damage_policy(StartMode requested, RetainOnDamage configured) {
+  if (requested == StartMode::WarmOrCold) return OnDamage::Cold;
+  if (configured == RetainOnDamage::Cold) return OnDamage::Cold;
+  if (configured == RetainOnDamage::Stop) return OnDamage::Stop;
+  return requested == StartMode::Warm ? OnDamage::Stop : OnDamage::Cold;
+}
+
+bool StartReport::fell_back() const {
+  return !loaded && !refused && mode != StartMode::Reset && !problems.empty();
+}
+
+std::string StartReport::headline() const {
+  const std::string head = mode_name(mode);
+  if (mode == StartMode::Reset)
+    return head + ": retain file removed; every variable at its initial value";
+  if (refused)
+    return head +
+           " REFUSED: no valid copy of the retain file (all damaged); the cell does not start "
+           "(plcrun --warm-or-cold, or on_damage: cold in the retain: section, starts it with "
+           "every variable at its initial value)";
+  if (fell_back())
+    return requested == StartMode::Cold
+               ? head +
+                     ": no valid copy of the retain file (all damaged), PERSISTENT values lost "
+                     "too; every variable at its initial value"
+               : head +
+                     " INSTEAD OF A WARM START: no valid copy of the retain file (all "
+                     "damaged); every variable at its initial value";
+  if (!loaded) return head + ": no retain file yet; every variable at its initial value";
+  return head + " from " + from + " (sequence " + std::to_string(sequence) +
+         "): " + std::to_string(restored) + " restored, " + std::to_string(initial) +
+         " at initial values" +
+         (mode == StartMode::Cold ? " (RETAIN: a cold start keeps only PERSISTENT)" : "");
+}
+
 std::vector<std::string> StartReport::lines() const {
   std::vector<std::string> out;
   for (const auto& p : problems) out.push_back("damaged copy " + p);
-  std::string head = mode_name(mode);
-  if (mode == StartMode::Reset) {
-    out.push_back(head + ": retain file removed; every variable at its initial value");
-    return out;
-  }
-  if (!loaded) {
-    out.push_back(head +
-                  (problems.empty() ? ": no retain file yet"
-                                    : ": no valid copy of the retain file (all damaged)") +
-                  "; every variable at its initial value");
-    return out;
-  }
-  out.push_back(head + " from " + from + " (sequence " + std::to_string(sequence) +
-                "): " + std::to_string(restored) + " restored, " + std::to_string(initial) +
-                " at initial values" +
-                (mode == StartMode::Cold ? " (RETAIN: a cold start keeps only PERSISTENT)" : ""));
+  out.push_back(headline());
+  if (!loaded) return out;
   if (!added.empty()) out.push_back("not in the file (initial values): " + listed(added));
   if (!type_changed.empty())
     out.push_back("type changed (initial values): " + listed(type_changed));
@@ -63,6 +85,7 @@ std::vector<std::string> StartReport::lines() const {
 
 Manager::Manager(Runtime& rt, const RetainConfig& cfg)
     : rt_(rt),
+      on_damage_(cfg.on_damage.value),
       save_every_(cfg.save_every.value),
       layout_(rt.vars(), cfg, rt.image()),
       storage_(cfg.path),
@@ -76,9 +99,18 @@ Manager::~Manager() {
 
 StartReport Manager::start(StartMode mode) {
   StartReport r;
+  r.requested = mode;
   Storage::Loaded l = storage_.load();
   r.problems = l.problems;
-  if (mode == StartMode::Auto) mode = l.image ? StartMode::Warm : StartMode::Cold;
+  if (mode != StartMode::Reset && !l.image && !l.problems.empty() &&
+      on_damage_policy(mode, on_damage_) == OnDamage::Stop) {
+    r.refused = true;
+    r.mode = mode;  // nothing was done
+    return r;
+  }
+  // A warm start without a valid copy is a cold start, and says so.
+  if (mode == StartMode::Auto || mode == StartMode::WarmOrCold || mode == StartMode::Warm)
+    mode = l.image ? StartMode::Warm : StartMode::Cold;
   r.mode = mode;
   std::uint64_t next = 1;
   if (mode == StartMode::Reset) {

@@ -25,22 +25,39 @@
 namespace plc::retain {
 
 enum class StartMode {
-  Auto,   // warm when a valid retain file exists, else cold
-  Warm,   // RETAIN and PERSISTENT restored, everything else initial
-  Cold,   // PERSISTENT restored, RETAIN and everything else initial
-  Reset,  // the retain file removed, everything initial
+  Auto,        // warm when a valid retain file exists, else cold
+  Warm,        // RETAIN and PERSISTENT restored, everything else initial
+  WarmOrCold,  // Auto, but a cold start also when every copy is damaged, whatever on_damage says
+  Cold,        // PERSISTENT restored, RETAIN and everything else initial
+  Reset,       // the retain file removed, everything initial
 };
 
+// What a start does when copies of the retain file exist but none is
+// valid: start with initial values (loudly), or not at all.
+enum class OnDamage { Cold, Stop };
+// --warm-or-cold goes cold whatever the config says; otherwise the config's
+// `on_damage:` decides; unset, an explicit warm start (--warm) stops - the
+// operator asked for the retained values, a cold start would silently drop
+// them - and every other start goes cold.
+OnDamage on_damage_policy(StartMode requested, RetainOnDamage configured);
+
 struct StartReport {
-  StartMode mode = StartMode::Cold;  // what was done (Auto resolved)
+  StartMode requested = StartMode::Auto;
+  StartMode mode = StartMode::Cold;  // what was done (Auto resolved; refused: as requested)
   bool loaded = false;               // a valid copy was read
+  bool refused = false;              // every copy damaged and the policy says stop
   std::string from;                  // its file
   std::uint64_t sequence = 0;
   std::size_t restored = 0, initial = 0;  // retained entries restored / left initial
   std::vector<std::string> added, removed, type_changed;  // layout differences
   std::vector<std::string> problems;                      // damaged copies, errors
-  // The lines plcrun prints.
+  // Copies existed but none was valid, and the cell started anyway with
+  // initial values (what the summary and the HMI point out).
+  [[nodiscard]] bool fell_back() const;
+  // The lines plcrun prints at the start; headline() is the one that says
+  // what kind of start it was (the summary repeats it).
   [[nodiscard]] std::vector<std::string> lines() const;
+  [[nodiscard]] std::string headline() const;
 };
 
 class Manager : public ScanHooks {
@@ -51,7 +68,10 @@ class Manager : public ScanHooks {
   Manager& operator=(const Manager&) = delete;
 
   // Before the first scan: restores per `mode`, starts the writer and hooks
-  // into the scans.
+  // into the scans. When every copy is damaged and the policy
+  // (on_damage_policy) says stop, nothing is restored or started and the
+  // report says `refused`: the caller must not run the cell (the damaged
+  // copies stay as they are, for whoever repairs them).
   StartReport start(StartMode mode);
   // After the last scan (Runtime::finish): the last snapshot, written on
   // this thread. "" or the error.
@@ -66,6 +86,7 @@ class Manager : public ScanHooks {
 
  private:
   Runtime& rt_;
+  RetainOnDamage on_damage_;
   TIME save_every_;
   Layout layout_;
   Storage storage_;
