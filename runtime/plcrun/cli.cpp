@@ -391,16 +391,21 @@ int plcrun_main(int argc, char** argv) {
                  "trace start FILE)\n";
     return 2;
   }
-  if (start_mode_given && (vm.count("replay") || console)) {
-    // A replay and a console session (goto and restart re-run from the
-    // start) need the initial values; they neither load nor save retain data.
-    std::cerr << "plcrun: --warm/--warm-or-cold/--cold/--reset-retain apply to a plain run or a "
-                 "cell with an hmi: section, not to --replay, --debug or --commands\n";
+  // A replay and a console session in virtual time (goto and restart re-run
+  // from the start) need the initial values; they neither load nor save
+  // retain data. In real time goto and restart are refused: a console
+  // session there never rebuilds its runtime, and keeps retain as a plain
+  // run does (so that an online change, `reload`, can carry it).
+  const bool virtual_console = console && mode == io::ClockMode::Virtual;
+  if (start_mode_given && (vm.count("replay") || virtual_console)) {
+    std::cerr << "plcrun: --warm/--warm-or-cold/--cold/--reset-retain apply to a plain run, a "
+                 "cell with an hmi: section or a real-time debugger session, not to --replay or a "
+                 "virtual-time --debug or --commands session\n";
     return 2;
   }
   // Whether this run loads and saves retain data: its file must be
   // writable before anything starts, not at the first save.
-  const bool uses_retain = cfg.retain.present && !vm.count("replay") && !console;
+  const bool uses_retain = cfg.retain.present && !vm.count("replay") && !virtual_console;
   if (uses_retain) {
     try {
       retain::check_file(cfg);
@@ -411,7 +416,6 @@ int plcrun_main(int argc, char** argv) {
   }
   // An HMI alone (no console) never rebuilds the runtime (the bridge has no
   // goto or restart): retain is loaded and saved exactly as in a plain run.
-  const bool hmi_retain = hmi && uses_retain;
   const retain::StartMode start_mode = vm.count("warm")           ? retain::StartMode::Warm
                                        : vm.count("warm-or-cold") ? retain::StartMode::WarmOrCold
                                        : vm.count("cold")         ? retain::StartMode::Cold
@@ -440,10 +444,11 @@ int plcrun_main(int argc, char** argv) {
         return 2;
       }
     }
-    if (cfg.retain.present && !hmi_retain)
+    if (cfg.retain.present && !uses_retain)
       std::fprintf(stderr,
-                   "plcrun: retain: not loaded or saved in a debugger session (every variable "
-                   "starts at its initial value; goto re-runs from them)\n");
+                   "plcrun: retain: not loaded or saved in a virtual-time debugger session or a "
+                   "replay (every variable starts at its initial value; goto re-runs from "
+                   "them)\n");
     rt.reset();  // the debugger builds (and for goto rebuilds) its own
     debug::Debugger::Options o;
     o.mode = mode;
@@ -453,7 +458,7 @@ int plcrun_main(int argc, char** argv) {
     retain::StartReport retain_start;
     o.on_build = [&, b = bridge.get()](Runtime& r) {
       if (b) b->attach(r);
-      if (hmi_retain && !retained) {  // the first (and only) build: before its first scan
+      if (uses_retain && !retained) {  // the first (and only) build: before its first scan
         retained = std::make_unique<retain::Manager>(r, cfg.retain);
         retain_start = retained->start(start_mode);
         for (const auto& line : retain_start.lines())
@@ -482,10 +487,13 @@ int plcrun_main(int argc, char** argv) {
       std::unique_ptr<retain::Manager>& m;
       ~ResetRetain() { m.reset(); }
     } reset_retain{retained};
+    // `reload` switches the retain file's layout with the programs.
+    dbg->set_retain(retained.get());
     // After the last scan (Debugger::stop_cell): the final save, as a plain
     // run does. False when it failed.
-    auto finish_retain = [&retained] {
+    auto finish_retain = [&retained, &dbg] {
       if (!retained) return true;
+      dbg->set_retain(nullptr);
       const bool ok = report_retain_stop(*retained);
       retained.reset();
       return ok;
@@ -538,10 +546,12 @@ int plcrun_main(int argc, char** argv) {
         dbg->stop_cell();
         retain_failed = !finish_retain();
         std::fflush(stdout);
-        print_summary(dbg->runtime(), hmi_retain ? &retain_start : nullptr);
+        print_summary(dbg->runtime(), uses_retain ? &retain_start : nullptr);
       }
     } else if (!run_debug_session(*dbg, file, g_console)) {
       std::cerr << "plcrun: cannot read command file '" << file << "'\n";
+      dbg->stop_cell();  // a real-time cell runs already: stop it before its retain goes
+      finish_retain();
       g_debugger = nullptr;
       return 2;
     }
@@ -555,6 +565,11 @@ int plcrun_main(int argc, char** argv) {
     }
     const int sig = g_end_signal.load();
     if (sig == 0) {
+      if (retained) {  // a real-time console session that ended (quit, end of the file)
+        if (bridge) bridge->stop();
+        dbg->stop_cell();
+        retain_failed = !finish_retain();
+      }
       g_debugger = nullptr;
       return recording_failed || retain_failed ? 1 : 0;
     }
@@ -563,7 +578,7 @@ int plcrun_main(int argc, char** argv) {
     dbg->stop_cell();
     finish_retain();
     std::fflush(stdout);
-    print_summary(dbg->runtime(), hmi_retain ? &retain_start : nullptr);
+    print_summary(dbg->runtime(), uses_retain ? &retain_start : nullptr);
     g_debugger = nullptr;
     dbg.reset();
     std::printf("stopped by %s; outputs at their safe values\n",
