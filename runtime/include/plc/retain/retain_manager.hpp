@@ -22,7 +22,9 @@
 // gathered in the old layout - a task that switched already contributes
 // the values its last scan of the old code left in the old programs (alive
 // until the change is finished, and no longer written) - so every snapshot
-// is of one layout, each task's part from one whole scan of it; a snapshot
+// is of one layout, each task's part from one whole scan of it (switched at
+// the first task, a task whose scan was under way then would save its new
+// programs' fields before its own switch gave them their values); a snapshot
 // half gathered at the switch is dropped, and the next scan starts one in
 // the new layout. A snapshot offered before the switch and written after
 // it is written whole in its old layout (Writer::Slot). Each copy on disk
