@@ -100,6 +100,7 @@ TEST(OnlineRetain, RetainedProgramChangesAndTheReportListsTheRetainedDifferences
   OnlineChange change(*cell.rt);
   const ChangeReport r = change.prepare("");
   ASSERT_EQ(r.refused, "");
+  cell.mgr->follow(change);  // as the debugger's reload does: the old programs go at finish()
   EXPECT_EQ(r.retain_added, (std::vector<std::string>{"A.extra: LINT", "A.plain: DINT",
                                                       "B.extra: LINT", "B.plain: DINT"}));
   EXPECT_EQ(r.retain_removed, (std::vector<std::string>{"A.note: INT", "B.note: INT"}));

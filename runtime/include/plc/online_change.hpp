@@ -119,7 +119,10 @@ class OnlineChange {
   // given, is where the new build's bytes come from (a replay's kept copy).
   ChangeReport prepare(const std::string& library, const std::string& file = "");
   // After prepare(), before commit(): `f` switches with the last task
-  // (SwitchFollower). It must outlive this object.
+  // (SwitchFollower). It must outlive this object. A cell whose retain is
+  // managed (retain::Manager) must have it follow every change
+  // (Manager::follow, as the debugger's reload does): its layout points
+  // into the programs, and finish() destroys the old ones.
   void follow(SwitchFollower* f) { together_.follower = f; }
   // After prepare(): the new build, and the tasks (TaskRuntime::order) that
   // switch to it.
