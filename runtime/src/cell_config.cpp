@@ -235,7 +235,7 @@ class Loader {
     r.present = true;
     r.mark = mark_of(n);
     expect_map(n, "retain");
-    check_keys(n, {"file", "save_every", "memory"}, "retain");
+    check_keys(n, {"file", "save_every", "memory", "on_damage"}, "retain");
     r.file = scalar(require(n, "file", "retain"), "file");
     if (r.file.value.empty()) fail(n["file"], "key 'file': names no file");
     // Relative to the config's folder: the cell keeps its file wherever it
@@ -255,6 +255,12 @@ class Loader {
              "key 'memory' must be a list of %M addresses or ranges (e.g. [\"%MB0..%MB15\", "
              "%MD20])");
       for (const auto& item : m) r.memory.push_back(memory_range(item, image));
+    }
+    if (const auto d = n["on_damage"]) {
+      const auto s = scalar(d, "on_damage");
+      if (s.value != "cold" && s.value != "stop")
+        fail(d, "key 'on_damage': '" + s.value + "' is not cold or stop");
+      r.on_damage = {s.value == "cold" ? RetainOnDamage::Cold : RetainOnDamage::Stop, s.mark};
     }
     return r;
   }

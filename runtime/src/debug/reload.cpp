@@ -32,6 +32,7 @@
 #include "plc/config_path.hpp"
 #include "plc/debug/debugger.hpp"
 #include "plc/online_change.hpp"
+#include "plc/retain/retain_manager.hpp"
 
 namespace plc::debug {
 
@@ -103,6 +104,15 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
   OnlineChange change(*rt_);
   const ChangeReport report = change.prepare(lib);
   if (!report.refused.empty()) return report.text();
+  // The retain file's next layout, built here; it switches with the last
+  // task (retain::Manager::follow).
+  std::string retain_note;
+  if (retain_) {
+    retain_->follow(change);
+    retain_note =
+        "  the retain file is saved in the new layout from the scan where the last task "
+        "concerned switches\n";
+  }
 
   // Re-resolve against the new build, before any task switches.
   auto carry = std::make_shared<Carry>();
@@ -190,13 +200,18 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
       settle();
       return report.text() + dropped +
              "reload: not every task reached a scan boundary in time (a stopped or stuck "
-             "task); the tasks that did run the new code, the others run the old code on\n";
+             "task); the tasks that did run the new code, the others run the old code on" +
+             (retain_ ? "; the retain file keeps the old layout (its values of the tasks that "
+                        "switched stay as their last scan of the old code left them)"
+                      : "") +
+             "\n";
     }
   }
   settle();
   change.finish();
   reloaded_ = "the library changed at scan " + std::to_string(scan_count());
-  return report.text() + dropped + "switched: every task concerned runs the new build\n";
+  return report.text() + retain_note + dropped +
+         "switched: every task concerned runs the new build\n";
 }
 
 }  // namespace plc::debug
