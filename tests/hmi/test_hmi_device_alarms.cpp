@@ -187,7 +187,7 @@ TEST(HmiBridge, DeviceFlapBetweenTwoBridgeRoundsIsReported) {
 TEST(HmiBridge, RetainColdStartFallbackIsAnActiveAlarm) {
   plctest::HmiCell h;
   Seen seen;
-  plc::hmi::subscribe_checked<softplc_hmi::diagnostics_t>(h.bridge->lcm(),
+  plc::hmi::subscribe_checked<softplc_hmi::diagnostics_t>(h.bridge->transport(),
                                                           h.bridge->channels().diag, &seen);
   h.bridge->add_start_alarm("retain_cold_start", "retain",
                             "cold start INSTEAD OF A WARM START: no valid copy");
