@@ -370,11 +370,11 @@ int run(int argc, char** argv) {
           t.stop_reason.empty() ? "" : "  STOPPED: ", t.stop_reason.c_str());
     std::printf(
         "bridge: published %lld, dropped %lld, commands %lld, refused %lld, bad tag %lld, "
-        "replayed %lld, malformed %lld\n",
+        "replayed %lld, stale %lld, malformed %lld\n",
         static_cast<long long>(m->published), static_cast<long long>(m->dropped),
         static_cast<long long>(m->commands), static_cast<long long>(m->refused),
         static_cast<long long>(m->bad_tag), static_cast<long long>(m->replayed),
-        static_cast<long long>(m->malformed));
+        static_cast<long long>(m->stale), static_cast<long long>(m->malformed));
     // The bridge's transport: what it received, delivered and dropped (by
     // reason), the counters that are not zero.
     std::string counts;

@@ -122,7 +122,7 @@ struct Bridge::Layout {
 };
 
 Bridge::Bridge(const HmiConfig& cfg, std::string cell_file)
-    : cfg_(cfg), cell_file_(std::move(cell_file)), ch_(cfg.prefix.value) {
+    : cfg_(cfg), cell_file_(std::move(cell_file)), ch_(cfg.prefix.value), epoch_(new_epoch()) {
   std::string url_error;
   transport_ = open_transport(cfg_.url.value, url_error);
   if (!transport_) throw ConfigError(cell_file_, cfg_.url.mark, "key 'url': " + url_error);
@@ -238,6 +238,7 @@ void Bridge::attach(Runtime& rt) {
                               "' matches no variable (plcrun CONFIG --list-vars lists them)");
     }
   l->desc.cell = l->cell;
+  set_epoch(l->desc, epoch_);
   l->desc.layout_hash = static_cast<std::int64_t>(rt.layout_hash());
   l->desc.stop_commands_allowed = cfg_.stop_commands.value;
   l->desc.key_required = key_.has_value();
@@ -259,8 +260,19 @@ void Bridge::attach(Runtime& rt) {
 }
 
 softplc_hmi::cell_description_t Bridge::description() {
+  softplc_hmi::cell_description_t d;
+  {
+    std::lock_guard<std::mutex> lock(layout_mu_);
+    if (!layout_) return d;
+    d = layout_->desc;
+  }
+  if (key_) sign(d, *key_, tag_context(ch_.desc));
+  return d;
+}
+
+TagContext Bridge::tag_context(const std::string& channel) {
   std::lock_guard<std::mutex> lock(layout_mu_);
-  return layout_ ? layout_->desc : softplc_hmi::cell_description_t{};
+  return {cfg_.prefix.value, layout_ ? layout_->cell : std::string(), channel};
 }
 
 BridgeCounters Bridge::counters() const {
@@ -340,8 +352,10 @@ void Bridge::publish_description() {
     l = layout_;
   }
   if (!l) return;
-  l->desc.utime = utime_now();
-  transport_->publish(ch_.desc, &l->desc);
+  softplc_hmi::cell_description_t d = l->desc;
+  d.utime = utime_now();
+  if (key_) sign(d, *key_, {cfg_.prefix.value, l->cell, ch_.desc});
+  transport_->publish(ch_.desc, &d);
 }
 
 template <class F>
@@ -356,6 +370,7 @@ void Bridge::with_runtime(F f) {
 void Bridge::publish_stats() {
   softplc_hmi::stats_t m;
   m.utime = utime_now();
+  for (std::size_t i = 0; i < epoch_.size(); ++i) m.epoch[i] = std::int8_t(epoch_[i]);
   with_runtime([&m](Runtime& rt) {
     m.cell = rt.cell_name();
     for (const auto& t : rt.tasks()) {
@@ -380,6 +395,7 @@ void Bridge::publish_stats() {
   m.refused = std::int64_t(c.refused);
   m.bad_tag = std::int64_t(c.bad_tag);
   m.replayed = std::int64_t(c.replayed);
+  m.stale = std::int64_t(c.stale);
   m.malformed = std::int64_t(c.malformed);
   for (const auto& [name, count] : transport_->counters().named()) {
     m.transport_counter.push_back(name);
@@ -573,6 +589,10 @@ void Bridge::on_command_bytes(const void* data, std::size_t size) {
   r.request_id = c.request_id;
   r.client = c.client;
   r.n = int(r.values.size());
+  // Every reply is signed, refusals too: with a random request id (plcctl)
+  // a signed reply to someone else's request answers nothing of its own.
+  set_epoch(r, epoch_);
+  if (key_) sign(r, *key_, tag_context(ch_.reply));
   if (in_handler_ && pending_.size() < 1000)
     pending_.push_back(std::move(r));
   else if (!in_handler_)
@@ -594,14 +614,15 @@ softplc_hmi::reply_t Bridge::serve(const softplc_hmi::command_t& c) {
     ++(counters_.*counter);
     return r;
   };
-  if (key_) {
-    if (!verify(c, *key_))
-      return refuse("bad tag: the HMAC does not verify", &BridgeCounters::bad_tag);
-    if (!replay_.fresh(c.client, c.counter))
-      return refuse("replayed: counter " + std::to_string(c.counter) +
-                        " is not above the last one of client '" + c.client + "'",
-                    &BridgeCounters::replayed);
-    replay_.accept(c.client, c.counter);
+  // describe changes nothing and is how a client learns the epoch it must
+  // sign for: it needs no tag (what it publishes is signed).
+  if (c.verb != "describe") {
+    std::string why = authenticate(c);
+    if (!why.empty()) {
+      r.ok = false;
+      r.refusal = std::move(why);
+      return r;
+    }
   }
   const std::string& v = c.verb;
   const auto& a = c.args;
@@ -655,7 +676,8 @@ softplc_hmi::reply_t Bridge::serve(const softplc_hmi::command_t& c) {
   } else if (v == "unforce") {
     if (a.empty() || a.size() > 2 || (a.size() == 2 && a[1] != "restore"))
       return refuse("unforce: needs NAME [restore]", &BridgeCounters::refused);
-    if (a[0] != "all" && !may(cfg_.forceable, a[0]))
+    if (a[0] == "all") return unforce_all(a.size() == 2);
+    if (!may(cfg_.forceable, a[0]))
       return refuse("unforce " + a[0] + ": not allowed (not forceable)", &BridgeCounters::refused);
     d = dbg_->unforce(a[0], a.size() == 2);
   } else if (v == "pause") {
@@ -685,6 +707,71 @@ softplc_hmi::reply_t Bridge::serve(const softplc_hmi::command_t& c) {
   if (!d.ok) return refuse(d.text, &BridgeCounters::refused);
   r.ok = true;
   std::lock_guard<std::mutex> lock(counters_mu_);
+  ++counters_.commands;
+  return r;
+}
+
+std::string Bridge::authenticate(const softplc_hmi::command_t& c) {
+  if (!key_) return "";
+  auto counted = [this](std::string why, std::uint64_t BridgeCounters::*counter) {
+    std::lock_guard<std::mutex> lock(counters_mu_);
+    ++(counters_.*counter);
+    return why;
+  };
+  // The tag first: only then is the epoch the command carries its sender's.
+  if (!verify(c, *key_, tag_context(ch_.cmd)))
+    return counted(
+        "bad tag: the HMAC does not verify (no tag, another key, or signed for another cell, "
+        "prefix or channel)",
+        &BridgeCounters::bad_tag);
+  if (epoch_of(c) != epoch_)
+    return counted("stale epoch: signed for epoch " + to_hex(epoch_of(c)) +
+                       ", this bridge started since with epoch " + to_hex(epoch_) +
+                       " (a client sends it again for the reply's epoch)",
+                   &BridgeCounters::stale);
+  switch (replay_.check(c.client, c.counter)) {
+    case ReplayGuard::Verdict::fresh:
+      break;
+    case ReplayGuard::Verdict::replayed:
+      return counted("replayed: counter " + std::to_string(c.counter) +
+                         " is not above the last one of client '" + c.client + "'",
+                     &BridgeCounters::replayed);
+    case ReplayGuard::Verdict::below_floor:
+      return counted("replayed: counter " + std::to_string(c.counter) + " of client '" + c.client +
+                         "' is not above " + std::to_string(replay_.floor()) +
+                         ", the last counter of a client the bridge forgot (it tracks " +
+                         std::to_string(ReplayGuard::kMaxClients) +
+                         " clients per epoch; is this client's clock behind?)",
+                     &BridgeCounters::replayed);
+  }
+  replay_.accept(c.client, c.counter);
+  return "";
+}
+
+// `unforce all` from a client releases what the forceable patterns match
+// and keeps every other force (the console's), in one step of the debugger.
+softplc_hmi::reply_t Bridge::unforce_all(bool restore) {
+  softplc_hmi::reply_t r;
+  std::vector<std::string> kept;
+  const debug::Debugger::Reply d = dbg_->unforce_if(
+      [&](const std::string& name) {
+        if (may(cfg_.forceable, name)) return true;
+        kept.push_back(name);
+        return false;
+      },
+      restore);
+  std::string kept_text;
+  for (const auto& k : kept)
+    kept_text += "kept " + k + " (the cell's hmi: forceable patterns do not match it)\n";
+  std::lock_guard<std::mutex> lock(counters_mu_);
+  if (!d.ok) {
+    r.ok = false;
+    r.refusal = "unforce all: no force that this client may release\n" + kept_text;
+    ++counters_.refused;
+    return r;
+  }
+  r.ok = true;
+  r.text = d.text + kept_text;
   ++counters_.commands;
   return r;
 }

@@ -1,68 +1,232 @@
 #include "plc/hmi/command_auth.hpp"
 
+#include <fcntl.h>
 #include <sodium.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
-#include <fstream>
-#include <sstream>
+#include <cstdio>
+#include <cstdlib>
 #include <vector>
 
 namespace plc::hmi {
+
+namespace {
+
+// Larger files are refused unread: a key file holds 64 hex digits.
+constexpr std::size_t kMaxKeyFileBytes = 4096;
+
+struct Fd {
+  int fd;
+  ~Fd() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+std::string octal_mode(mode_t m) {
+  char b[8];
+  std::snprintf(b, sizeof b, "%04o", unsigned(m & 07777));
+  return b;
+}
+
+}  // namespace
 
 std::optional<Key> load_key(const std::string& path, std::string& err) {
   if (sodium_init() < 0) {
     err = "libsodium cannot be initialised";
     return std::nullopt;
   }
-  std::ifstream f(path);
-  if (!f) {
+  // O_NONBLOCK: a FIFO in its place must not hang the start; what was
+  // opened is what is checked (fstat), so it cannot be swapped in between.
+  Fd f{::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK)};
+  struct stat st {};
+  if (f.fd < 0 || ::fstat(f.fd, &st) != 0) {
     err = "cannot read key file '" + path + "'";
     return std::nullopt;
   }
-  std::stringstream ss;
-  ss << f.rdbuf();
+  if (!S_ISREG(st.st_mode)) {
+    err = "key file '" + path + "' is not a regular file";
+    return std::nullopt;
+  }
+  if ((st.st_mode & 077) != 0) {
+    err = "key file '" + path + "' is readable or writable by group or others (mode " +
+          octal_mode(st.st_mode) + "): anyone who can read it can sign commands; chmod 600 " + path;
+    return std::nullopt;
+  }
+  if (st.st_uid != ::geteuid() && st.st_uid != 0) {
+    err = "key file '" + path + "' belongs to uid " + std::to_string(st.st_uid) +
+          ", neither this user (uid " + std::to_string(::geteuid()) +
+          ") nor root: its owner can change its mode";
+    return std::nullopt;
+  }
+  if (std::size_t(st.st_size) > kMaxKeyFileBytes) {
+    err = "key file '" + path + "' is " + std::to_string(st.st_size) +
+          " bytes: a key file holds 64 hex digits";
+    return std::nullopt;
+  }
+  char buf[kMaxKeyFileBytes + 1];
+  std::size_t got = 0;
+  for (int i = 0; i < 64 && got < sizeof buf; ++i) {  // bounded: short reads of a small file
+    const ssize_t n = ::read(f.fd, buf + got, sizeof buf - got);
+    if (n <= 0) break;
+    got += std::size_t(n);
+  }
   std::string hex;
-  for (char ch : ss.str())
-    if (!std::isspace(static_cast<unsigned char>(ch))) hex += ch;
+  for (std::size_t i = 0; i < got; ++i)
+    if (!std::isspace(static_cast<unsigned char>(buf[i]))) hex += buf[i];
   Key k{};
   std::size_t len = 0;
-  if (hex.size() != 64 ||
+  if (got > kMaxKeyFileBytes || hex.size() != 64 ||
       sodium_hex2bin(k.data(), k.size(), hex.data(), hex.size(), nullptr, &len, nullptr) != 0 ||
       len != k.size()) {
+    sodium_memzero(buf, sizeof buf);
     err = "key file '" + path +
           "' must hold 64 hex digits (32 bytes; e.g. from `openssl rand -hex 32`)";
     return std::nullopt;
   }
+  sodium_memzero(buf, sizeof buf);
+  sodium_memzero(hex.data(), hex.size());
   return k;
 }
 
+Epoch new_epoch() {
+  if (sodium_init() < 0) std::abort();  // no randomness: nothing may be signed
+  Epoch e{};
+  randombytes_buf(e.data(), e.size());
+  return e;
+}
+
+std::int64_t random_request_id() {
+  if (sodium_init() < 0) std::abort();
+  for (;;) {
+    std::uint64_t v = 0;
+    randombytes_buf(&v, sizeof v);
+    if (v != 0) return static_cast<std::int64_t>(v);
+  }
+}
+
 namespace {
-Key tag_of(softplc_hmi::command_t c, const Key& key) {
-  std::fill(std::begin(c.tag), std::end(c.tag), std::int8_t(0));
-  const int n = c.getEncodedSize();
+
+enum class Kind : std::uint8_t { command = 1, reply = 2, description = 3 };
+
+template <class M>
+Epoch epoch_from(const M& m) {
+  Epoch e{};
+  for (std::size_t i = 0; i < e.size(); ++i) e[i] = static_cast<std::uint8_t>(m.epoch[i]);
+  return e;
+}
+
+template <class M>
+void epoch_into(M& m, const Epoch& e) {
+  for (std::size_t i = 0; i < e.size(); ++i) m.epoch[i] = static_cast<std::int8_t>(e[i]);
+}
+
+void update_len32(crypto_auth_hmacsha256_state& st, const void* data, std::size_t n) {
+  const std::uint8_t len[4] = {std::uint8_t(n >> 24), std::uint8_t(n >> 16), std::uint8_t(n >> 8),
+                               std::uint8_t(n)};
+  crypto_auth_hmacsha256_update(&st, len, sizeof len);
+  crypto_auth_hmacsha256_update(&st, static_cast<const std::uint8_t*>(data), n);
+}
+
+// The tag of m (its own tag taken as all zero) in ctx. The tag is the last
+// field of each signed type (hmi-bridge/lcm/*.lcm; the shapes in
+// checked_decode.hpp end in 32b): the encoding's last 32 bytes, zeroed in
+// the buffer rather than in a copy of the message.
+template <class M>
+Key tag_of(const M& m, Kind kind, const Key& key, const TagContext& ctx) {
+  const int n = m.getEncodedSize();
   std::vector<std::uint8_t> buf(static_cast<std::size_t>(n));
-  c.encode(buf.data(), 0, n);
+  m.encode(buf.data(), 0, n);
+  static_assert(sizeof m.tag == 32);
+  std::fill(buf.end() - 32, buf.end(), std::uint8_t(0));
+  const Epoch e = epoch_from(m);
+  static constexpr char kDomain[] = "softplc-hmi";  // with its NUL
+  const std::uint8_t head[2] = {kAuthVersion, static_cast<std::uint8_t>(kind)};
+  crypto_auth_hmacsha256_state st;
+  crypto_auth_hmacsha256_init(&st, key.data(), key.size());
+  crypto_auth_hmacsha256_update(&st, reinterpret_cast<const std::uint8_t*>(kDomain),
+                                sizeof kDomain);
+  crypto_auth_hmacsha256_update(&st, head, sizeof head);
+  update_len32(st, ctx.prefix.data(), ctx.prefix.size());
+  update_len32(st, ctx.cell.data(), ctx.cell.size());
+  update_len32(st, ctx.channel.data(), ctx.channel.size());
+  crypto_auth_hmacsha256_update(&st, e.data(), e.size());
+  update_len32(st, buf.data(), buf.size());
   Key t{};
-  crypto_auth_hmacsha256(t.data(), buf.data(), buf.size(), key.data());
+  crypto_auth_hmacsha256_final(&st, t.data());
   return t;
 }
-}  // namespace
 
-void sign(softplc_hmi::command_t& c, const Key& key) {
-  const Key t = tag_of(c, key);
-  for (std::size_t i = 0; i < t.size(); ++i) c.tag[i] = static_cast<std::int8_t>(t[i]);
+template <class M>
+void sign_as(M& m, Kind kind, const Key& key, const TagContext& ctx) {
+  const Key t = tag_of(m, kind, key, ctx);
+  for (std::size_t i = 0; i < t.size(); ++i) m.tag[i] = static_cast<std::int8_t>(t[i]);
 }
 
-bool verify(const softplc_hmi::command_t& c, const Key& key) {
-  const Key t = tag_of(c, key);
+template <class M>
+bool verify_as(const M& m, Kind kind, const Key& key, const TagContext& ctx) {
+  const Key t = tag_of(m, kind, key, ctx);
   std::uint8_t got[32];
-  for (std::size_t i = 0; i < 32; ++i) got[i] = static_cast<std::uint8_t>(c.tag[i]);
+  for (std::size_t i = 0; i < 32; ++i) got[i] = static_cast<std::uint8_t>(m.tag[i]);
   return sodium_memcmp(got, t.data(), t.size()) == 0;
 }
 
-bool ReplayGuard::fresh(const std::string& client, std::int64_t counter) const {
+}  // namespace
+
+Epoch epoch_of(const softplc_hmi::command_t& c) { return epoch_from(c); }
+Epoch epoch_of(const softplc_hmi::reply_t& r) { return epoch_from(r); }
+Epoch epoch_of(const softplc_hmi::cell_description_t& d) { return epoch_from(d); }
+void set_epoch(softplc_hmi::command_t& c, const Epoch& e) { epoch_into(c, e); }
+void set_epoch(softplc_hmi::reply_t& r, const Epoch& e) { epoch_into(r, e); }
+void set_epoch(softplc_hmi::cell_description_t& d, const Epoch& e) { epoch_into(d, e); }
+
+std::string to_hex(const Epoch& e) {
+  char b[2 * 16 + 1];
+  sodium_bin2hex(b, sizeof b, e.data(), e.size());
+  return b;
+}
+
+void sign(softplc_hmi::command_t& c, const Key& key, const TagContext& ctx) {
+  sign_as(c, Kind::command, key, ctx);
+}
+void sign(softplc_hmi::reply_t& r, const Key& key, const TagContext& ctx) {
+  sign_as(r, Kind::reply, key, ctx);
+}
+void sign(softplc_hmi::cell_description_t& d, const Key& key, const TagContext& ctx) {
+  sign_as(d, Kind::description, key, ctx);
+}
+bool verify(const softplc_hmi::command_t& c, const Key& key, const TagContext& ctx) {
+  return verify_as(c, Kind::command, key, ctx);
+}
+bool verify(const softplc_hmi::reply_t& r, const Key& key, const TagContext& ctx) {
+  return verify_as(r, Kind::reply, key, ctx);
+}
+bool verify(const softplc_hmi::cell_description_t& d, const Key& key, const TagContext& ctx) {
+  return verify_as(d, Kind::description, key, ctx);
+}
+
+ReplayGuard::Verdict ReplayGuard::check(const std::string& client, std::int64_t counter) const {
   auto it = last_.find(client);
-  return it == last_.end() || counter > it->second;
+  if (it != last_.end()) return counter > it->second ? Verdict::fresh : Verdict::replayed;
+  return counter > floor_ ? Verdict::fresh : Verdict::below_floor;
+}
+
+void ReplayGuard::accept(const std::string& client, std::int64_t counter) {
+  auto it = last_.find(client);
+  if (it != last_.end()) {
+    it->second = counter;
+    return;
+  }
+  if (last_.size() >= kMaxClients) {
+    auto oldest = std::min_element(last_.begin(), last_.end(), [](const auto& a, const auto& b) {
+      return a.second < b.second;
+    });
+    floor_ = std::max(floor_, oldest->second);
+    last_.erase(oldest);
+  }
+  last_.emplace(client, counter);
 }
 
 }  // namespace plc::hmi

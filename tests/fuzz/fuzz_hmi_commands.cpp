@@ -3,9 +3,13 @@
 // memq://. The first byte picks the bridge: one with a shared key (nothing
 // the fuzzer sends can carry a right HMAC tag, so no command may ever be
 // applied: traps if one is) or one without (writes and forces only where the
-// patterns allow; stopping commands refused). The rest, at most 64 kB (one
-// LCM datagram), is the message. Every input is counted as malformed,
-// refused or applied, never a crash.
+// patterns allow; stopping commands refused). The keyed bridge's epoch is
+// random (command_auth.hpp), so a fuzzed command cannot carry a tag for it
+// even by replaying a seed's bytes. The rest, at most 64 kB (one LCM
+// datagram), is the message. Every input is counted as malformed, refused
+// (access, bad tag, stale epoch, replay) or applied, never a crash.
+#include <sys/stat.h>
+
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
@@ -33,6 +37,7 @@ struct Session {
       cfg.hmi.key_path = "/tmp/plc_fuzz_hmi_" + std::to_string(::getpid()) + ".key";
       std::ofstream(cfg.hmi.key_path)
           << "5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a\n";
+      ::chmod(cfg.hmi.key_path.c_str(), 0600);  // load_key refuses a key others may read
     }
     bridge = std::make_unique<plc::hmi::Bridge>(cfg.hmi, cfg.file);
     plc::debug::Debugger::Options o;
@@ -56,7 +61,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::uint64_t counted =
       (after.malformed - before.malformed) + (after.refused - before.refused) +
       (after.bad_tag - before.bad_tag) + (after.replayed - before.replayed) +
-      (after.commands - before.commands);
+      (after.stale - before.stale) + (after.commands - before.commands);
   // "describe" is answered without being counted; everything else once.
   if (counted > 1) __builtin_trap();
   if (&s == &keyed && after.commands != 0) __builtin_trap();

@@ -9,12 +9,15 @@ target reads its input. Rerun after a wire or file format changes:
 
     tests/fuzz/make_seeds.py build/bin/plcrun
 
-Files named crash-* (reproducers of fixed crashes) are left alone.
+Files named crash-* (reproducers of fixed crashes) are left alone, except
+hmi_commands' two, which are written again in the current command_t encoding.
 `make_seeds.py PLCRUN --recordings DIR` writes only the two recordings, into
 DIR (scripts/fuzz does, so the recording target always starts from the
 current file format).
 """
 import csv
+import hashlib
+import hmac
 import os
 import pathlib
 import shutil
@@ -79,6 +82,90 @@ def changes(rows, key, every=1, new=b"\x01", keep=b"\x00"):
 def device_frames(rows, key, every=1):
     """FuzzDevice control bytes: answering (bit 1), new inputs (bit 0)."""
     return changes(rows, key, every, new=b"\x03", keep=b"\x02")
+
+
+def lcm_fingerprint(members):
+    """An LCM struct's fingerprint as lcm-gen computes it (lcmgen.c,
+    lcm_struct_hash, then rotated left by one as the generated code does).
+    members: (name, type, [dimension sizes]) of primitive types only."""
+    mask = (1 << 64) - 1
+
+    def signed(v):
+        v &= mask
+        return v - (1 << 64) if v >> 63 else v
+
+    def update(v, c):
+        return signed(((v << 8) ^ (v >> 55)) + c)
+
+    def update_string(v, text):
+        v = update(v, len(text))
+        for ch in text.encode():
+            v = update(v, ch)
+        return v
+
+    v = 0x12345678
+    for name, typ, dims in members:
+        v = update_string(v, name)
+        v = update_string(v, typ)
+        v = update(v, len(dims))
+        for d in dims:
+            v = update(v, 0 if d.isdigit() else 1)  # LCM_CONST, LCM_VAR
+            v = update_string(v, d)
+    h = v & mask
+    return ((h << 1) + (h >> 63)) & mask
+
+
+# hmi-bridge/lcm/command_t.lcm
+COMMAND_T = lcm_fingerprint([
+    ("request_id", "int64_t", []), ("client", "string", []), ("verb", "string", []),
+    ("n_args", "int32_t", []), ("args", "string", ["n_args"]), ("epoch", "byte", ["16"]),
+    ("counter", "int64_t", []), ("tag", "byte", ["32"])])
+FUZZ_KEY = bytes([0x5a] * 32)  # fuzz_hmi_commands.cpp's key file
+
+
+def lcm_string(text):
+    b = text.encode() + b"\0"
+    return struct.pack(">i", len(b)) + b
+
+
+def command(verb, args, request_id=1, counter=1, epoch=bytes(16), tag=bytes(32), n_args=None):
+    return (struct.pack(">Qq", COMMAND_T, request_id) + lcm_string("seed") + lcm_string(verb) +
+            struct.pack(">i", len(args) if n_args is None else n_args) +
+            b"".join(lcm_string(a) for a in args) + epoch + struct.pack(">q", counter) + tag)
+
+
+def signed_command(verb, args, cell, epoch, prefix="PLC", channel="PLC_CMD"):
+    """Signed as plc::hmi::sign does (hmi-bridge/src/command_auth.cpp)."""
+    body = command(verb, args, epoch=epoch)
+    lp = lambda b: struct.pack(">I", len(b)) + b  # noqa: E731
+    msg = (b"softplc-hmi\0" + bytes([2, 1]) + lp(prefix.encode()) + lp(cell.encode()) +
+           lp(channel.encode()) + epoch + lp(body))
+    return body[:-32] + hmac.new(FUZZ_KEY, msg, hashlib.sha256).digest()
+
+
+def hmi_commands():
+    """One command_t after a byte choosing the bridge (0 open, 1 keyed)."""
+    clear("hmi_commands")
+    put("hmi_commands", "junk", b"\x00junk")
+    for name, verb, args in [("describe", "describe", []),
+                             ("read", "read", ["Cell.target_kg", "Cell.run", "%QW0"]),
+                             ("write", "write", ["Cell.target_kg", "2.5"]),
+                             ("write_refused", "write", ["Cell.run", "TRUE"]),
+                             ("force", "force", ["Cell.run", "TRUE"]),
+                             ("unforce_all", "unforce", ["all", "restore"]),
+                             ("step_refused", "step", ["3"])]:
+        put("hmi_commands", name + "_open", b"\x00" + command(verb, args))
+    put("hmi_commands", "write_keyed_untagged",
+        b"\x01" + command("write", ["Cell.target_kg", "2.5"]))
+    put("hmi_commands", "describe_keyed", b"\x01" + command("describe", []))
+    # A right tag for an epoch the bridge never has: refused as stale.
+    put("hmi_commands", "write_keyed_stale_epoch",
+        b"\x01" + signed_command("write", ["Cell.target_kg", "2.5"], "filling", bytes(16)))
+    # Argument counts that lcm-gen's decoder would resize its vector to.
+    put("hmi_commands", "crash-negative-n_args",
+        b"\x00" + command("read", ["Cell.run"], n_args=-1))
+    put("hmi_commands", "crash-huge-n_args",
+        b"\x00" + command("read", ["Cell.run"], n_args=0x7FFFFFFF))
 
 
 def lcm_udpm_seeds():
@@ -179,6 +266,7 @@ def main():
             put("debugger", f"commands{i}.txt", script)
 
         recordings(plcrun, CORPUS / "recording", tmp)
+        hmi_commands()
         lcm_udpm_seeds()
 
         rows = trace_bytes(plcrun, tmp, 1500)

@@ -3,6 +3,7 @@
 // access rules forbid is refused and counted with nothing applied.
 #include <gtest/gtest.h>
 #include <sodium.h>
+#include <sys/stat.h>
 
 #include <fstream>
 
@@ -135,7 +136,7 @@ TEST(HmiBridge, MalformedCommandsAreCountedAndIgnored) {
     auto bad = command(2, "read", {});
     std::vector<std::uint8_t> b(std::size_t(bad.getEncodedSize()));
     bad.encode(b.data(), 0, int(b.size()));
-    const std::size_t at = b.size() - 8 - 32 - 4;  // n_args before counter and tag
+    const std::size_t at = b.size() - 16 - 8 - 32 - 4;  // n_args before epoch, counter, tag
     for (int k = 0; k < 4; ++k) b[at + std::size_t(k)] = std::uint8_t(n >> (24 - 8 * k));
     h.bridge->transport().publish(h.bridge->channels().cmd, b.data(), unsigned(b.size()));
   }
@@ -153,18 +154,25 @@ TEST(HmiBridge, SharedKeyRefusesBadTagsAndReplays) {
   ASSERT_GE(sodium_init(), 0);
   const std::string key_file = ::testing::TempDir() + "hmi_test.key";
   std::ofstream(key_file) << "000102030405060708090a0b0c0d0e0f101112131415161718191a1b1c1d1e1f\n";
+  ::chmod(key_file.c_str(), 0600);
   HmiCell h(plctest::kHmiSection, key_file);
   std::string err;
   const auto key = hmi::load_key(key_file, err);
   ASSERT_TRUE(key) << err;
   h.dbg->step(1);
+  // As a client signs after reading the description (test_hmi_auth.cpp).
+  const hmi::TagContext ctx{"PLC", "demo", h.bridge->channels().cmd};
+  auto sign = [&](softplc_hmi::command_t& c) {
+    hmi::set_epoch(c, h.bridge->epoch());
+    hmi::sign(c, *key, ctx);
+  };
 
   auto unsigned_cmd = command(10, "write", {"Tank.high_level", "111"});
   EXPECT_FALSE(send(h, unsigned_cmd).ok);
   EXPECT_EQ(h.bridge->counters().bad_tag, 1U);
 
   auto first = command(11, "write", {"Tank.high_level", "222"});
-  hmi::sign(first, *key);
+  sign(first);
   auto tampered = first;
   tampered.args[1] = "333";  // the tag no longer fits
   EXPECT_FALSE(send(h, tampered).ok);
@@ -175,7 +183,7 @@ TEST(HmiBridge, SharedKeyRefusesBadTagsAndReplays) {
   EXPECT_EQ(value_of(h, "Tank.high_level"), "222");
 
   auto second = command(12, "write", {"Tank.high_level", "444"});
-  hmi::sign(second, *key);
+  sign(second);
   EXPECT_TRUE(send(h, second).ok);
   h.dbg->step(1, "fast");
   EXPECT_EQ(value_of(h, "Tank.high_level"), "444");

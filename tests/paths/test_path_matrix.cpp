@@ -86,6 +86,8 @@ TEST_P(ConfigPaths, AreTakenFromTheConfigsFolderWhereverPlcrunStarts) {
       break;
     case Kind::KeyFile:
       Tree::write(p.real, std::string(64, 'a') + "\n");
+      // The bridge refuses a key file others may read (issue 22).
+      fs::permissions(p.real, fs::perms::owner_read | fs::perms::owner_write);
       more = "hmi:\n  url: \"memq://\"\n  key_file: \"" + p.written + "\"\n";
       break;
     case Kind::Gsdml:

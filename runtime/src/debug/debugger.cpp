@@ -979,11 +979,19 @@ std::string Debugger::cmd_unforce(const std::vector<std::string>& a) {
 }
 
 Debugger::Reply Debugger::unforce(const std::string& name, bool restore) {
+  const Reply r =
+      unforce_if([&name](const std::string& n) { return name == "all" || n == name; }, restore);
+  return r.ok ? r : Reply{false, "unforce: '" + name + "' is not forced\n"};
+}
+
+Debugger::Reply Debugger::unforce_if(const std::function<bool(const std::string&)>& release,
+                                     bool restore) {
   std::lock_guard<std::recursive_mutex> session(session_mu_);
+  // One hold of mu_ for all of them: the scans apply forces under it.
   std::lock_guard<std::mutex> lock(mu_);
   std::string s;
   for (auto it = forces_.begin(); it != forces_.end();) {
-    if (name == "all" || it->name == name) {
+    if (release(it->name)) {
       if (restore) {
         writes_.push_back(
             {it->name, it->var, it->image, it->original, it->image ? -1 : it->var.task});
@@ -998,7 +1006,7 @@ Debugger::Reply Debugger::unforce(const std::string& name, bool restore) {
       ++it;
     }
   }
-  return s.empty() ? Reply{false, "unforce: '" + name + "' is not forced\n"} : Reply{true, s};
+  return s.empty() ? Reply{false, "unforce: nothing to release\n"} : Reply{true, s};
 }
 
 std::string Debugger::forces_list() {

@@ -38,6 +38,7 @@ struct BridgeCounters {
   std::uint64_t refused = 0;    // refused: access, unknown verb, the debugger said no
   std::uint64_t bad_tag = 0;    // HMAC did not verify (or missing with a key)
   std::uint64_t replayed = 0;   // counter not above the client's last one
+  std::uint64_t stale = 0;      // signed for another epoch (a capture from before a restart)
   std::uint64_t malformed = 0;  // did not decode as a command_t
 };
 
@@ -89,8 +90,11 @@ class Bridge {
   void add_start_alarm(const std::string& kind, const std::string& source, const std::string& text);
 
   [[nodiscard]] BridgeCounters counters() const;
-  // What describe publishes (empty before attach()).
+  // What describe publishes (empty before attach()), signed with a key.
   [[nodiscard]] softplc_hmi::cell_description_t description();
+  // This bridge's boot epoch (command_auth.hpp): made when it is
+  // constructed, kept over rebuilds of the runtime (goto, restart).
+  [[nodiscard]] const Epoch& epoch() const { return epoch_; }
   [[nodiscard]] const Channels& channels() const { return ch_; }
   // Our LCM transport (transport.hpp): its counters, and in tests (memq://)
   // the subscriptions that see what the bridge publishes.
@@ -109,14 +113,20 @@ class Bridge {
   void with_runtime(F f);  // f(runtime) between the debugger's commands, or not at all
   int publish_values(bool full);
   softplc_hmi::reply_t serve(const softplc_hmi::command_t& c);
-  std::string refusal(const softplc_hmi::command_t& c) const;
+  // The key's checks of a command that changes something: "" when it
+  // passes (no key: always), else the refusal, counted.
+  std::string authenticate(const softplc_hmi::command_t& c);
+  softplc_hmi::reply_t unforce_all(bool restore);
+  // What a tag binds on `channel` (the cell's name from attach()).
+  TagContext tag_context(const std::string& channel);
   bool may(const std::vector<Item<std::string>>& patterns, const std::string& name) const;
 
   HmiConfig cfg_;
   std::string cell_file_;
   Channels ch_;
   std::optional<Key> key_;
-  ReplayGuard replay_;
+  Epoch epoch_;
+  ReplayGuard replay_;  // counters within epoch_: both live as long as the bridge
   std::unique_ptr<Transport> transport_;
   Transport::Subscription* sub_ = nullptr;
   debug::Debugger* dbg_ = nullptr;

@@ -34,8 +34,8 @@ inline constexpr std::size_t kMaxMessageBytes = 1 << 22;
 
 // The shape of an encoding after its 8-byte fingerprint: b byte/boolean,
 // i int32, l int64, d double, s string, n int32 element count, (..) a struct,
-// *X X repeated by the last count of the same struct, 32X X repeated 32
-// times. Whether data (fingerprint included) has exactly that shape with
+// *X X repeated by the last count of the same struct, NX X repeated N
+// times (16b, 32b). Whether data (fingerprint included) has exactly that shape with
 // plausible counts. The shapes follow hmi-bridge/lcm/*.lcm (a test encodes
 // each type and checks that its shape consumes it exactly).
 bool plausible_encoding(const char* shape, const void* data, std::size_t size);
@@ -43,12 +43,12 @@ bool plausible_encoding(const char* shape, const void* data, std::size_t size);
 template <class T>
 const char* shape_of();
 // clang-format off
-template <> inline const char* shape_of<softplc_hmi::command_t>() { return "lssn*sl32b"; }
-template <> inline const char* shape_of<softplc_hmi::reply_t>() { return "lsbssn*(sssssb)"; }
+template <> inline const char* shape_of<softplc_hmi::command_t>() { return "lssn*s16bl32b"; }
+template <> inline const char* shape_of<softplc_hmi::reply_t>() { return "lsbssn*(sssssb)16b32b"; }
 template <> inline const char* shape_of<softplc_hmi::values_t>() { return "lslllsbn*(isb)"; }
 template <> inline const char* shape_of<softplc_hmi::trace_sample_t>() { return "llsn*i*d"; }
-template <> inline const char* shape_of<softplc_hmi::stats_t>() { return "lsn*(slllllls)llllllln*s*l"; }
-template <> inline const char* shape_of<softplc_hmi::cell_description_t>() { return "lslbbn*(ssssbbb)"; }
+template <> inline const char* shape_of<softplc_hmi::stats_t>() { return "ls16bn*(slllllls)lllllllln*s*l"; }
+template <> inline const char* shape_of<softplc_hmi::cell_description_t>() { return "ls16blbbn*(ssssbbb)32b"; }
 template <> inline const char* shape_of<softplc_hmi::diagnostics_t>() { return "lsn*(sssssiissl)n*(sssbssslll)"; }
 template <> inline const char* shape_of<softplc_hmi::alarm_t>() { return "sssbssslll"; }
 // clang-format on

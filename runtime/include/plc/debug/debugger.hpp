@@ -93,6 +93,11 @@ class Debugger final : public ScanHooks {
   Reply force(const std::string& name, std::string_view value);
   // name "all": every force; restore: write back the value from before it.
   Reply unforce(const std::string& name, bool restore);
+  // Every force whose name (as it was forced) `release` accepts, in one
+  // step: no scan sees some of them released and others not. The others
+  // stay, value and all. Refused when it releases nothing. The HMI bridge's
+  // `unforce all`: only what its forceable patterns match.
+  Reply unforce_if(const std::function<bool(const std::string& name)>& release, bool restore);
   Reply pause();
   // n scans of each task, or of `task` only.
   Reply step(std::uint64_t n = 1, const std::string& task = "");
