@@ -71,7 +71,12 @@ void DpMaster::request(Kind k, std::size_t slave, Telegram t, TIME now) {
   pending_.slave = slave;
   pending_.da = t.da;
   pending_.retries = 0;
-  pending_.deadline = now + reply_timeout_;
+  // A GAP request waits at most 2 ms (a PC line's reply timeout is tens of
+  // ms) and is not repeated: a station it misses is found at a later
+  // rotation, and a long wait for an empty address would stretch the cycle.
+  pending_.deadline =
+      now + (k == Kind::FdlStatus ? std::min<TIME>(reply_timeout_, std::chrono::milliseconds(2))
+                                  : reply_timeout_);
   pending_.length = encode(t, pending_.bytes);
   line_->send({pending_.bytes.data(), pending_.length});
   ++sent_;
@@ -199,12 +204,12 @@ void DpMaster::start_slave(Slave& s, TIME now) {
 }
 
 void DpMaster::on_timeout(TIME now) {
-  if (pending_.retries < cfg_.bus.max_retry) {
+  if (pending_.kind != Kind::FdlStatus && pending_.retries < cfg_.bus.max_retry) {
     ++pending_.retries;
     pending_.deadline = now + reply_timeout_;
     line_->send({pending_.bytes.data(), pending_.length});
     ++sent_;
-    if (pending_.kind != Kind::FdlStatus) ++slaves_[pending_.slave]->counters.retries;
+    ++slaves_[pending_.slave]->counters.retries;
     if (capture_) capture_->note(now.count(), "no answer: retry");
     return;
   }
