@@ -66,8 +66,16 @@ const char* response_name(std::uint8_t f) {
 const char* service(const fdl::Telegram& t) {
   const std::int16_t sap = t.request() ? t.dsap : t.ssap;
   if (t.dsap < 0 && t.ssap < 0) {
-    if (t.request() && t.function() == fdl::kReqFdlStatus) return "";
-    return "Data_Exchange";
+    // Data_Exchange: an SRD without SAPs, answered DL/DH (or RS when
+    // refused); an FDL status request and its OK answer are no DP service.
+    if (t.request())
+      return (t.function() == fdl::kReqSrdHigh || t.function() == fdl::kReqSrdLow) ? "Data_Exchange"
+                                                                                   : "";
+    const std::uint8_t f = t.function();
+    return (f == fdl::kResDataLow || f == fdl::kResDataHigh || f == fdl::kResDataLowNoRes ||
+            f == fdl::kResDataHighNoRes)
+               ? "Data_Exchange"
+               : "";
   }
   switch (sap) {
     case kSapSetSlaveAdd:
