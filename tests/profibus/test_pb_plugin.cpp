@@ -1,0 +1,88 @@
+// The `profibus` plugin's configuration (docs/config.md): errors point at
+// the config line and column (plcrun exits 2), GSD errors keep the GSD's
+// own file:line; the bus parameters follow the baud rate and the GSD.
+#include <gtest/gtest.h>
+
+#include "plc/profibus/profibus_plugin.hpp"
+#include "runtime/test_helpers.hpp"
+
+namespace {
+
+std::string cell(const std::string& plugin, const std::string& device) {
+  return "cell: t\nclock: virtual\nimage: {inputs: 64, outputs: 64, memory: 8}\n"
+         "tasks:\n  - name: main\n    period: 1ms\n    programs: []\n"
+         "plugins:\n  - name: dp\n    type: profibus\n    params:\n" +
+         plugin +
+         "devices:\n  - name: scale\n    plugin: dp\n    model: pr5510\n    input: \"%IB0\"\n"
+         "    output: \"%QB0\"\n    params:\n" +
+         device;
+}
+
+std::string gsd() { return plctest::source_path("iec-io/profibus/gsd/GWT_5610.gsd"); }
+
+plctest::RunResult run(const std::string& yaml) {
+  const std::string f = plctest::write_temp("pb_plugin.yaml", yaml);
+  // 50 ms: the start-up takes one message cycle per bus cycle (5 ms).
+  return plctest::run_command(plctest::plcrun_path() + " " + f + " --for 50ms -q");
+}
+
+const std::string kGood = "      simulate: true\n";
+std::string good_device() {
+  return "      address: 5\n      gsd: " + gsd() + "\n      modules: \"8 Byte I/O Konsistent\"\n";
+}
+
+}  // namespace
+
+TEST(PbPlugin, ErrorsPointAtTheConfigLine) {
+  struct Case {
+    std::string plugin, device, expect;
+  };
+  const Case cases[] = {
+      {"      simulate: true\n      baud: 115200\n", good_device(),
+       "pb_plugin.yaml:13:7: plugin 'dp': key 'baud': baud must be one of 9600"},
+      {"      baud: 1500000\n", good_device(),
+       "the profibus plugin needs transport: serial:DEVICE"},
+      {"      transport: tcp:1\n", good_device(), "key 'transport'"},
+      {kGood, "      gsd: " + gsd() + "\n      modules: \"8 Byte I/O Konsistent\"\n",
+       "every PROFIBUS device needs its address"},
+      {kGood,
+       "      address: 1\n      gsd: " + gsd() + "\n      modules: \"8 Byte I/O Konsistent\"\n",
+       "the device has the master's address"},
+      {kGood, "      address: 5\n      gsd: " + gsd() + "\n      modules: \"32 Byte I/O\"\n",
+       "no module '32 Byte I/O' in"},
+      {kGood,
+       "      address: 5\n      gsd: " + gsd() +
+           "\n      modules: \"16 Byte I/O Konsistent\"\n      extra: 1\n",
+       "device 'scale': unknown parameter 'extra'"},
+      {kGood,
+       "      address: 5\n      gsd: " +
+           plctest::source_path("tests/profibus/data/GWT_5610_seed.gsd") +
+           "\n      modules: \"8 Byte I/O Konsistent\"\n",
+       "GWT_5610_seed.gsd:26: 'Baudraten' is not 'Keyword = Value'"},
+      {kGood,
+       "      address: 5\n      gsd: " + gsd() +
+           "\n      modules: \"8 Byte I/O Konsistent; 8 Byte I/O Konsistent; 8 Byte I/O "
+           "Konsistent; 8 Byte I/O Konsistent; 8 Byte I/O Konsistent\"\n",
+       "5 modules, the GSD's Max_Module is 4"},
+      {"      simulate: true\n      baud: 45450\n", good_device(), "does not list 45.45_supp = 1"},
+  };
+  for (const Case& c : cases) {
+    const auto r = run(cell(c.plugin, c.device));
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.expect << "\n" << r.output;
+  }
+}
+
+// Bigger windows: 2 modules of 8 bytes for a 16-byte slave (the PR5510's
+// 8-byte window in front, the rest zero), bus parameters at 12 Mbit/s from
+// the GSD's MaxTsdr_12M.
+TEST(PbPlugin, SixteenBytesAt12MbitWithTheGsdTiming) {
+  const auto r = run(cell("      simulate: true\n      baud: 12000000\n",
+                          "      address: 5\n      gsd: " + gsd() +
+                              "\n      modules: \"8 Byte I/O Konsistent; 4 Word I/O Seperate\"\n"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("12000000 bit/s: TSL 1000, minTSDR 11, maxTSDR 800"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("max_retry 4"), std::string::npos);
+  EXPECT_NE(r.output.find("scale (address 5): data exchange"), std::string::npos) << r.output;
+}
