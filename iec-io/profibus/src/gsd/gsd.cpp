@@ -85,7 +85,7 @@ bool parse_int(std::string_view s, std::int64_t& v) {
     base = 16;
     s.remove_prefix(2);
   }
-  if (s.empty() || s.size() > 16) return false;
+  if (s.empty() || s.size() > 15) return false;  // no overflow of 64 bits
   std::int64_t r = 0;
   for (const char c : s) {
     int d;
