@@ -3,8 +3,9 @@
 //      "     12.345678 tx SD2 2->8 SRD_high FCB=1 DSAP 61 SSAP 62 Set_Prm: ... | 68 0C 0C 68 ..."
 //  - pcap with LINKTYPE_PROFIBUS_DL (257: "PROFIBUS data link layer packets,
 //    as specified by IEC 61158-4-3, beginning with the start delimiter").
-//    Wireshark 4.0 has no dissector for that link type (it shows the bytes
-//    as data); the text file is the decoded view.
+//    Wireshark 4.0 does not open that link type ("network type 257 unknown
+//    or unsupported"; it has no PROFIBUS FDL dissector): the text file is
+//    the decoded view, the pcap keeps the raw telegrams with time stamps.
 #pragma once
 
 #include <cstdint>
