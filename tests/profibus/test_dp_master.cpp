@@ -250,3 +250,21 @@ TEST(DpMaster, GapUpdateAsksOneAddressEveryGRotations) {
   EXPECT_EQ(r.master->counters().gap_requests, 5u);
   EXPECT_TRUE(masters.empty());
 }
+
+// A GAP request to an empty address waits at most 2 ms and is not
+// repeated, also with a reply time-out of tens of ms (a PC line): before,
+// each one waited 4 x the reply time-out and the slaves' cycles starved.
+TEST(DpMaster, GapRequestsDoNotStretchTheCycleOnASlowLine) {
+  Rig r;
+  r.cfg.min_reply_timeout = 50ms;
+  r.cfg.bus.max_retry = 3;
+  r.master = std::make_unique<pb::master::DpMaster>(r.cfg, r.master_line.get());
+  r.add_slave(pr1721_slave(5));
+  const std::size_t d = r.master->add(pr1721_entry(5, 1000));
+  ASSERT_TRUE(r.run_until([&] { return r.master->state(d) == SlaveState::Online; }, 100ms));
+  const auto dx = r.master->counters(d).data_exchanges;
+  r.run_for(200ms);  // 100 cycles of 2 ms, 10 GAP requests
+  EXPECT_GE(r.master->counters().gap_requests, 9u);
+  EXPECT_GE(r.master->counters(d).data_exchanges - dx, 85u);
+  EXPECT_EQ(r.master->counters(d).retries, 0u);
+}

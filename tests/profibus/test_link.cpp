@@ -105,6 +105,10 @@ TEST(PbLink, CaptureWritesDecodedTextAndPcap257) {
     c.record(1'500'000, true, kDiagReq, t);
     ASSERT_EQ(fdl::decode(kSc, t).status, fdl::DecodeStatus::Ok);
     c.record(2'000'000, false, kSc, t);
+    // An FDL status answer (OK, no data) is no Data_Exchange.
+    const Bytes status{0x10, 0x02, 0x05, 0x00, 0x07, 0x16};
+    ASSERT_EQ(fdl::decode(status, t).status, fdl::DecodeStatus::Ok);
+    c.record(3'000'000, false, status, t);
     c.flush();
   }
   const std::string text = plctest::read_file(txt);
@@ -112,6 +116,8 @@ TEST(PbLink, CaptureWritesDecodedTextAndPcap257) {
             std::string::npos)
       << text;
   EXPECT_NE(text.find("2.000000 rx SC | E5"), std::string::npos) << text;
+  EXPECT_NE(text.find("3.000000 rx SD1 5->2 OK (slave) | 10 02 05 00 07 16"), std::string::npos)
+      << text;
   const std::string p = plctest::read_file(pcap);
   ASSERT_GE(p.size(), 24u + 16 + 11 + 16 + 1);
   EXPECT_EQ(static_cast<std::uint8_t>(p[20]), 257 & 0xFF);  // network, little-endian
