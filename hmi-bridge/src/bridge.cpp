@@ -498,9 +498,25 @@ void Bridge::publish_diagnostics() {
       m.alarms.push_back(a);
     }
   });
+  {
+    std::lock_guard<std::mutex> lock(counters_mu_);
+    m.alarms.insert(m.alarms.end(), start_alarms_.begin(), start_alarms_.end());
+  }
   m.n_devices = int(m.devices.size());
   m.n_alarms = int(m.alarms.size());
   transport_->publish(ch_.diag, &m);
+}
+
+void Bridge::add_start_alarm(const std::string& kind, const std::string& source,
+                             const std::string& text) {
+  softplc_hmi::alarm_t a{};
+  a.source = source;
+  a.text = text;
+  a.kind = kind;
+  a.active = true;
+  a.utime = utime_now();
+  std::lock_guard<std::mutex> lock(counters_mu_);
+  start_alarms_.push_back(a);
 }
 
 void Bridge::start() {

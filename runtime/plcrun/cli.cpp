@@ -20,6 +20,7 @@
 #include "debug_console.hpp"
 #include "new_cell.hpp"
 #include "plc/cell_config.hpp"
+#include "plc/config_path.hpp"
 #include "plc/debug/recording.hpp"
 #include "plc/debug/trace.hpp"
 #include "plc/hmi/bridge.hpp"
@@ -156,10 +157,13 @@ class StatusLine {
   std::chrono::steady_clock::time_point t0_, last_{};
 };
 
-void print_summary(const Runtime& rt) {
+// `retained`: how the run started from the retain file (none: no retain).
+void print_summary(const Runtime& rt, const retain::StartReport* retained) {
   const double sim = std::chrono::duration<double>(rt.now()).count();
   std::printf("== summary: cell '%s', %s time ==\n", rt.cell_name().c_str(),
               rt.mode() == io::ClockMode::Virtual ? "virtual" : "real");
+  // First, so that a warm start that fell back to a cold one is not missed.
+  if (retained) std::printf("retain: %s\n", retained->headline().c_str());
   std::printf("simulated time: %.3f s   wall time: %.3f s", sim, rt.wall_seconds());
   if (rt.mode() == io::ClockMode::Virtual && rt.wall_seconds() > 0)
     std::printf("   virtual-to-real speed: %.0fx", sim / rt.wall_seconds());
@@ -200,6 +204,10 @@ void print_final_values(const Runtime& rt, const std::string& paths) {
 
 // A controlled stop saves the last state (the scans are over) and says
 // what the writer did. False when the final save failed.
+// Thrown from the debugger's first build when the retain start is refused
+// (every copy damaged, on_damage_policy says stop): the cell must not run.
+struct RetainRefused {};
+
 bool report_retain_stop(retain::Manager& retained) {
   const std::string err = retained.stop();
   const retain::WriterStats st = retained.stats();
@@ -215,9 +223,9 @@ bool report_retain_stop(retain::Manager& retained) {
   return false;
 }
 
-}  // namespace
-
-int plcrun_main(int argc, char** argv) {
+// plcrun itself; `running` turns true once the cell runs (plcrun_main's
+// exit code for an exception that escapes).
+int run_plcrun(int argc, char** argv, bool& running) {
   g_main_thread = pthread_self();
   po::options_description opts(
       "Usage: plcrun CONFIG [options]\n\nRuns a cell (tasks, programs, devices) from its YAML "
@@ -240,7 +248,8 @@ int plcrun_main(int argc, char** argv) {
     ("commands", po::value<std::string>()->value_name("FILE"), "run debugger commands from FILE (then the console if --debug)")
     ("record", po::value<std::string>()->value_name("FILE"), "record every scan's device inputs into FILE (for --replay)")
     ("replay", po::value<std::string>()->value_name("FILE"), "replay a recording instead of the devices, checking the outputs")
-    ("warm", "warm start: RETAIN and PERSISTENT variables from the retain file (the default when a valid one exists)")
+    ("warm", "warm start: RETAIN and PERSISTENT variables from the retain file; refused when every copy is damaged (unless on_damage: cold)")
+    ("warm-or-cold", "warm start when a valid retain file exists, else cold, also when every copy is damaged (the default, whatever on_damage says)")
     ("cold", "cold start: only PERSISTENT variables from the retain file, everything else initial")
     ("reset-retain", "remove the retain file first: every variable at its initial value")
     ("quiet,q", "no live status line")
@@ -292,6 +301,18 @@ int plcrun_main(int argc, char** argv) {
     std::cerr << "plcrun: missing CONFIG (plcrun --help for usage)\n";
     return 2;
   }
+  if (vm["config"].as<std::string>().empty()) {
+    std::cerr << "plcrun: CONFIG is an empty path (plcrun --help for usage)\n";
+    return 2;
+  }
+  // Read only once the session has started: checked before anything runs.
+  if (vm.count("commands")) {
+    const std::string f = vm["commands"].as<std::string>();
+    if (const std::string why = readable_file_problem(f); !why.empty()) {
+      std::cerr << "plcrun: cannot read command file '" << f << "': " << why << "\n";
+      return 2;
+    }
+  }
   if (vm.count("virtual") && vm.count("realtime")) {
     std::cerr << "plcrun: --virtual and --realtime exclude each other\n";
     return 2;
@@ -305,11 +326,13 @@ int plcrun_main(int argc, char** argv) {
     return 2;
   }
 
-  if (vm.count("warm") + vm.count("cold") + vm.count("reset-retain") > 1) {
-    std::cerr << "plcrun: --warm, --cold and --reset-retain exclude each other\n";
+  const std::size_t start_modes =
+      vm.count("warm") + vm.count("warm-or-cold") + vm.count("cold") + vm.count("reset-retain");
+  if (start_modes > 1) {
+    std::cerr << "plcrun: --warm, --warm-or-cold, --cold and --reset-retain exclude each other\n";
     return 2;
   }
-  const bool start_mode_given = vm.count("warm") || vm.count("cold") || vm.count("reset-retain");
+  const bool start_mode_given = start_modes > 0;
 
   std::unique_ptr<Runtime> rt;
   io::ClockMode mode = io::ClockMode::Virtual;
@@ -319,7 +342,7 @@ int plcrun_main(int argc, char** argv) {
     mode = cfg.clock.value;
     rt = std::make_unique<Runtime>(cfg);
   } catch (const ConfigError& e) {
-    std::cerr << e.what() << "\n";
+    std::cerr << (e.file.empty() ? "plcrun: " : "") << e.what() << "\n";
     return 2;
   }
   if (vm.count("virtual")) mode = io::ClockMode::Virtual;
@@ -377,7 +400,8 @@ int plcrun_main(int argc, char** argv) {
   }
 
   if (start_mode_given && !cfg.retain.present) {
-    std::cerr << "plcrun: --warm/--cold/--reset-retain: the config has no 'retain:' section\n";
+    std::cerr << "plcrun: --warm/--warm-or-cold/--cold/--reset-retain: the config has no 'retain:' "
+                 "section\n";
     return 2;
   }
   // A cell with an `hmi:` section runs as a debugger session (the bridge's
@@ -400,17 +424,33 @@ int plcrun_main(int argc, char** argv) {
                  "a --debug or --commands session use the debugger's print (print NAME...)\n";
     return 2;
   }
-  if (start_mode_given && (vm.count("replay") || console)) {
-    // A replay and a console session (goto and restart re-run from the
-    // start) need the initial values; they neither load nor save retain data.
-    std::cerr << "plcrun: --warm/--cold/--reset-retain apply to a plain run or a cell with an "
-                 "hmi: section, not to --replay, --debug or --commands\n";
+  // A replay and a console session in virtual time (goto and restart re-run
+  // from the start) need the initial values; they neither load nor save
+  // retain data. In real time goto and restart are refused: a console
+  // session there never rebuilds its runtime, and keeps retain as a plain
+  // run does (so that an online change, `reload`, can carry it).
+  const bool virtual_console = console && mode == io::ClockMode::Virtual;
+  if (start_mode_given && (vm.count("replay") || virtual_console)) {
+    std::cerr << "plcrun: --warm/--warm-or-cold/--cold/--reset-retain apply to a plain run, a "
+                 "cell with an hmi: section or a real-time debugger session, not to --replay or a "
+                 "virtual-time --debug or --commands session\n";
     return 2;
+  }
+  // Whether this run loads and saves retain data: its file must be
+  // writable before anything starts, not at the first save.
+  const bool uses_retain = cfg.retain.present && !vm.count("replay") && !virtual_console;
+  if (uses_retain) {
+    try {
+      retain::check_file(cfg);
+    } catch (const ConfigError& e) {
+      std::cerr << e.what() << "\n";
+      return 2;
+    }
   }
   // An HMI alone (no console) never rebuilds the runtime (the bridge has no
   // goto or restart): retain is loaded and saved exactly as in a plain run.
-  const bool hmi_retain = hmi && !console && cfg.retain.present && !vm.count("replay");
   const retain::StartMode start_mode = vm.count("warm")           ? retain::StartMode::Warm
+                                       : vm.count("warm-or-cold") ? retain::StartMode::WarmOrCold
                                        : vm.count("cold")         ? retain::StartMode::Cold
                                        : vm.count("reset-retain") ? retain::StartMode::Reset
                                                                   : retain::StartMode::Auto;
@@ -437,27 +477,36 @@ int plcrun_main(int argc, char** argv) {
         return 2;
       }
     }
-    if (cfg.retain.present && !hmi_retain)
+    if (cfg.retain.present && !uses_retain)
       std::fprintf(stderr,
-                   "plcrun: retain: not loaded or saved in a debugger session (every variable "
-                   "starts at its initial value; goto re-runs from them)\n");
+                   "plcrun: retain: not loaded or saved in a virtual-time debugger session or a "
+                   "replay (every variable starts at its initial value; goto re-runs from "
+                   "them)\n");
     rt.reset();  // the debugger builds (and for goto rebuilds) its own
     debug::Debugger::Options o;
     o.mode = mode;
     o.span = span;
     if (vm.count("replay")) o.replay_file = vm["replay"].as<std::string>();
     if (vm.count("record")) o.record_file = vm["record"].as<std::string>();
+    retain::StartReport retain_start;
     o.on_build = [&, b = bridge.get()](Runtime& r) {
       if (b) b->attach(r);
-      if (hmi_retain && !retained) {  // the first (and only) build: before its first scan
+      if (uses_retain && !retained) {  // the first (and only) build: before its first scan
         retained = std::make_unique<retain::Manager>(r, cfg.retain);
-        for (const auto& line : retained->start(start_mode).lines())
+        retain_start = retained->start(start_mode);
+        for (const auto& line : retain_start.lines())
           std::fprintf(stderr, "plcrun: retain: %s\n", line.c_str());
+        // Before the runtime starts (Debugger::build): no scan runs.
+        if (retain_start.refused) throw RetainRefused();
+        if (b && retain_start.fell_back())
+          b->add_start_alarm("retain_cold_start", "retain", retain_start.headline());
       }
     };
     std::unique_ptr<debug::Debugger> dbg;
     try {
       dbg = std::make_unique<debug::Debugger>([&cfg] { return std::make_unique<Runtime>(cfg); }, o);
+    } catch (const RetainRefused&) {
+      return 1;
     } catch (const debug::RecordingError& e) {
       std::cerr << "plcrun: " << e.what() << "\n";
       return 1;
@@ -471,10 +520,13 @@ int plcrun_main(int argc, char** argv) {
       std::unique_ptr<retain::Manager>& m;
       ~ResetRetain() { m.reset(); }
     } reset_retain{retained};
+    // `reload` switches the retain file's layout with the programs.
+    dbg->set_retain(retained.get());
     // After the last scan (Debugger::stop_cell): the final save, as a plain
     // run does. False when it failed.
-    auto finish_retain = [&retained] {
+    auto finish_retain = [&retained, &dbg] {
       if (!retained) return true;
+      dbg->set_retain(nullptr);
       const bool ok = report_retain_stop(*retained);
       retained.reset();
       return ok;
@@ -493,6 +545,11 @@ int plcrun_main(int argc, char** argv) {
                    cfg.hmi.prefix.value.c_str());
     }
     g_debugger = dbg.get();
+    // Forgotten before the debugger goes, however this block is left.
+    struct ForgetDebugger {
+      ~ForgetDebugger() { g_debugger = nullptr; }
+    } forget_debugger;
+    running = true;
     g_console = vm.count("debug") != 0;
     struct sigaction sa {};
     sa.sa_handler = on_signal;
@@ -527,12 +584,14 @@ int plcrun_main(int argc, char** argv) {
         dbg->stop_cell();
         retain_failed = !finish_retain();
         std::fflush(stdout);
-        print_summary(dbg->runtime());
+        print_summary(dbg->runtime(), uses_retain ? &retain_start : nullptr);
         if (vm.count("print-vars"))
           print_final_values(dbg->runtime(), vm["print-vars"].as<std::string>());
       }
     } else if (!run_debug_session(*dbg, file, g_console)) {
       std::cerr << "plcrun: cannot read command file '" << file << "'\n";
+      dbg->stop_cell();  // a real-time cell runs already: stop it before its retain goes
+      finish_retain();
       g_debugger = nullptr;
       return 2;
     }
@@ -546,6 +605,11 @@ int plcrun_main(int argc, char** argv) {
     }
     const int sig = g_end_signal.load();
     if (sig == 0) {
+      if (retained) {  // a real-time console session that ended (quit, end of the file)
+        if (bridge) bridge->stop();
+        dbg->stop_cell();
+        retain_failed = !finish_retain();
+      }
       g_debugger = nullptr;
       return recording_failed || retain_failed ? 1 : 0;
     }
@@ -554,7 +618,7 @@ int plcrun_main(int argc, char** argv) {
     dbg->stop_cell();
     finish_retain();
     std::fflush(stdout);
-    print_summary(dbg->runtime());
+    print_summary(dbg->runtime(), uses_retain ? &retain_start : nullptr);
     if (vm.count("print-vars"))  // only an HMI session gets here with it
       print_final_values(dbg->runtime(), vm["print-vars"].as<std::string>());
     g_debugger = nullptr;
@@ -584,10 +648,13 @@ int plcrun_main(int argc, char** argv) {
 
   // A replay needs the initial values the recording started from.
   std::unique_ptr<retain::Manager> retained;
-  if (cfg.retain.present && !replayer) {
+  retain::StartReport retain_start;
+  if (uses_retain) {
     retained = std::make_unique<retain::Manager>(*rt, cfg.retain);
-    for (const auto& line : retained->start(start_mode).lines())
+    retain_start = retained->start(start_mode);
+    for (const auto& line : retain_start.lines())
       std::fprintf(stderr, "plcrun: retain: %s\n", line.c_str());
+    if (retain_start.refused) return 1;  // nothing has started
   }
 
   std::unique_ptr<debug::Trace> trace;
@@ -621,6 +688,11 @@ int plcrun_main(int argc, char** argv) {
   if (!vm.count("quiet")) status = std::make_unique<StatusLine>(*rt, isatty(STDERR_FILENO) != 0);
 
   g_runtime = rt.get();
+  // Forgotten before the runtime goes, however plcrun leaves.
+  struct ForgetRuntime {
+    ~ForgetRuntime() { g_runtime = nullptr; }
+  } forget_runtime;
+  running = true;
   struct sigaction sa {};
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
@@ -671,7 +743,7 @@ int plcrun_main(int argc, char** argv) {
   if (retained && !report_retain_stop(*retained)) rc = 1;
   if (status) status->done();
   if (trace) trace->stop();
-  print_summary(*rt);
+  print_summary(*rt, retained ? &retain_start : nullptr);
   if (vm.count("print-vars")) print_final_values(*rt, vm["print-vars"].as<std::string>());
   if (rt->stop_requested()) std::printf("stopped by signal; outputs at their safe values\n");
   for (const auto& t : rt->tasks())
@@ -685,6 +757,24 @@ int plcrun_main(int argc, char** argv) {
     f << rt->stats_json();
   }
   return rc;
+}
+
+}  // namespace
+
+int plcrun_main(int argc, char** argv) {
+  // Every error is a message and an exit code, never std::terminate (the
+  // shell's 134): what escapes before the cell runs is about what plcrun was
+  // given (2, as a bad config), what escapes once it runs is a failure of
+  // the run (1).
+  bool running = false;
+  try {
+    return run_plcrun(argc, argv, running);
+  } catch (const std::exception& e) {
+    std::cerr << "plcrun: " << e.what() << "\n";
+  } catch (...) {
+    std::cerr << "plcrun: an unknown error\n";
+  }
+  return running ? 1 : 2;
 }
 
 }  // namespace plc

@@ -45,6 +45,14 @@ std::string ChangeReport::text() const {
   for (const auto& a : added) s += "  added (initial value): " + a + "\n";
   for (const auto& r : removed) s += "  removed (value dropped): " + r + "\n";
   for (const auto& r : retyped) s += "  type changed (initial value): " + r + "\n";
+  if (retain_kept || !retain_added.empty() || !retain_removed.empty() || !retain_retyped.empty())
+    s += "  retained (RETAIN/PERSISTENT): " + std::to_string(retain_kept) +
+         " keep their values and their place in the retain file\n";
+  for (const auto& a : retain_added) s += "  retained, new in the retain file: " + a + "\n";
+  for (const auto& r : retain_retyped)
+    s += "  retained, type changed in the retain file: " + r + "\n";
+  for (const auto& r : retain_removed)
+    s += "  retained no more (dropped from the retain file): " + r + "\n";
   return s;
 }
 
@@ -58,6 +66,11 @@ void apply_program_swap(TaskRuntime& t, ProgramSwap& s) {
   }
   for (const auto& [index, p] : s.programs) t.programs[index] = p;
   t.swap.store(nullptr, std::memory_order_relaxed);
+  // The last task to switch switches the followers, before any applied
+  // flag can make switched() true.
+  if (s.together && s.together->left.fetch_sub(1, std::memory_order_acq_rel) == 1 &&
+      s.together->follower)
+    s.together->follower->on_switched();
   s.applied.store(true, std::memory_order_release);
 }
 
@@ -75,6 +88,7 @@ OnlineChange::~OnlineChange() {
     // their library must live as long as the runtime.
     if (switched()) finish();
   }
+  if (together_.follower && !finished_) together_.follower->on_dropped();
 }
 
 ChangeReport OnlineChange::prepare(const std::string& library, const std::string& file) {
@@ -173,14 +187,33 @@ ChangeReport OnlineChange::prepare(const std::string& library, const std::string
     if (before.ports.size() != after.ports.size())
       return refuse("a device port of program '" + name +
                     "' was removed: devices cannot be added or removed online (restart the cell)");
+    // Retained variables, old build against new: what the retain file's
+    // layout gains and loses (their values follow the rules above).
+    std::map<std::string, VarType> old_retained;
     for (const auto& f : before.fields)
-      if (f.retain != RetainClass::None)
-        return refuse(f.path + " is " + std::string(to_string(f.retain)) +
-                      ": the retain file's layout is fixed while the cell runs (restart the cell)");
+      if (f.retain != RetainClass::None) old_retained[f.path] = f.type;
+    for (const auto& l : before.located)
+      if (l.retain != RetainClass::None) old_retained[l.path] = l.type;
+    auto retained_now = [&](const std::string& path, VarType type) {
+      auto o = old_retained.find(path);
+      if (o == old_retained.end()) {
+        r.retain_added.push_back(path + ": " + type_text(type));
+        return;
+      }
+      if (o->second != type)
+        r.retain_retyped.push_back(path + ": " + type_text(o->second) + " -> " + type_text(type));
+      else
+        ++r.retain_kept;
+      old_retained.erase(o);
+    };
     for (const auto& f : after.fields)
-      if (f.retain != RetainClass::None)
-        return refuse(f.path + " is " + std::string(to_string(f.retain)) +
-                      ": the retain file's layout is fixed while the cell runs (restart the cell)");
+      if (f.retain != RetainClass::None) retained_now(f.path, f.type);
+    for (const auto& l : after.located)
+      if (l.retain != RetainClass::None) retained_now(l.path, l.type);
+    for (const auto& f : before.fields)
+      if (old_retained.count(f.path)) r.retain_removed.push_back(f.path + ": " + type_text(f.type));
+    for (const auto& l : before.located)
+      if (old_retained.count(l.path)) r.retain_removed.push_back(l.path + ": " + type_text(l.type));
 
     // Bind the new program where the old one is bound.
     for (auto& l : after.located) {
@@ -247,7 +280,11 @@ void OnlineChange::switch_all_now() {
 void OnlineChange::commit() {
   if (committed_ || swaps_.empty()) return;
   committed_ = true;
-  for (auto& [t, s] : swaps_) t->swap.store(s.get(), std::memory_order_release);
+  together_.left.store(swaps_.size(), std::memory_order_relaxed);
+  for (auto& [t, s] : swaps_) {
+    s->together = &together_;
+    t->swap.store(s.get(), std::memory_order_release);
+  }
 }
 
 bool OnlineChange::switched() const {

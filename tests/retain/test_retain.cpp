@@ -154,7 +154,7 @@ TEST(RetainConfig, LocatedErrors) {
   EXPECT_EQ(err("retain: {file: x, memory: [\"%QB0\"]}"),
             "c.yaml:3:28: key 'memory': %QB0 is not a %M address (only memory is retained)");
   EXPECT_EQ(err("retain: {file: x, every: 1s}"),
-            "c.yaml:3:19: unknown key 'every' in retain (expected one of: file, memory, "
+            "c.yaml:3:19: unknown key 'every' in retain (expected one of: file, memory, on_damage, "
             "save_every)");
   const CellConfig ok = parse_cell_config(
       "image: {memory: 16}\ntasks: [{name: m, period: 1ms, programs: []}]\nretain: {file: "
@@ -410,8 +410,9 @@ TEST(RetainPlcrun, FillingCellListsClassesAndRestartsWarm) {
 
   auto both = plctest::run_command(plcrun + " " + cfg + " --cold --warm");
   EXPECT_EQ(both.exit_code, 2);
-  EXPECT_NE(both.output.find("--warm, --cold and --reset-retain exclude each other"),
-            std::string::npos);
+  EXPECT_NE(
+      both.output.find("--warm, --warm-or-cold, --cold and --reset-retain exclude each other"),
+      std::string::npos);
   auto none = plctest::run_command(plcrun + " " + plctest::source_dir() +
                                    "/programs/filling_cell/cell.yaml --warm");
   EXPECT_EQ(none.exit_code, 2);
@@ -455,9 +456,22 @@ TEST(RetainPlcrun, RealTimeCellWithHmiSectionLoadsAndSavesRetain) {
   auto cold = plctest::run_command(plcrun + " " + cfg + " --realtime --cold --for 100ms");
   EXPECT_EQ(cold.exit_code, 0) << cold.output;
   EXPECT_NE(cold.output.find("plcrun: retain: cold start"), std::string::npos) << cold.output;
-  // A console session keeps its rule: it may goto/restart, so no retain.
+  // A console session in virtual time keeps its rule: it may goto/restart,
+  // so no retain.
   auto debug = plctest::run_command(plcrun + " " + cfg + " --warm --commands /dev/null");
   EXPECT_EQ(debug.exit_code, 2) << debug.output;
+  // In real time the debugger never rebuilds the cell (goto and restart are
+  // refused): the session loads and saves as a plain run does (issue 21,
+  // online change of retained programs), also when it ends by its file.
+  std::ofstream(dir + "/cmds") << "continue for 50ms\nquit\n";
+  auto rt_debug =
+      plctest::run_command(plcrun + " " + cfg + " --realtime --warm --commands " + dir + "/cmds");
+  EXPECT_EQ(rt_debug.exit_code, 0) << rt_debug.output;
+  EXPECT_NE(rt_debug.output.find("plcrun: retain: warm start from " + dir + "/filling.retain."),
+            std::string::npos)
+      << rt_debug.output;
+  EXPECT_NE(rt_debug.output.find(" saves (last sequence "), std::string::npos) << rt_debug.output;
+  EXPECT_EQ(rt_debug.output.find("FAILED"), std::string::npos) << rt_debug.output;
   std::system(("rm -rf " + dir).c_str());
 }
 

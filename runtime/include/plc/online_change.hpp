@@ -14,13 +14,16 @@
 // - new fields keep the initial value the new constructor gave them;
 // - removed and type-changed fields are listed (the report comes before
 //   the switch; their values are lost).
-// Refused, with the reason, old code running on: a program type missing
-// from the new build, a constructor that throws, a located variable added,
-// removed or moved to another address, a device port added or removed
-// (the task layout and the devices come from the cell config, which an
-// online change does not re-read), a library that registers device models
-// or plugins (those run inside plugin threads), a task that is stopped, a
-// load that fails (missing file, dlopen error, ABI version).
+// RETAIN and PERSISTENT fields move over like every other field; the report
+// lists separately the retained variables added, removed and retyped (what
+// the retain file gains and loses). Refused, with the reason, old code
+// running on: a program type missing from the new build, a constructor that
+// throws, a located variable added, removed or moved to another address, a
+// device port added or removed (the task layout and the devices come from
+// the cell config, which an online change does not re-read), a library that
+// registers device models or plugins (those run inside plugin threads), a
+// task that is stopped, a load that fails (missing file, dlopen error, ABI
+// version).
 //
 // commit() hands each task concerned its ProgramSwap; the task applies it
 // at the start of its next scan (Runtime::scan_latch): the copies, then the
@@ -29,6 +32,12 @@
 // its reflection starts fresh. finish(), once switched() (every task has
 // applied its swap, so none can be inside the old code), updates the
 // variable registry, destroys the old programs and unloads the old library.
+//
+// What must change together with the programs, at one scan boundary (the
+// retain file's layout, retain::Manager), follows the change as a
+// SwitchFollower: the task that applies the last swap calls it, in its scan
+// latch, before switched() can be true - so before finish() destroys the
+// old programs.
 #pragma once
 
 #include <atomic>
@@ -53,8 +62,24 @@ struct ChangeReport {
   std::vector<std::string> added;     // "Main.x: DINT"
   std::vector<std::string> removed;   // "Main.y: INT"
   std::vector<std::string> retyped;   // "Main.z: INT -> DINT"
-  std::string refused;                // why not ("" = can be applied)
+  // The RETAIN/PERSISTENT variables of the replaced programs, old build
+  // against new (a field that becomes retained counts as added, one that
+  // no longer is as removed), as a restart reports the file's layout.
+  std::size_t retain_kept = 0;
+  std::vector<std::string> retain_added, retain_removed, retain_retyped;
+  std::string refused;  // why not ("" = can be applied)
   [[nodiscard]] std::string text() const;
+};
+
+// See the header comment. on_switched() runs inside a scan (no allocation,
+// no exceptions, no waiting beyond the image lock); on_dropped() on the
+// thread that drops a change that did not switch every task (withdrawn, or
+// never committed).
+class SwitchFollower {
+ public:
+  virtual ~SwitchFollower() = default;
+  virtual void on_switched() noexcept = 0;
+  virtual void on_dropped() = 0;
 };
 
 // One task's part of a change, applied by the task's thread.
@@ -71,6 +96,13 @@ struct ProgramSwap {
   std::vector<std::pair<std::size_t, Program*>> programs;  // index in TaskRuntime::programs
   std::vector<Copy> copies;
   std::atomic<bool> applied{false};
+  // Shared by the swaps of one change: how many are still to be applied, and
+  // who follows the change (null: nobody). Set by OnlineChange::commit().
+  struct Together {
+    std::atomic<std::size_t> left{0};
+    SwitchFollower* follower = nullptr;
+  };
+  Together* together = nullptr;
 };
 // At a scan boundary of `t`, in its thread (Runtime::scan_latch).
 void apply_program_swap(TaskRuntime& t, ProgramSwap& s);
@@ -86,6 +118,12 @@ class OnlineChange {
   // CellConfig holds it), or "" when the cell has exactly one. `file`, when
   // given, is where the new build's bytes come from (a replay's kept copy).
   ChangeReport prepare(const std::string& library, const std::string& file = "");
+  // After prepare(), before commit(): `f` switches with the last task
+  // (SwitchFollower). It must outlive this object. A cell whose retain is
+  // managed (retain::Manager) must have it follow every change
+  // (Manager::follow, as the debugger's reload does): its layout points
+  // into the programs, and finish() destroys the old ones.
+  void follow(SwitchFollower* f) { together_.follower = f; }
   // After prepare(): the new build, and the tasks (TaskRuntime::order) that
   // switch to it.
   [[nodiscard]] const std::shared_ptr<CellLibrary>& next_library() const { return new_lib_; }
@@ -121,6 +159,7 @@ class OnlineChange {
   std::shared_ptr<CellLibrary> old_lib_, new_lib_;
   std::vector<Replaced> replaced_;
   std::vector<std::pair<TaskRuntime*, std::unique_ptr<ProgramSwap>>> swaps_;
+  ProgramSwap::Together together_;
   bool committed_ = false;
   bool finished_ = false;
 };

@@ -27,11 +27,12 @@
 // keeps the builds). `restart` runs the new build, as a real restart would.
 #include <algorithm>
 #include <chrono>
-#include <filesystem>
 #include <thread>
 
+#include "plc/config_path.hpp"
 #include "plc/debug/debugger.hpp"
 #include "plc/online_change.hpp"
+#include "plc/retain/retain_manager.hpp"
 
 namespace plc::debug {
 
@@ -92,11 +93,26 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
   const bool realtime_running = opt_.mode == io::ClockMode::RealTime && !rt_->paused();
   const bool at_boundary = !realtime_running && rt_->wait_until_idle(std::chrono::seconds(1));
   std::string lib;
-  if (a.size() == 2) lib = std::filesystem::absolute(a[1]).lexically_normal().string();
+  if (a.size() == 2) {
+    // From the current directory, as any path on a command line.
+    std::string why;
+    const auto abs = absolute_path(a[1], why);
+    if (!abs) return "reload: " + why + "\n";
+    lib = *abs;
+  }
 
   OnlineChange change(*rt_);
   const ChangeReport report = change.prepare(lib);
   if (!report.refused.empty()) return report.text();
+  // The retain file's next layout, built here; it switches with the last
+  // task (retain::Manager::follow).
+  std::string retain_note;
+  if (retain_) {
+    retain_->follow(change);
+    retain_note =
+        "  the retain file is saved in the new layout from the scan where the last task "
+        "concerned switches\n";
+  }
 
   // Re-resolve against the new build, before any task switches.
   auto carry = std::make_shared<Carry>();
@@ -184,13 +200,18 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
       settle();
       return report.text() + dropped +
              "reload: not every task reached a scan boundary in time (a stopped or stuck "
-             "task); the tasks that did run the new code, the others run the old code on\n";
+             "task); the tasks that did run the new code, the others run the old code on" +
+             (retain_ ? "; the retain file keeps the old layout (its values of the tasks that "
+                        "switched stay as their last scan of the old code left them)"
+                      : "") +
+             "\n";
     }
   }
   settle();
   change.finish();
   reloaded_ = "the library changed at scan " + std::to_string(scan_count());
-  return report.text() + dropped + "switched: every task concerned runs the new build\n";
+  return report.text() + retain_note + dropped +
+         "switched: every task concerned runs the new build\n";
 }
 
 }  // namespace plc::debug

@@ -9,8 +9,7 @@
 
 namespace plc::retain {
 
-Writer::Writer(const Layout& layout, Storage& storage)
-    : layout_(layout), storage_(storage), pending_(layout.bytes()), last_(layout.bytes()) {}
+Writer::Writer(Storage& storage) : storage_(storage) {}
 
 Writer::~Writer() {
   if (thread_.joinable()) {
@@ -25,12 +24,13 @@ void Writer::start(std::uint64_t next_sequence) {
   thread_ = std::thread([this] { run(); });
 }
 
-bool Writer::offer(std::span<const std::uint8_t> snapshot) {
+bool Writer::offer(Slot& slot, std::span<const std::uint8_t> snapshot) {
   if (state_.load(std::memory_order_acquire) & (kFull | kStop)) {
     skipped_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
-  std::memcpy(pending_.data(), snapshot.data(), pending_.size());
+  std::memcpy(slot.bytes.data(), snapshot.data(), slot.bytes.size());
+  pending_.store(&slot, std::memory_order_relaxed);
   state_.fetch_or(kFull, std::memory_order_release);
   state_.notify_one();
   offered_.fetch_add(1, std::memory_order_relaxed);
@@ -46,13 +46,17 @@ void Writer::run() {
     }
     if (!(s & kFull)) return;  // stopping, nothing pending
     if (before_write_) before_write_();
-    write_one(pending_);
+    const Slot& slot = *pending_.load(std::memory_order_relaxed);
+    write_one(*slot.layout, slot.bytes);
     state_.fetch_and(~kFull, std::memory_order_release);
   }
 }
 
-std::string Writer::write_one(std::span<const std::uint8_t> snapshot) {
-  if (have_last_ && std::memcmp(last_.data(), snapshot.data(), last_.size()) == 0) {
+std::string Writer::write_one(const Layout& layout, std::span<const std::uint8_t> snapshot) {
+  // Unchanged only in the same file layout: after an online change the new
+  // layout is written at once, even with the same values.
+  if (have_last_ && last_hash_ == layout.hash() && last_.size() == snapshot.size() &&
+      std::memcmp(last_.data(), snapshot.data(), last_.size()) == 0) {
     std::lock_guard<std::mutex> lock(mu_);
     ++unchanged_;
     return {};
@@ -65,7 +69,7 @@ std::string Writer::write_one(std::span<const std::uint8_t> snapshot) {
   const std::int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
                                std::chrono::system_clock::now().time_since_epoch())
                                .count();
-  encode(layout_, snapshot, seq, now, encoded_);
+  encode(layout, snapshot, seq, now, encoded_);
   const auto t0 = std::chrono::steady_clock::now();
   const std::string err = storage_.write(encoded_, seq);
   const std::int64_t took = (std::chrono::steady_clock::now() - t0).count();
@@ -73,7 +77,8 @@ std::string Writer::write_one(std::span<const std::uint8_t> snapshot) {
   write_lead_ns_.store(std::max(took, lead - lead / 8), std::memory_order_relaxed);
   std::lock_guard<std::mutex> lock(mu_);
   if (err.empty()) {
-    std::memcpy(last_.data(), snapshot.data(), last_.size());
+    last_.assign(snapshot.begin(), snapshot.end());  // the writer's thread: may allocate
+    last_hash_ = layout.hash();
     have_last_ = true;
     ++written_;
     sequence_ = seq;
@@ -93,13 +98,13 @@ std::string Writer::write_one(std::span<const std::uint8_t> snapshot) {
   return err;
 }
 
-std::string Writer::stop(std::span<const std::uint8_t> final_snapshot) {
+std::string Writer::stop(const Layout& layout, std::span<const std::uint8_t> final_snapshot) {
   if (thread_.joinable()) {
     state_.fetch_or(kStop, std::memory_order_release);
     state_.notify_all();
     thread_.join();
   }
-  return write_one(final_snapshot);
+  return write_one(layout, final_snapshot);
 }
 
 WriterStats Writer::stats() const {

@@ -83,6 +83,11 @@ class Bridge {
   // remembers it for diagnostics_t. Returns how many.
   int publish_device_alarms();
 
+  // An alarm that holds for the whole run, noted at start-up (kind
+  // `retain_cold_start`: a warm start that fell back to a cold one): listed
+  // as active in every diagnostics_t.
+  void add_start_alarm(const std::string& kind, const std::string& source, const std::string& text);
+
   [[nodiscard]] BridgeCounters counters() const;
   // What describe publishes (empty before attach()).
   [[nodiscard]] softplc_hmi::cell_description_t description();
@@ -123,6 +128,7 @@ class Bridge {
   std::atomic<bool> stop_{false};
   mutable std::mutex counters_mu_;
   BridgeCounters counters_;
+  std::vector<softplc_hmi::alarm_t> start_alarms_;  // under counters_mu_
   std::chrono::steady_clock::time_point last_full_{};
 };
 
