@@ -232,10 +232,97 @@ TEST(DpMaster, GlobalControlFreezeAndSyncForAGroup) {
   const std::uint8_t held = r.master->inputs(d)[0];
   r.run_for(10ms);
   EXPECT_EQ(r.master->inputs(d)[0], held) << "frozen inputs";
+  // The changed diagnosis came high priority; the master read it and shows
+  // Freeze_Mode and Sync_Mode (Station_Status_2 bits 4 and 5).
+  EXPECT_EQ(r.master->last_diagnosis(d).status2 & (dp::kDiag2FreezeMode | dp::kDiag2SyncMode),
+            dp::kDiag2FreezeMode | dp::kDiag2SyncMode);
+  EXPECT_NE(r.master->diagnostics(d).find("Freeze_Mode Sync_Mode"), std::string::npos)
+      << r.master->diagnostics(d);
+  EXPECT_EQ(r.master->state(d), SlaveState::Online);
   r.master->global_control(dp::kGcUnfreeze | dp::kGcUnsync, 0x01);
   r.run_for(10ms);
   EXPECT_FALSE(n.slave->frozen());
   EXPECT_NE(r.master->inputs(d)[0], held);
+  EXPECT_EQ(r.master->last_diagnosis(d).status2 & (dp::kDiag2FreezeMode | dp::kDiag2SyncMode), 0);
+}
+
+// Not_Supported (Station_Status_1 bit 4): Freeze and Sync to a slave whose
+// Set_Prm did not ask for them. No diagnosis read clears the bit, so the
+// master makes the device Fault at once (before: it read the diagnosis
+// for 1000 cycles as if the slave were only not ready); after `retry` a
+// new Set_Prm clears it and data exchange goes on.
+TEST(DpMaster, NotSupportedGlobalControlIsAFaultUntilANewSetPrm) {
+  Rig r;
+  r.add_slave(pr1721_slave(5));
+  auto e = pr1721_entry(5);
+  e.prm.station_status &= static_cast<std::uint8_t>(~(dp::kPrmFreezeReq | dp::kPrmSyncReq));
+  const std::size_t d = r.master->add(e);
+  ASSERT_TRUE(r.run_until([&] { return r.master->state(d) == SlaveState::Online; }, 100ms));
+  r.master->global_control(dp::kGcFreeze, 0x01);
+  ASSERT_TRUE(r.run_until([&] { return r.master->state(d) != SlaveState::Online; }, 20ms));
+  r.run_for(4ms);
+  EXPECT_EQ(r.master->state(d), SlaveState::Fault) << r.master->diagnostics(d);
+  EXPECT_TRUE(r.master->last_diagnosis(d).status1 & dp::kDiag1NotSupported);
+  EXPECT_NE(r.master->diagnostics(d).find("last: Not_Supported"), std::string::npos)
+      << r.master->diagnostics(d);
+  EXPECT_TRUE(r.master->link(d).last_alarm().appears);
+  ASSERT_TRUE(r.run_until([&] { return r.master->state(d) == SlaveState::Online; }, 150ms))
+      << r.master->diagnostics(d);
+  EXPECT_EQ(r.master->counters(d).startups, 2u);
+  EXPECT_FALSE(r.master->last_diagnosis(d).status1 & dp::kDiag1NotSupported);
+}
+
+// Invalid_Slave_Response (Station_Status_1 bit 5, set by the master): a
+// Data_Exchange answer of 8 bytes where 16 are configured. The device is
+// Fault and its diagnosis, for FBs and the HMI line, carries the bit.
+TEST(DpMaster, WrongSizedAnswerIsAnInvalidSlaveResponse) {
+  Rig r;
+  r.add_slave(pr1721_slave(5));
+  auto e = pr1721_entry(5);
+  e.input_bytes = 16;  // Chk_Cfg B7 is 8 in, 8 out: the slave answers 8
+  const std::size_t d = r.master->add(e);
+  ASSERT_TRUE(r.run_until([&] { return r.master->state(d) == SlaveState::Fault; }, 100ms));
+  EXPECT_EQ(r.master->counters(d).wrong_size, 1u);
+  EXPECT_EQ(r.master->last_diagnosis(d).status1, dp::kDiag1InvalidSlaveResponse);
+  const io::DeviceAlarm a = r.master->link(d).last_alarm();
+  EXPECT_EQ(a.data >> 24, dp::kDiag1InvalidSlaveResponse);
+  EXPECT_TRUE(a.appears);
+  EXPECT_NE(r.master->diagnostics(d).find("diag: Invalid_Slave_Response"), std::string::npos)
+      << r.master->diagnostics(d);
+  EXPECT_NE(r.master->diagnostics(d).find("Data_Exchange answer of 8 bytes, configured 16"),
+            std::string::npos);
+}
+
+// Ext_Diag_Overflow (Station_Status_3 bit 7): a slave with more extended
+// diagnosis than its Max_Diag_Data_Len (the PR1721/31's GSD: 6, no room at
+// all) cuts it and sets the bit; the master shows it and goes on with data
+// exchange (an overflow is no fault).
+TEST(DpMaster, ExtDiagOverflowAtTheGsdsMaxDiagDataLen) {
+  Rig r;
+  auto c = pr1721_slave(5);
+  c.max_diag_len = 6;
+  SlaveNode& n = r.add_slave(c);
+  const std::size_t d = r.master->add(pr1721_entry(5));
+  ASSERT_TRUE(r.run_until([&] { return r.master->state(d) == SlaveState::Online; }, 100ms));
+  n.slave->faults().ext = {0x04, 0x10, 0x20, 0x30};
+  r.run_for(10ms);
+  const dp::Diagnosis& diag = r.master->last_diagnosis(d);
+  EXPECT_EQ(diag.status3, dp::kDiag3ExtDiagOverflow);
+  EXPECT_TRUE(diag.status1 & dp::kDiag1ExtDiag);
+  EXPECT_TRUE(diag.ext.empty());
+  EXPECT_NE(r.master->diagnostics(d).find("Ext_Diag_Overflow"), std::string::npos)
+      << r.master->diagnostics(d);
+  EXPECT_EQ(r.master->state(d), SlaveState::Online);
+  // Room for one block of 4 bytes but not for two: the first is kept.
+  c.max_diag_len = 10;
+  Rig r2;
+  SlaveNode& n2 = r2.add_slave(c);
+  const std::size_t d2 = r2.master->add(pr1721_entry(5));
+  ASSERT_TRUE(r2.run_until([&] { return r2.master->state(d2) == SlaveState::Online; }, 100ms));
+  n2.slave->faults().ext = {0x04, 0x10, 0x20, 0x30, 0x04, 0x40, 0x50, 0x60};
+  r2.run_for(10ms);
+  EXPECT_EQ(r2.master->last_diagnosis(d2).ext, (std::vector<std::uint8_t>{0x04, 0x10, 0x20, 0x30}));
+  EXPECT_EQ(r2.master->last_diagnosis(d2).status3, dp::kDiag3ExtDiagOverflow);
 }
 
 // The GAP update: every G (10) rotations one FDL status request to the next
@@ -267,4 +354,29 @@ TEST(DpMaster, GapRequestsDoNotStretchTheCycleOnASlowLine) {
   EXPECT_GE(r.master->counters().gap_requests, 9u);
   EXPECT_GE(r.master->counters(d).data_exchanges - dx, 85u);
   EXPECT_EQ(r.master->counters(d).retries, 0u);
+}
+
+// Deactivated (Station_Status_2 bit 7, the master's own bit): a slave
+// configured with active: false is never called; its diagnosis says
+// Deactivated (no fault alarm), its device is Offline; the other slave of
+// the line exchanges data as usual.
+TEST(DpMaster, DeactivatedSlaveIsNeverCalled) {
+  Rig r;
+  SlaveNode& off = r.add_slave(pr1721_slave(5));
+  r.add_slave(pr1721_slave(6));
+  auto e = pr1721_entry(5);
+  e.active = false;
+  const std::size_t d = r.master->add(e);
+  const std::size_t d6 = r.master->add(pr1721_entry(6));
+  ASSERT_TRUE(r.run_until([&] { return r.master->state(d6) == SlaveState::Online; }, 100ms));
+  r.run_for(50ms);
+  EXPECT_EQ(off.slave->counters().requests, 0u);
+  EXPECT_EQ(r.master->counters(d).startups, 0u);
+  EXPECT_EQ(r.master->state(d), SlaveState::Waiting);
+  EXPECT_EQ(r.master->link(d).live_state(), io::DeviceState::Offline);
+  EXPECT_EQ(r.master->last_diagnosis(d).status2, dp::kDiag2Always1 | dp::kDiag2Deactivated);
+  EXPECT_FALSE(r.master->link(d).last_alarm().appears);
+  EXPECT_NE(r.master->diagnostics(d).find("diag: Deactivated"), std::string::npos)
+      << r.master->diagnostics(d);
+  EXPECT_GT(r.master->counters(d6).data_exchanges, 20u);
 }

@@ -6,6 +6,7 @@
 
 #include "plc/profibus/dp/cfg.hpp"
 #include "plc/profibus/gsd/gsd.hpp"
+#include "plc/profibus/slave/from_gsd.hpp"
 #include "plc_test_paths.hpp"
 #include "runtime/test_helpers.hpp"
 
@@ -113,6 +114,13 @@ TEST(Gsd, Pr1721KeywordsAndTenModules_Spec1_2) {
   EXPECT_EQ(g.module("16 word i/o konsistent")->cfg[0], 0xFF);
   EXPECT_EQ(g.module("32 Byte I/O"), nullptr);
   EXPECT_TRUE(g.user_prm_data({g.module("8 Byte I/O Konsistent")}).empty());
+  // What dpslavesim's slave is checked against, from these keywords.
+  const auto c = slave::slave_config_from_gsd(g, 5, 8, 8);
+  EXPECT_EQ(c.ident, 0x5610);
+  EXPECT_EQ(c.max_modules, 4u);
+  EXPECT_EQ(c.modules.size(), 10u);
+  EXPECT_EQ(c.max_diag_len, 6u) << "Max_Diag_Data_Len: the 6-byte diagnosis of §1.2";
+  EXPECT_EQ(c.user_prm_len, 0u);
 }
 
 // Continuation lines, comments (also after a string with ';' in it),

@@ -16,8 +16,9 @@
 // clears its outputs): lost, and back again. The master's capture is
 // decoded text: the start-up telegrams and Data_Exchange are in it.
 //
-// Waiting is on lines the processes print, bounded by deadlines; the one
-// timed wait is the scenario's own (let the cell fill). A loaded machine
+// Waiting is on lines the processes print, bounded by deadlines; the
+// timed waits are the scenario's own (let the cell fill); plcrun is ended
+// by SIGTERM once the scenario is through. A loaded machine
 // may stall a process for 100 ms and more: the master waits 4 x 50 ms
 // (reply_timeout, max_retry 3) before it calls the scale lost, the slave's
 // watchdog is 1 s, the safety module's F_WD_Time 500 ms, the task has no
@@ -53,11 +54,8 @@ std::string gsd_path() { return plctest::source_path("iec-io/profibus/gsd/GWT_56
 TEST(PbCell, VirtualTimeFillsAsManyContainersAsTheSimCellAllInTolerance) {
   const std::string vars =
       " --for 2m --print-vars Cell.containers,Cell.dose.InTolCount,Cell.dose.OutTolCount";
-  std::string cell =
-      plctest::read_file(plctest::source_path("programs/filling_cell/cell_profibus.yaml"));
-  ASSERT_NE(cell.find("gsd: iec-io/profibus/gsd/GWT_5610.gsd"), std::string::npos);
-  cell = replace_all(cell, "gsd: iec-io/profibus/gsd/GWT_5610.gsd", "gsd: " + gsd_path());
-  const std::string file = plctest::write_temp("pb_cell.yaml", cell);
+  // The repository's file as it is: its gsd: is relative to its folder.
+  const std::string file = plctest::source_path("programs/filling_cell/cell_profibus.yaml");
   const auto sim =
       plctest::run_command(plctest::plcrun_path() + " " +
                            plctest::source_path("programs/filling_cell/cell.yaml") + vars);
@@ -85,8 +83,14 @@ TEST(PbCell, TwoProcessesOnAPtySurviveASlaveRestartAndAPulledLine) {
   ASSERT_FALSE(cell.empty());
   cell = replace_all(cell, "/tmp/softplc-profibus.txt", capture);
   cell = replace_all(cell, "/tmp/softplc-profibus", pty);
-  cell = replace_all(cell, "gsd: iec-io/profibus/gsd/GWT_5610.gsd", "gsd: " + gsd_path());
+  cell = replace_all(cell, "gsd: ../../iec-io/profibus/gsd/GWT_5610.gsd", "gsd: " + gsd_path());
   cell = replace_all(cell, "    period: 1ms\n", "    period: 1ms\n    watchdog: 0\n");
+  // The conveyor (sim plugin, not on the bus) without its sign-of-life
+  // check: late scans of a loaded machine must not fault it, this test is
+  // about the scale. The master waits 4 x 100 ms before it drops the scale.
+  cell = replace_all(cell, "params: {telegram: 111}",
+                     "params: {telegram: 111, sign_of_life_monitoring: false}");
+  cell = replace_all(cell, "reply_timeout: 50ms", "reply_timeout: 100ms");
   cell = replace_all(cell, "    type: FillingCell\n",
                      "    type: FillingCell\n    init:\n      target_kg: 5.0\n"
                      "      guard.FMOD.F_WD_Time: 500\n");
@@ -94,10 +98,13 @@ TEST(PbCell, TwoProcessesOnAPtySurviveASlaveRestartAndAPulledLine) {
   std::string slave =
       plctest::read_file(plctest::source_path("programs/filling_cell/dpslavesim.yaml"));
   slave = replace_all(slave, "/tmp/softplc-profibus", pty);
-  slave = replace_all(slave, "gsd: iec-io/profibus/gsd/GWT_5610.gsd", "gsd: " + gsd_path());
+  slave = replace_all(slave, "gsd: ../../iec-io/profibus/gsd/GWT_5610.gsd", "gsd: " + gsd_path());
   const std::string slave_file = plctest::write_temp("pb_slave.yaml", slave);
 
-  Child plc({plctest::plcrun_path(), cell_file, "--realtime", "--for", "36s", "-q", "--trace",
+  // No fixed run time: plcrun runs until the scenario is through and is
+  // then ended by SIGTERM (exit 0, trace and summary written), so a stalled
+  // machine makes the test longer, never wrong.
+  Child plc({plctest::plcrun_path(), cell_file, "--realtime", "--for", "10m", "-q", "--trace",
              trace, "--trace-vars",
              "Cell.scale.Online,Cell.step,Cell.containers,Cell.power.Enable,Cell.dose.ErrorID,"
              "Cell.last_error",
@@ -122,12 +129,19 @@ TEST(PbCell, TwoProcessesOnAPtySurviveASlaveRestartAndAPulledLine) {
       << "the slave's own watchdog (1 s)" << slave2->all;
   kill(slave2->pid, SIGUSR1);
   ASSERT_TRUE(plc.wait_for("scale (address 5): data exchange", 10000)) << plc.all;
-  ASSERT_EQ(plc.finish(40000), 0) << plc.all;
+  plc.wait_for("\x01never\x01", 2000);  // back in the trace for a while
+  kill(plc.pid, SIGTERM);
+  ASSERT_EQ(plc.finish(20000), 0) << plc.all;
+  EXPECT_NE(plc.all.find("stopped by signal"), std::string::npos) << plc.all;
   slave2.reset();
 
   const auto rows = plctest::read_trace_csv(trace);
   ASSERT_GT(rows.size(), 1000u);
-  // The two losses in the trace: Online TRUE -> FALSE -> TRUE, twice.
+  // The two losses in the trace: Online TRUE -> FALSE -> TRUE, each of
+  // them longer than 300 scans (the master's retry is 1 s, the slave's
+  // watchdog 1 s). A stall of a loaded machine longer than the slave's
+  // watchdog may add a short one (Prm_Req: parametrised again at once),
+  // which is the master doing its job, not checked here.
   std::vector<std::pair<std::size_t, std::size_t>> outages;
   for (std::size_t i = 1; i < rows.size(); ++i) {
     const bool was = rows[i - 1].v.at("Cell.scale.Online") == "TRUE";
@@ -135,9 +149,11 @@ TEST(PbCell, TwoProcessesOnAPtySurviveASlaveRestartAndAPulledLine) {
     if (was && !is) outages.push_back({i, 0});
     if (!was && is && !outages.empty() && outages.back().second == 0) outages.back().second = i;
   }
-  ASSERT_EQ(outages.size(), 2u);
+  ASSERT_GE(outages.size(), 2u) << plc.all;
+  ASSERT_GT(outages.back().second, 0u) << "back after the pulled line";
+  std::erase_if(outages, [](const auto& o) { return o.second - o.first < 300; });
+  ASSERT_GE(outages.size(), 2u) << plc.all;
   for (const auto& [lost, back] : outages) {
-    ASSERT_GT(back, lost);
     bool reported = false, safe = false;
     for (std::size_t i = lost; i < back; ++i) {
       reported = reported || rows[i].v.at("Cell.dose.ErrorID") == "16#8003";
@@ -149,7 +165,7 @@ TEST(PbCell, TwoProcessesOnAPtySurviveASlaveRestartAndAPulledLine) {
   }
   const int before = std::stoi(rows[outages[0].first].v.at("Cell.containers"));
   const int after = std::stoi(rows.back().v.at("Cell.containers"));
-  EXPECT_GT(after, before) << "the cell goes on filling after the restart";
+  EXPECT_GT(after, before) << "the cell goes on filling after the restart\n" << plc.all;
 
   // The decoded capture of the master.
   const std::string cap = plctest::read_file(capture);

@@ -86,3 +86,39 @@ TEST(PbPlugin, SixteenBytesAt12MbitWithTheGsdTiming) {
   EXPECT_NE(r.output.find("max_retry 4"), std::string::npos);
   EXPECT_NE(r.output.find("scale (address 5): data exchange"), std::string::npos) << r.output;
 }
+
+// A relative gsd: is taken from the config file's folder (docs/config.md,
+// "Relative paths"), whatever the current directory.
+TEST(PbPlugin, RelativeGsdPathIsFromTheConfigFilesFolder) {
+  const std::string copy = plctest::temp_path("pb_rel.gsd");
+  plctest::write_temp("pb_rel.gsd", plctest::read_file(gsd()));
+  const std::string bare = copy.substr(copy.rfind('/') + 1);
+  const auto r = run(cell(kGood, "      address: 5\n      gsd: " + bare +
+                                     "\n      modules: \"8 Byte I/O Konsistent\"\n"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("scale (address 5): data exchange"), std::string::npos) << r.output;
+}
+
+// active: false (docs/config.md): the device is configured but never
+// called; the plugin says so at the start and the device never reaches data
+// exchange.
+TEST(PbPlugin, InactiveDeviceIsDeactivatedNotCalled) {
+  const auto r = run(cell(kGood, good_device() + "      active: false\n"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("scale (address 5): deactivated (active: false)"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("data exchange"), std::string::npos) << r.output;
+}
+
+// The device path of transport: pty:PATH is a file the config names: a
+// relative one is made in the config file's folder.
+TEST(PbPlugin, RelativePtyPathIsInTheConfigFilesFolder) {
+  const std::string line = plctest::temp_path("pb_rel_line");
+  const std::string bare = line.substr(line.rfind('/') + 1);
+  const std::string f = plctest::write_temp(
+      "pb_rel_pty.yaml", cell("      transport: \"pty:" + bare + "\"\n", good_device()));
+  const auto r = plctest::run_command(plctest::plcrun_path() + " " + f + " --realtime --for 20ms");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("master 1 on pty " + line + " -> /dev/pts/"), std::string::npos)
+      << r.output;
+}

@@ -12,7 +12,8 @@
 //       model: pr5510                # a registered device model (as in a cell config)
 //       params: {bus: profibus}      # the model's params
 //       address: 5
-//       gsd: iec-io/profibus/gsd/GWT_5610.gsd   # identity, modules, Max_Module, Freeze/Sync
+//       gsd: GWT_5610.gsd            # identity, modules, Max_Module, Freeze/Sync (relative:
+//                                    # from this config file's folder)
 //       io_bytes: 8                  # the I/O size set at the device (PR5510 menu "I/Os")
 //       faults: {silent: false, stat_diag: false, ext_diag: "", ignore_watchdog: false}
 //
@@ -24,11 +25,13 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "plc/config_path.hpp"
 #include "plc/iec_literal.hpp"
 #include "plc/io/device_model.hpp"
 #include "plc/profibus/dp/describe.hpp"
@@ -164,9 +167,7 @@ class SharedLine final : public pb::link::Line {
   std::int64_t t0_ = 0;
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr, "usage: dpslavesim CONFIG.yaml [--for DURATION]\n");
     return 2;
@@ -193,11 +194,20 @@ int main(int argc, char** argv) {
   std::vector<Hosted> slaves;
   std::string transport;
   try {
+    if (const std::string why = plc::readable_file_problem(file); !why.empty()) {
+      std::fprintf(stderr, "%s: %s\n", file.c_str(), why.c_str());
+      return 2;
+    }
     const YAML::Node root = YAML::LoadFile(file);
     reject_unknown(root, {"transport", "baud", "capture", "pcap", "slaves"});
     if (!root["transport"])
       throw ConfigError(root, "key 'transport' missing (serial:PATH or pty:PATH)");
     transport = root["transport"].as<std::string>();
+    // Files named in this config (the line's device, gsd:, capture:,
+    // pcap:): a relative path is taken from the config file's folder.
+    for (const char* kind : {"serial:", "pty:"})
+      if (transport.rfind(kind, 0) == 0 && transport.size() > std::strlen(kind))
+        transport = kind + plc::config_relative_path(file, transport.substr(std::strlen(kind)));
     const auto baud = get<std::uint32_t>(root, "baud", 1500000, 9600, 12000000);
     if (!pb::fdl::baud_profile(baud)) throw ConfigError(root["baud"], "not a PROFIBUS baud rate");
     if (!root["slaves"] || !root["slaves"].IsSequence() || root["slaves"].size() == 0)
@@ -214,7 +224,7 @@ int main(int argc, char** argv) {
       const auto io_bytes = get<int>(s, "io_bytes", 8, 1, 244);
       pb::gsd::Gsd g;
       try {
-        g = pb::gsd::load_gsd(s["gsd"].as<std::string>());
+        g = pb::gsd::load_gsd(plc::config_relative_path(file, s["gsd"].as<std::string>()));
       } catch (const pb::gsd::GsdError& e) {
         throw ConfigError(s["gsd"], e.what());
       }
@@ -222,6 +232,7 @@ int main(int argc, char** argv) {
                                                   static_cast<std::size_t>(io_bytes),
                                                   static_cast<std::size_t>(io_bytes));
       io::ModelParams params;
+      params.set_folder(plc::config_folder(file));
       if (s["params"])
         for (const auto& kv : s["params"])
           params.set(kv.first.as<std::string>(), kv.second.as<std::string>());
@@ -250,8 +261,8 @@ int main(int argc, char** argv) {
     shared = std::make_unique<SharedLine>(*line);
     if (root["capture"] || root["pcap"])
       capture = std::make_unique<pb::link::Capture>(
-          root["capture"] ? root["capture"].as<std::string>() : "",
-          root["pcap"] ? root["pcap"].as<std::string>() : "");
+          root["capture"] ? plc::config_relative_path(file, root["capture"].as<std::string>()) : "",
+          root["pcap"] ? plc::config_relative_path(file, root["pcap"].as<std::string>()) : "");
     std::size_t i = 0;
     for (const YAML::Node& s : root["slaves"]) {
       Hosted h{names[i], std::make_unique<pb::slave::DpSlave>(made[i].first,
@@ -320,4 +331,19 @@ int main(int argc, char** argv) {
   for (const auto& h : slaves)
     std::printf("dpslavesim: %s: %s\n", h.name.c_str(), h.slave->describe().c_str());
   return 0;
+}
+
+}  // namespace
+
+// Nothing ends dpslavesim with an uncaught exception: what escapes run()
+// (the line failing while it runs) is a message and exit code 1.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dpslavesim: %s\n", e.what());
+  } catch (...) {
+    std::fprintf(stderr, "dpslavesim: unknown error\n");
+  }
+  return 1;
 }

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "plc/config_path.hpp"
 #include "plc/profibus/dp/cfg.hpp"
 #include "plc/profibus/gsd/gsd.hpp"
 #include "plc/profibus/slave/from_gsd.hpp"
@@ -28,7 +29,7 @@ std::int64_t mono_ns() {
 // The device keys the plugin reads; every other key goes to the device
 // model (simulate: true).
 const char* const kDeviceKeys[] = {"address", "gsd",      "modules",  "cfg",    "ident", "watchdog",
-                                   "group",   "min_tsdr", "user_prm", "freeze", "sync"};
+                                   "group",   "min_tsdr", "user_prm", "freeze", "sync",  "active"};
 
 std::vector<std::uint8_t> hex_bytes(const std::string& s, const char* key) {
   std::vector<std::uint8_t> out;
@@ -64,6 +65,13 @@ void ProfibusPlugin::configure(const io::ModelParams& p) {
   cfg_.address = static_cast<std::uint8_t>(p.get_int("address", 1, 0, 125));
   simulate_ = p.get_bool("simulate", false);
   transport_ = p.get_string("transport", "");
+  // The device path of serial:/pty: is a file named by the config: a
+  // relative one is taken from the config file's folder, as gsd:, capture:
+  // and pcap: are (plc/config_path.hpp).
+  for (const char* kind : {"serial:", "pty:"})
+    if (transport_.rfind(kind, 0) == 0 && transport_.size() > std::strlen(kind))
+      transport_ = kind + plc::path_in_folder(p.folder().empty() ? "." : p.folder(),
+                                              transport_.substr(std::strlen(kind)));
   if (simulate_ && !transport_.empty())
     throw io::ParamError("transport",
                          "simulate: true runs on an in-memory line: leave transport out");
@@ -84,8 +92,8 @@ void ProfibusPlugin::configure(const io::ModelParams& p) {
   if (cfg_.address > cfg_.bus.hsa)
     throw io::ParamError("address", "the master's address is above hsa");
   cfg_.token = p.get_bool("token", true);
-  capture_path_ = p.get_string("capture", "");
-  pcap_path_ = p.get_string("pcap", "");
+  capture_path_ = p.get_path("capture");
+  pcap_path_ = p.get_path("pcap");
   log_ = p.get_bool("log", true);
   priority_ = static_cast<int>(p.get_int("priority", 60, 1, 99));
   p.reject_unknown();
@@ -110,7 +118,7 @@ io::DeviceSizes ProfibusPlugin::add_device(const io::DeviceSpec& spec) {
   std::optional<gsd::Gsd> g;
   if (p.has("gsd")) {
     try {
-      g = gsd::load_gsd(p.get_string("gsd", ""));
+      g = gsd::load_gsd(p.get_path("gsd"));  // relative: from the config file's folder
     } catch (const gsd::GsdError& err) {
       throw io::ParamError("gsd", err.what());
     }
@@ -197,10 +205,12 @@ io::DeviceSizes ProfibusPlugin::add_device(const io::DeviceSpec& spec) {
     throw io::ParamError("sync", "the GSD says Sync_Mode_supp = 0");
   if (freeze) s.prm.station_status |= dp::kPrmFreezeReq;
   if (sync) s.prm.station_status |= dp::kPrmSyncReq;
+  s.active = p.get_bool("active", true);
 
   // The device model: simulated behind a DP slave (simulate: true); its
   // window must fit the configured I/O.
   io::ModelParams model_params;
+  model_params.set_folder(p.folder());
   for (const auto& [k, v] : p.values()) {
     bool ours = false;
     for (const char* c : kDeviceKeys) ours = ours || k == c;
@@ -303,10 +313,15 @@ void ProfibusPlugin::open() {
                    "supported: this master keeps the token)\n",
                    a);
   };
-  if (log_)
+  if (log_) {
     std::fprintf(stderr, "profibus: master %u on %s, %s; bus cycle %lld us\n", cfg_.address,
                  line_->describe().c_str(), cfg_.bus.describe().c_str(),
                  static_cast<long long>(cfg_.cycle.count() / 1000));
+    for (const Entry& e : entries_)
+      if (!e.slave.active)
+        std::fprintf(stderr, "profibus: %s (address %u): deactivated (active: false)\n",
+                     e.name.c_str(), e.slave.address);
+  }
 }
 
 void ProfibusPlugin::start(io::ClockMode mode) {

@@ -36,6 +36,13 @@ std::size_t DpMaster::add(const SlaveEntry& e) {
   s->cfg = e;
   s->in.assign(e.input_bytes, 0);
   s->out.assign(e.output_bytes, 0);
+  if (!e.active) {
+    dp::Diagnosis d;
+    d.status2 = dp::kDiag2Always1 | dp::kDiag2Deactivated;
+    d.ident = e.prm.ident;
+    post_diagnosis(*s, d);
+    s->last_error = "deactivated";
+  }
   slaves_.push_back(std::move(s));
   return slaves_.size() - 1;
 }
@@ -125,6 +132,7 @@ bool DpMaster::next_transaction(TIME now) {
     Slave& s = *slaves_[i];
     const std::uint8_t da = s.cfg.address;
     const std::uint8_t srd = kFcRequest | kReqSrdHigh;
+    if (!s.cfg.active) continue;
     if (s.state == SlaveState::Waiting || s.state == SlaveState::Fault) {
       if (now < s.next_try) continue;
       start_slave(s, now);
@@ -243,6 +251,7 @@ void DpMaster::on_answer(const Telegram& t, TIME now) {
       if (!d) {
         std::snprintf(b, sizeof b, "Slave_Diag answered %s without a diagnosis",
                       sc ? "SC" : "a telegram");
+        post_invalid_response(s);
         return lose(s, now, b);
       }
       return handle_diag(s, *d, now);
@@ -272,6 +281,7 @@ void DpMaster::on_answer(const Telegram& t, TIME now) {
         ++s.counters.wrong_size;
         std::snprintf(b, sizeof b, "Data_Exchange answer of %zu bytes, configured %zu", got,
                       s.in.size());
+        post_invalid_response(s);
         return fault(s, now, b);
       }
       std::copy_n(t.data.begin(), got, s.in.begin());
@@ -308,6 +318,13 @@ void DpMaster::handle_diag(Slave& s, const dp::Diagnosis& d, TIME now) {
     return fault(
         s, now,
         "Cfg_Fault: the slave refuses Chk_Cfg " + dp::hex(s.cfg.cfg) + " (" + d.text() + ")");
+  }
+  if (d.status1 & dp::kDiag1NotSupported) {
+    // A function the slave does not have (Freeze or Sync without its
+    // Set_Prm request): no number of diagnosis reads clears it, a new
+    // Set_Prm does.
+    return fault(s, now,
+                 "Not_Supported: the slave refuses a requested function (" + d.text() + ")");
   }
   if (d.status2 & dp::kDiag2PrmReq) {
     // Lost its parameters (watchdog, restart): parametrise it again now.
@@ -353,9 +370,21 @@ void DpMaster::post_diagnosis(Slave& s, const dp::Diagnosis& d) {
            static_cast<std::uint32_t>(d.status3) << 8 | d.master;
   a.appears = (d.status1 & (dp::kDiag1CfgFault | dp::kDiag1PrmFault | dp::kDiag1ExtDiag |
                             dp::kDiag1NotSupported | dp::kDiag1StationNonExistent |
-                            dp::kDiag1MasterLock)) != 0 ||
+                            dp::kDiag1InvalidSlaveResponse | dp::kDiag1MasterLock)) != 0 ||
               (d.status2 & dp::kDiag2StatDiag) != 0;
   s.link.post_alarm(a);
+}
+
+// Invalid_Slave_Response is the master's own bit (EN 50170: an
+// implausible answer): the slave's last diagnosis with that bit alone in
+// the first byte, so FBs and the HMI line see why the slave was dropped.
+void DpMaster::post_invalid_response(Slave& s) {
+  dp::Diagnosis d = s.diag;
+  d.status1 = dp::kDiag1InvalidSlaveResponse;
+  d.status2 = dp::kDiag2Always1;
+  d.status3 = 0;
+  d.ext.clear();
+  post_diagnosis(s, d);
 }
 
 void DpMaster::online(Slave& s) {

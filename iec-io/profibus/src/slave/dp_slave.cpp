@@ -229,6 +229,9 @@ void DpSlave::global_control(const Telegram& t) {
     std::fill(outputs_.begin(), outputs_.end(), 0);
     std::fill(applied_.begin(), applied_.end(), 0);
   }
+  // Freeze_Mode and Sync_Mode are in the diagnosis: a change answers the
+  // next Data_Exchange high priority, so the master reads it.
+  const bool was_frozen = freeze_, was_synced = sync_;
   if (gc.command & (dp::kGcFreeze | dp::kGcUnfreeze)) {
     if (!freeze_enabled_) {
       not_supported_ = diag_changed_ = true;
@@ -250,6 +253,7 @@ void DpSlave::global_control(const Telegram& t) {
       applied_ = outputs_;
     }
   }
+  if (freeze_ != was_frozen || sync_ != was_synced) diag_changed_ = true;
 }
 
 void DpSlave::data_exchange(const Telegram& t) {
@@ -280,7 +284,10 @@ std::vector<std::uint8_t> DpSlave::diagnosis(std::uint8_t asking) const {
   if (master_ != 0xFF && master_ != asking) d.status1 |= dp::kDiag1MasterLock;
   if (!faults_.ext.empty()) {
     d.status1 |= dp::kDiag1ExtDiag;
-    d.ext = faults_.ext;
+    const std::size_t room = std::max<std::size_t>(cfg_.max_diag_len, 6) - 6;
+    d.ext.assign(faults_.ext.begin(), faults_.ext.begin() + static_cast<std::ptrdiff_t>(std::min(
+                                                                room, faults_.ext.size())));
+    if (faults_.ext.size() > room) d.status3 |= dp::kDiag3ExtDiagOverflow;
   }
   if (state_ == SlaveState::WaitPrm) d.status2 |= dp::kDiag2PrmReq;
   if (faults_.stat_diag) d.status2 |= dp::kDiag2StatDiag;

@@ -12,6 +12,7 @@ SlaveConfig slave_config_from_gsd(const gsd::Gsd& g, std::uint8_t address, std::
   c.freeze_supported = g.freeze_supported();
   c.sync_supported = g.sync_supported();
   c.user_prm_len = static_cast<std::size_t>(g.number("User_Prm_Data_Len", 0));
+  c.max_diag_len = g.max_diag_len();
   if (g.modular()) {
     for (const gsd::Module& m : g.modules)
       if (m.cfg.size() == 1) c.modules.push_back(m.cfg[0]);

@@ -13,9 +13,12 @@
 //   Slave_Diag -> Set_Prm (WD, minTSDR, Ident_Number, group, user
 //   parameters from the GSD) -> Chk_Cfg (the configured modules' Cfg
 //   bytes) -> Slave_Diag until ready -> Data_Exchange every cycle.
-// A diagnosis with Prm_Fault, Cfg_Fault or Prm_Req starts again at Set_Prm
-// (after `retry` when it was a fault); Master_Lock (another master owns the
-// slave) or a foreign Ident_Number waits `retry`. An answer DH (high
+// A diagnosis with Prm_Fault, Cfg_Fault, Not_Supported or Prm_Req starts
+// again at Set_Prm (after `retry` when it was a fault); Master_Lock
+// (another master owns the slave) or a foreign Ident_Number waits `retry`.
+// An implausible answer (a Data_Exchange answer of another size than
+// configured, a Slave_Diag answer without a diagnosis) is a fault with
+// Invalid_Slave_Response, the master's own diagnosis bit. An answer DH (high
 // priority) to Data_Exchange makes the next cycle read the diagnosis; RS
 // (the slave lost its parameters, e.g. its watchdog) starts it up again.
 // No answer within the slot time: the request is repeated up to max_retry
@@ -47,6 +50,10 @@ struct SlaveEntry {
   dp::SetPrm prm;                 // ident, watchdog, group, user parameters, Freeze/Sync requests
   std::vector<std::uint8_t> cfg;  // Chk_Cfg
   std::size_t input_bytes = 0, output_bytes = 0;
+  // false: configured but taken out of the cycle (a station not yet
+  // fitted): never called, Offline, its diagnosis Deactivated
+  // (Station_Status_2 bit 7, the master's own bit).
+  bool active = true;
 };
 
 struct MasterConfig {
@@ -65,7 +72,8 @@ enum class SlaveState : std::uint8_t {
   Waiting,   // lost or faulty: started again at next_try
   Starting,  // Slave_Diag, Set_Prm, Chk_Cfg, Slave_Diag
   Online,    // Data_Exchange
-  Fault,     // Prm_Fault, Cfg_Fault, a foreign Ident_Number, Master_Lock (waits retry)
+  Fault,     // Prm_Fault, Cfg_Fault, Not_Supported, Invalid_Slave_Response, a foreign
+             // Ident_Number, Master_Lock (waits retry)
 };
 const char* to_string(SlaveState s);
 
@@ -158,6 +166,7 @@ class DpMaster {
   void online(Slave& s);
   void changed(const Slave& s);
   void post_diagnosis(Slave& s, const dp::Diagnosis& d);
+  void post_invalid_response(Slave& s);
   void handle_diag(Slave& s, const dp::Diagnosis& d, TIME now);
 
   MasterConfig cfg_;

@@ -49,6 +49,9 @@ struct SlaveConfig {
   std::size_t max_modules = 1;
   std::vector<std::uint8_t> cfg;
   std::size_t user_prm_len = 0;
+  // The GSD's Max_Diag_Data_Len (6..244): extended diagnosis that does not
+  // fit is cut at that length and Ext_Diag_Overflow set.
+  std::size_t max_diag_len = 244;
   bool freeze_supported = true, sync_supported = true;
 };
 
