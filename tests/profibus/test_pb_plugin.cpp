@@ -2,6 +2,11 @@
 // the config line and column (plcrun exits 2), GSD errors keep the GSD's
 // own file:line; the bus parameters follow the baud rate and the GSD.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <fstream>
 
 #include "plc/profibus/profibus_plugin.hpp"
 #include "runtime/test_helpers.hpp"
@@ -121,4 +126,26 @@ TEST(PbPlugin, RelativePtyPathIsInTheConfigFilesFolder) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("master 1 on pty " + line + " -> /dev/pts/"), std::string::npos)
       << r.output;
+}
+
+// dpslavesim's config (docs/config.md, dpslavesim): the pty it makes, the
+// GSD and the capture are taken from the config file's folder, not from
+// the current directory (here /).
+TEST(PbSlaveSim, RelativePathsAreFromTheConfigFilesFolder) {
+  const std::string dir = plctest::temp_path("pb_sim_dir");
+  ASSERT_TRUE(::mkdir(dir.c_str(), 0755) == 0 || errno == EEXIST);
+  {
+    std::ofstream(dir + "/scale.gsd") << plctest::read_file(gsd());
+    std::ofstream(dir + "/s.yaml") << "transport: \"pty:line\"\ncapture: cap.txt\nslaves:\n"
+                                      "  - name: scale\n    model: pr5510\n"
+                                      "    params: {bus: profibus}\n    address: 5\n"
+                                      "    gsd: scale.gsd\n    io_bytes: 8\n";
+  }
+  const auto r = plctest::run_command("cd / && " + plctest::bin_dir() + "/dpslavesim " + dir +
+                                      "/s.yaml --for 20ms");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("1 slave(s) on pty " + dir + "/line -> /dev/pts/"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("scale: address 5 Wait_Prm"), std::string::npos) << r.output;
+  EXPECT_EQ(::access((dir + "/cap.txt").c_str(), F_OK), 0) << "the capture in the config's folder";
 }
