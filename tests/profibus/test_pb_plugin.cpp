@@ -120,8 +120,10 @@ TEST(PbPlugin, InactiveDeviceIsDeactivatedNotCalled) {
 TEST(PbPlugin, RelativePtyPathIsInTheConfigFilesFolder) {
   const std::string line = plctest::temp_path("pb_rel_line");
   const std::string bare = line.substr(line.rfind('/') + 1);
-  const std::string f = plctest::write_temp(
-      "pb_rel_pty.yaml", cell("      transport: \"pty:" + bare + "\"\n", good_device()));
+  // In real time: no task watchdog, a stalled machine must not stop the run.
+  std::string yaml = cell("      transport: \"pty:" + bare + "\"\n", good_device());
+  yaml.replace(yaml.find("    period: 1ms\n"), 16, "    period: 1ms\n    watchdog: 0\n");
+  const std::string f = plctest::write_temp("pb_rel_pty.yaml", yaml);
   const auto r = plctest::run_command(plctest::plcrun_path() + " " + f + " --realtime --for 20ms");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("master 1 on pty " + line + " -> /dev/pts/"), std::string::npos)
