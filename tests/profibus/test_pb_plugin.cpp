@@ -8,6 +8,8 @@
 #include <cerrno>
 #include <fstream>
 
+#include "plc/io/record_request.hpp"
+#include "plc/profibus/dp/services.hpp"
 #include "plc/profibus/profibus_plugin.hpp"
 #include "runtime/test_helpers.hpp"
 
@@ -150,4 +152,61 @@ TEST(PbSlaveSim, RelativePathsAreFromTheConfigFilesFolder) {
       << r.output;
   EXPECT_NE(r.output.find("scale: address 5 Wait_Prm"), std::string::npos) << r.output;
   EXPECT_EQ(::access((dir + "/cap.txt").c_str(), F_OK), 0) << "the capture in the config's folder";
+}
+
+// Global_Control for FBs (docs/config.md): a record write of index 0xF000
+// with Control_Command and Group_Select on any of the plugin's devices goes
+// out at the end of the next bus cycle; the slave of that group freezes and
+// syncs, and the master's diagnosis shows it. Any other record is refused
+// (DP-V0 has none). The plugin in-process, simulated, in virtual time.
+TEST(PbPlugin, GlobalControlRecordF000ReachesTheGroupOtherRecordsAreRefused) {
+  plc::profibus::ProfibusPlugin plug;
+  plc::io::ModelParams p;
+  p.set("simulate", "true");
+  p.set("log", "false");
+  plug.configure(p);
+  plc::io::DeviceSpec spec{"scale", "pr5510", {}};
+  spec.params.set("address", "5");
+  spec.params.set("gsd", gsd());
+  spec.params.set("modules", "8 Byte I/O Konsistent");
+  spec.params.set("group", "1");
+  spec.params.set("freeze", "true");
+  spec.params.set("sync", "true");
+  plug.add_device(spec);
+  plug.start(plc::io::ClockMode::Virtual);
+  using namespace std::chrono_literals;
+  plc::TIME now{0};
+  auto run = [&](plc::TIME t) {
+    for (plc::TIME end = now + t; now < end;) plug.step(now += 1ms, 1ms);
+  };
+  run(100ms);
+  ASSERT_EQ(plug.master().state(0), plc::profibus::master::SlaveState::Online)
+      << plug.diagnostics(0);
+  namespace dp = plc::profibus::dp;
+  const std::uint8_t gc[2] = {dp::kGcFreeze | dp::kGcSync, 0x01};
+  plc::io::RecordRequest r;
+  ASSERT_TRUE(r.prepare_write(plc::profibus::kGlobalControlRecord, gc));
+  ASSERT_TRUE(plug.link(0).submit(r));
+  run(30ms);
+  EXPECT_EQ(r.status(), plc::io::RecordStatus::Done);
+  EXPECT_EQ(plug.master().counters().global_controls, 1u);
+  EXPECT_TRUE(plug.simulated(0)->frozen());
+  EXPECT_TRUE(plug.simulated(0)->synced());
+  EXPECT_NE(plug.diagnostics(0).find("Freeze_Mode Sync_Mode"), std::string::npos)
+      << plug.diagnostics(0);
+  // Group 2: not this slave's.
+  const std::uint8_t other[2] = {dp::kGcUnfreeze | dp::kGcUnsync, 0x02};
+  plc::io::RecordRequest r2;
+  ASSERT_TRUE(r2.prepare_write(plc::profibus::kGlobalControlRecord, other));
+  ASSERT_TRUE(plug.link(0).submit(r2));
+  run(30ms);
+  EXPECT_EQ(r2.status(), plc::io::RecordStatus::Done);
+  EXPECT_TRUE(plug.simulated(0)->frozen()) << "Group_Select 2 is not the slave's group 1";
+  plc::io::RecordRequest bad;
+  ASSERT_TRUE(bad.prepare_write(0x0001, gc));
+  ASSERT_TRUE(plug.link(0).submit(bad));
+  run(10ms);
+  EXPECT_EQ(bad.status(), plc::io::RecordStatus::Error);
+  EXPECT_EQ(bad.error(), plc::io::RecordError::InvalidIndex);
+  plug.stop();
 }
