@@ -19,7 +19,8 @@ using plc::TIME;
 namespace {
 
 // The oven of these tests: 2 degC per % heater, T = 60 s, L = 5 s, 20 degC
-// ambient. SIMC with tau_c = L: Kc = 60 / (2 (5 + 5)) = 3, Ti = min(60, 40) = 40 s.
+// ambient. SIMC with the default tau_c = max(L, T / 10) = 6 s:
+// Kc = 60 / (2 (6 + 5)) = 2.73, Ti = min(60, 44) = 44 s (TuningRules.*).
 constexpr double kK = 2.0, kT = 60.0, kAmbient = 20.0;
 constexpr TIME kL = 5s;
 
@@ -31,8 +32,8 @@ Loop oven(TIME period) {
 
 pc::PID_Compact simc_pid() {
   pc::PID_Compact p;
-  p.Gain = 3.0f;
-  p.Ti = 40.0f;
+  p.Gain = static_cast<plc::REAL>(60.0 / 22.0);
+  p.Ti = 44.0f;
   p.Td = 0.0f;
   p.InputUpperLimit = 300.0f;
   return p;
@@ -57,14 +58,19 @@ void settle_manual(Loop& l, pc::PID_Compact& pid, double u) {
 }
 
 TEST(PidCompact, ClosedLoopSetpointStepOvershootAndSettling) {
-  // From steady state at 40 degC (10 %) a setpoint step to 50 degC, the
-  // PID called every 100 ms. Stated acceptance: overshoot at most 10 %,
-  // within +-2 % of the step after at most 120 s (2 T; the plant alone
-  // takes 5 + 4 x 60 = 245 s to get within 2 %).
+  // From steady state at 40 degC (10 %), in automatic, a setpoint step to
+  // 50 degC, the PID called every 100 ms. Stated acceptance: overshoot at
+  // most 10 %, within +-2 % of the step after at most 120 s (2 T; the plant
+  // alone takes 5 + 4 x 60 = 245 s to get within 2 %). SIMC's PI on this
+  // plant gives about 7 % and 70 s (Skogestad 2003 expects about 10 % for
+  // Ti < T).
   Loop l = oven(100ms);
   auto pid = simc_pid();
   settle_manual(l, pid, 10.0);
   ASSERT_NEAR(l.pv(), 40.0, 0.01);
+  // Automatic at the old setpoint first: switching to automatic with the new
+  // one would be bumpless and take the P kick away from the step.
+  run(l, pid, 40.0, 10s);
   const std::size_t from = l.y.size();
   run(l, pid, 50.0, 600s);
   const auto f = step_figures(l, from, 40.0, 50.0, 2.0);
@@ -142,7 +148,8 @@ TEST(PidCompact, ResponseDoesNotDependOnTheCallPeriod) {
   double worst = 0;
   for (double s = 0; s <= 299; s += 0.5) {
     const double ref = at(loops[0], s);
-    for (std::size_t k = 1; k < loops.size(); ++k) worst = std::max(worst, std::fabs(at(loops[k], s) - ref));
+    for (std::size_t k = 1; k < loops.size(); ++k)
+      worst = std::max(worst, std::fabs(at(loops[k], s) - ref));
   }
   std::printf("largest difference between call periods: %.3f K of a 10 K step\n", worst);
   EXPECT_LE(worst, 0.15);

@@ -20,8 +20,8 @@ namespace {
 
 // The step response of K/(T s + 1) e^(-L s) to du, sampled every ts for n
 // samples (t = 0 at the step), with gaussian noise of sigma.
-std::vector<double> noisy_step(double K, double T, TIME L, double du, TIME ts, int n,
-                               double sigma, std::uint64_t seed) {
+std::vector<double> noisy_step(double K, double T, TIME L, double du, TIME ts, int n, double sigma,
+                               std::uint64_t seed) {
   auto plant = fopdt(K, T, L, ts);
   plc::plant::SeededNoise noise(seed);
   std::vector<double> y;
@@ -59,8 +59,9 @@ TEST(FopdtFit, RecoversKnownParametersFromNoisyData) {
     EXPECT_GT(r.fit_percent, 90.0) << "seed " << seed;
     EXPECT_NEAR(r.noise_sigma, 0.2, 0.02) << "seed " << seed;
   }
-  std::printf("FOPDT from noisy data (20 seeds): |dK/K| <= %.3f %%, |dT/T| <= %.3f %%, |dL| <= %.3f s\n",
-              100 * worst_k, 100 * worst_t, worst_l);
+  std::printf(
+      "FOPDT from noisy data (20 seeds): |dK/K| <= %.3f %%, |dT/T| <= %.3f %%, |dL| <= %.3f s\n",
+      100 * worst_k, 100 * worst_t, worst_l);
   EXPECT_LE(worst_k, 0.01);
   EXPECT_LE(worst_t, 0.03);
   EXPECT_LE(worst_l, 0.3);
@@ -70,7 +71,8 @@ TEST(FopdtFit, ApproximatesAHigherOrderPlant) {
   // Two lags, 20 s and 5 s: no FOPDT fits exactly; the fit still finds the
   // gain, a dead time that stands in for the small lag (Skogestad's half
   // rule would say T = 22.5 s, L = 2.5 s), and says the fit is imperfect.
-  plc::plant::LinearPlant p(plc::plant::discretise_zoh(plc::plant::second_order(1.5, 20, 5), 100ms));
+  plc::plant::LinearPlant p(
+      plc::plant::discretise_zoh(plc::plant::second_order(1.5, 20, 5), 100ms));
   std::vector<double> y;
   const double u[1] = {4.0};
   for (int j = 0; j < 2000; ++j) {
@@ -97,12 +99,18 @@ TEST(FopdtFit, RefusesDataWithoutAResponse) {
 
 TEST(TuningRules, FormulasOfThePapers) {
   const pc::FopdtModel m{2.0, 60.0, 5.0};
-  // SIMC, tau_c = L (default): Kc = 60 / (2 x 10) = 3, Ti = min(60, 40) = 40.
+  // SIMC, tau_c = max(L, T / 10) = 6 (default): Kc = 60 / (2 x 11),
+  // Ti = min(60, 44) = 44.
   auto g = pc::tune(pc::TuningRule::SIMC_PI, m);
   ASSERT_TRUE(g.ok);
+  EXPECT_DOUBLE_EQ(g.gain, 60.0 / 22.0);
+  EXPECT_DOUBLE_EQ(g.ti, 44.0);
+  EXPECT_EQ(g.td, 0.0);
+  // tau_c = L as the paper's "tight control": Kc = 60 / (2 x 10) = 3,
+  // Ti = min(60, 40) = 40.
+  g = pc::tune(pc::TuningRule::SIMC_PI, m, 5.0);
   EXPECT_DOUBLE_EQ(g.gain, 3.0);
   EXPECT_DOUBLE_EQ(g.ti, 40.0);
-  EXPECT_EQ(g.td, 0.0);
   // SIMC with tau_c = 20: Kc = 60 / (2 x 25) = 1.2, Ti = min(60, 100) = 60.
   g = pc::tune(pc::TuningRule::SIMC_PI, m, 20.0);
   EXPECT_DOUBLE_EQ(g.gain, 1.2);
@@ -153,10 +161,11 @@ TEST(PidStepTune, StepTestIdentifiesTheOvenAndProposesGains) {
   TuneRun r;
   r.run(400s);
   ASSERT_TRUE(r.tune.Done) << "ErrorID " << std::hex << std::uint16_t(r.tune.ErrorID);
-  std::printf("step test: K %.4f T %.3f L %.3f fit %.2f %% R2 %.5f sigma %.4f iterations %d -> "
-              "Kc %.4f Ti %.3f\n",
-              r.tune.ProcessGain, r.tune.TimeConstant, r.tune.DeadTime, r.tune.FitPercent,
-              r.tune.RSquared, r.tune.NoiseSigma, int(r.tune.Iterations), r.tune.Gain, r.tune.Ti);
+  std::printf(
+      "step test: K %.4f T %.3f L %.3f fit %.2f %% R2 %.5f sigma %.4f iterations %d -> "
+      "Kc %.4f Ti %.3f\n",
+      r.tune.ProcessGain, r.tune.TimeConstant, r.tune.DeadTime, r.tune.FitPercent, r.tune.RSquared,
+      r.tune.NoiseSigma, int(r.tune.Iterations), r.tune.Gain, r.tune.Ti);
   // Stated tolerances: K within 1 %, T within 2 %, L within 0.3 s of the
   // plant's 5 s (the PLC's own exchange adds up to one call, 0.1 s).
   EXPECT_NEAR(r.tune.ProcessGain, 2.0, 0.02);
@@ -165,8 +174,8 @@ TEST(PidStepTune, StepTestIdentifiesTheOvenAndProposesGains) {
   EXPECT_GT(r.tune.FitPercent, 95.0f);
   EXPECT_NEAR(r.tune.NoiseSigma, 0.05, 0.01);
   // The proposal is the SIMC rule applied to the identified model.
-  const auto g = pc::tune(pc::TuningRule::SIMC_PI,
-                          {r.tune.ProcessGain, r.tune.TimeConstant, r.tune.DeadTime});
+  const auto g =
+      pc::tune(pc::TuningRule::SIMC_PI, {r.tune.ProcessGain, r.tune.TimeConstant, r.tune.DeadTime});
   EXPECT_NEAR(r.tune.Gain, g.gain, 1e-4);
   EXPECT_NEAR(r.tune.Ti, g.ti, 1e-3);
   EXPECT_EQ(r.tune.Output, 30.0f);  // still on the step: the program decides

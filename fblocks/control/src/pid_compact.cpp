@@ -11,10 +11,9 @@ namespace {
 double seconds(TIME t) { return std::chrono::duration<double>(t).count(); }
 bool finite(double v) { return std::isfinite(v); }
 
-constexpr std::uint32_t kStopsAutomatic = error_bits::kInputPerInvalid | error_bits::kInputInvalid |
-                                          error_bits::kSetpointInvalid |
-                                          error_bits::kInvalidParameters |
-                                          error_bits::kSamplingTime;
+constexpr std::uint32_t kStopsAutomatic =
+    error_bits::kInputPerInvalid | error_bits::kInputInvalid | error_bits::kSetpointInvalid |
+    error_bits::kInvalidParameters | error_bits::kSamplingTime;
 
 }  // namespace
 
@@ -59,8 +58,10 @@ void PID_Compact::operator()(const ScanContext& ctx) {
   } else if (!finite(x)) {
     pending |= error_bits::kInputInvalid;
   }
-  if (finite(x)) {
-    ScaledInput = static_cast<REAL>(x);
+  if (finite(x)) ScaledInput = static_cast<REAL>(x);
+  // An invalid analog word (overflow or underflow) is a broken signal, not a
+  // process value out of its limits: 16#0002 alone, as the manual lists it.
+  if (finite(x) && !(pending & error_bits::kInputPerInvalid)) {
     if (x > InputUpperLimit || x < InputLowerLimit) pending |= error_bits::kInputOutOfLimits;
     InputWarning_H = x >= InputUpperWarning;
     InputWarning_L = x <= InputLowerWarning;
@@ -155,9 +156,15 @@ void PID_Compact::automatic(double h, double x, double w) {
     d = derivative_.step(v, h, Td, double(TdFiltRatio) * Td);
     if (Ti > 0) {
       const double di = kp * h / double(Ti) * (w - x);
-      const double unclamped = p + integral_ + di + d + dist;
-      // Conditional integration: no integrating further into a limit.
-      if (!((unclamped > hi && di > 0) || (unclamped < lo && di < 0))) integral_ += di;
+      // Anti-windup: I moves towards a limit only as far as the output
+      // reaches it. Skipping a whole increment instead would leave the
+      // output up to one increment short of a limit it should sit at.
+      const double rest = p + d + dist;
+      if (di > 0) {
+        integral_ = std::max(integral_, std::min(integral_ + di, hi - rest));
+      } else if (di < 0) {
+        integral_ = std::min(integral_, std::max(integral_ + di, lo - rest));
+      }
     }
   }
   PAction = static_cast<REAL>(p);

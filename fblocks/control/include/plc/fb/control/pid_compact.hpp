@@ -21,10 +21,12 @@
 // seconds, not in calls):
 //   P = Kp (b w - x)
 //   D = lagged_derivative(Kp (c w - x), h, Td, a Td)         (exact, see there)
-//   I += Kp h / Ti (w - x)    unless that drives a saturated output further
-//                             into its limit (conditional integration: I
-//                             never grows while the output it would move
-//                             is at a limit, so it cannot wind up)
+//   dI = Kp h / Ti (w - x);   I += dI, but towards a limit only as far as
+//                             P + I + D + Disturbance reaches it (clamped
+//                             conditional integration: I never grows while
+//                             the output it would move is at a limit, so it
+//                             cannot wind up, and the output does reach
+//                             the limit)
 //   Output = clamp(P + I + D + Disturbance, OutputLowerLimit, OutputUpperLimit)
 // Ti = 0 switches the integral action off, Td = 0 the derivative action.
 //
@@ -63,8 +65,8 @@ struct PID_Compact {
 
   // ---------------- inputs ----------------
   REAL Setpoint{};
-  REAL Input{};      // process value, engineering units (InputPerOn = FALSE)
-  INT Input_PER{};   // analog word (InputPerOn = TRUE), scaled by InputScaling
+  REAL Input{};     // process value, engineering units (InputPerOn = FALSE)
+  INT Input_PER{};  // analog word (InputPerOn = TRUE), scaled by InputScaling
   REAL Disturbance{};
   BOOL ManualEnable{};
   REAL ManualValue{};
@@ -140,12 +142,11 @@ struct PID_Compact {
               InputLowerWarning, OutputUpperLimit, OutputLowerLimit, SetpointUpperLimit,
               SetpointLowerLimit, InputScalingUpperIn, InputScalingUpperOut, InputScalingLowerIn,
               InputScalingLowerOut, SetpointRamp, ActivateRecoverMode, SetSubstituteOutput,
-              SubstituteOutput, PwmPeriod, MinimumOnTime, MinimumOffTime, Gain, Ti, Td,
-              TdFiltRatio, PWeighting, DWeighting, ScaledInput, Output, Output_PER, Output_PWM,
-              SetpointLimit_H, SetpointLimit_L, InputWarning_H, InputWarning_L, State, Error,
-              ErrorBits, EffectiveSetpoint, PAction, IAction, DAction, integral_, last_output_,
-              ramp_sp_, derivative_, pwm_, last_call_, called_, was_automatic_, ack_prev_,
-              reset_prev_)
+              SubstituteOutput, PwmPeriod, MinimumOnTime, MinimumOffTime, Gain, Ti, Td, TdFiltRatio,
+              PWeighting, DWeighting, ScaledInput, Output, Output_PER, Output_PWM, SetpointLimit_H,
+              SetpointLimit_L, InputWarning_H, InputWarning_L, State, Error, ErrorBits,
+              EffectiveSetpoint, PAction, IAction, DAction, integral_, last_output_, ramp_sp_,
+              derivative_, pwm_, last_call_, called_, was_automatic_, ack_prev_, reset_prev_)
   PLC_INTERNAL(State, ErrorBits, integral_, last_output_, ramp_sp_, derivative_, pwm_, last_call_,
                called_, was_automatic_, ack_prev_, reset_prev_)
 
