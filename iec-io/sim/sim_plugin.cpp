@@ -34,7 +34,8 @@ DeviceSizes SimPlugin::add_device(const DeviceSpec& spec) {
       explicit Earlier(SimPlugin& p) : p_(p) {}
       std::optional<Peer> find(std::string_view name) const override {
         for (std::size_t i = 0; i < p_.names_.size(); ++i)
-          if (p_.names_[i] == name) return Peer{p_.devices_[i]->inputs(), p_.devices_[i]->outputs()};
+          if (p_.names_[i] == name)
+            return Peer{p_.devices_[i]->inputs(), p_.devices_[i]->outputs()};
         return std::nullopt;
       }
       std::vector<std::string> names() const override { return p_.names_; }

@@ -36,7 +36,8 @@ std::string type_of(const std::string& v) {
     const char c = v[i];
     if (c == '.' || c == 'e' || c == 'E') {
       real = true;
-    } else if (!((c >= '0' && c <= '9') || ((c == '-' || c == '+') && (i == 0 || v[i - 1] == 'e' || v[i - 1] == 'E')))) {
+    } else if (!((c >= '0' && c <= '9') ||
+                 ((c == '-' || c == '+') && (i == 0 || v[i - 1] == 'e' || v[i - 1] == 'E')))) {
       digits = false;
     }
   }
@@ -74,7 +75,8 @@ int main(int argc, char** argv) {
   }
   const std::vector<std::string> head = split(line);
   if (head.size() < 3 || head[0] != "time_ns" || head[1] != "cycle") {
-    std::fprintf(stderr, "oven_plot: '%s' is not a plcrun CSV trace (time_ns,cycle,...)\n", argv[1]);
+    std::fprintf(stderr, "oven_plot: '%s' is not a plcrun CSV trace (time_ns,cycle,...)\n",
+                 argv[1]);
     return 2;
   }
   plc::hmi::Trend tr;
@@ -97,7 +99,8 @@ int main(int argc, char** argv) {
     }
     tr.t.push_back(value_of(cells[0]) * 1e-9);
     for (std::size_t c = 2; c < head.size(); ++c)
-      if (column[c - 2] >= 0) tr.value[static_cast<std::size_t>(column[c - 2])].push_back(value_of(cells[c]));
+      if (column[c - 2] >= 0)
+        tr.value[static_cast<std::size_t>(column[c - 2])].push_back(value_of(cells[c]));
   }
   const std::string err = plc::hmi::write_trend_png(tr, argv[2], argc == 4 ? argv[3] : argv[1]);
   if (!err.empty()) {

@@ -22,8 +22,8 @@ inline plc::plant::LinearPlant fopdt(double K, double T, plc::TIME L, plc::TIME 
   plc::plant::DiscretiseOptions opt;
   opt.dead_time = {L};
   const double u[1] = {u0};
-  plc::plant::LinearPlant p(
-      plc::plant::discretise_zoh(plc::plant::first_order(K, T), sample, opt), u);
+  plc::plant::LinearPlant p(plc::plant::discretise_zoh(plc::plant::first_order(K, T), sample, opt),
+                            u);
   const double x[1] = {K * u0};
   p.set_state(x);
   return p;
@@ -34,17 +34,19 @@ struct Loop {
   plc::TIME period;
   double offset = 0;  // added to the plant's output (ambient temperature)
   plc::ScanContext ctx{};
-  double u = 0;       // the controller's output as the plant sees it
+  double u = 0;                   // the controller's output as the plant sees it
   std::vector<double> t, y, out;  // one row per call
 
-  Loop(plc::plant::LinearPlant p, plc::TIME call_period) : plant(std::move(p)), period(call_period) {
+  Loop(plc::plant::LinearPlant p, plc::TIME call_period)
+      : plant(std::move(p)), period(call_period) {
     ctx.period = period;
   }
   [[nodiscard]] double pv() const { return plant.outputs()[0] + offset; }
 
   // Calls `controller(ctx, pv)` every period for `span`; it returns the
   // output to apply. The plant then runs for one period with it.
-  void run(plc::TIME span, const std::function<double(const plc::ScanContext&, double)>& controller) {
+  void run(plc::TIME span,
+           const std::function<double(const plc::ScanContext&, double)>& controller) {
     const plc::TIME end = ctx.now + span;
     while (ctx.now < end) {
       u = controller(ctx, pv());

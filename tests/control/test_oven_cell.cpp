@@ -65,10 +65,11 @@ TEST(OvenCell, StepTestTunesTheLoopAndTheLoopHoldsItsSetpoints) {
   const OvenRun r = run_oven(1h);
   ASSERT_FALSE(r.t.empty());
   ASSERT_TRUE(r.tune.Done) << "ErrorID " << std::hex << std::uint16_t(r.tune.ErrorID);
-  std::printf("oven step test: K %.3f K/%% T %.1f s L %.1f s fit %.2f %% R2 %.5f noise %.3f K -> "
-              "Kc %.3f %%/K Ti %.1f s\n",
-              r.tune.ProcessGain, r.tune.TimeConstant, r.tune.DeadTime, r.tune.FitPercent,
-              r.tune.RSquared, r.tune.NoiseSigma, r.tune.Gain, r.tune.Ti);
+  std::printf(
+      "oven step test: K %.3f K/%% T %.1f s L %.1f s fit %.2f %% R2 %.5f noise %.3f K -> "
+      "Kc %.3f %%/K Ti %.1f s\n",
+      r.tune.ProcessGain, r.tune.TimeConstant, r.tune.DeadTime, r.tune.FitPercent, r.tune.RSquared,
+      r.tune.NoiseSigma, r.tune.Gain, r.tune.Ti);
   // The plant is 2.5 K/% through 180 s and 20 s lags and 10 s dead time:
   // the FOPDT that fits it best has the same gain, a time constant near
   // the sum of the lags and a dead time that takes up part of the small lag.
@@ -98,9 +99,10 @@ TEST(OvenCell, StepTestTunesTheLoopAndTheLoopHoldsItsSetpoints) {
   EXPECT_NEAR(r.out[c0], 30.0, 1e-4);
   const Figures a = figures(r, c0, c1, r.temp[c0], 150.0);
   const Figures b = figures(r, c1, r.t.size(), 150.0, 200.0);
-  std::printf("oven loop: 95 -> 150 degC overshoot %.1f %% settling %.0f s; 150 -> 200 degC "
-              "overshoot %.1f %% settling %.0f s\n",
-              a.overshoot, a.settling, b.overshoot, b.settling);
+  std::printf(
+      "oven loop: 95 -> 150 degC overshoot %.1f %% settling %.0f s; 150 -> 200 degC "
+      "overshoot %.1f %% settling %.0f s\n",
+      a.overshoot, a.settling, b.overshoot, b.settling);
   // Stated acceptance for the SIMC-tuned loop on this plant: overshoot at
   // most 15 %, within 2 % of the step after at most 600 s (about 3 of the
   // plant's 190 s time constants; open loop needs about 800 s).
@@ -125,15 +127,19 @@ TEST(OvenCell, TraceAndFigureFromPlcrun) {
       " --trace-vars Oven.temperature,Oven.pid.EffectiveSetpoint,Oven.pid.Output,Oven.tune.Phase");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::string trace = plctest::read_file(csv);
-  EXPECT_EQ(trace.rfind("time_ns,cycle,Oven.temperature,Oven.pid.EffectiveSetpoint,Oven.pid.Output,Oven.tune.Phase\n", 0),
+  EXPECT_EQ(trace.rfind("time_ns,cycle,Oven.temperature,Oven.pid.EffectiveSetpoint,Oven.pid.Output,"
+                        "Oven.tune.Phase\n",
+                        0),
             0u);
-  const auto plot = plctest::run_command(plctest::bin_dir() + "/oven_plot " + csv + " " + png + " oven");
+  const auto plot =
+      plctest::run_command(plctest::bin_dir() + "/oven_plot " + csv + " " + png + " oven");
   ASSERT_EQ(plot.exit_code, 0) << plot.output;
   const std::string img = plctest::read_file(png);
   ASSERT_GT(img.size(), 1000u);
   EXPECT_EQ(img.substr(1, 3), "PNG");
-  const auto bad = plctest::run_command(plctest::bin_dir() + "/oven_plot " +
-                                        plctest::source_path("programs/oven/cell.yaml") + " " + png);
+  const auto bad =
+      plctest::run_command(plctest::bin_dir() + "/oven_plot " +
+                           plctest::source_path("programs/oven/cell.yaml") + " " + png);
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.output.find("not a plcrun CSV trace"), std::string::npos) << bad.output;
   std::remove(csv.c_str());

@@ -93,10 +93,11 @@ TEST(PlantCore, OscillatingSecondOrderWithDeadTimeIsExact) {
   const auto y = step_response(pl::second_order_oscillating(K, wn, zeta), 1ms, 10000, 1.0, {250ms});
   for (int k = 0; k < 10000; k += 3) {
     const double t = t_of(k, 1ms) - L;
-    const double want =
-        t <= 0 ? 0.0
-               : K * (1 - std::exp(-zeta * wn * t) *
-                              (std::cos(wd * t) + zeta / std::sqrt(1 - zeta * zeta) * std::sin(wd * t)));
+    const double want = t <= 0
+                            ? 0.0
+                            : K * (1 - std::exp(-zeta * wn * t) *
+                                           (std::cos(wd * t) +
+                                            zeta / std::sqrt(1 - zeta * zeta) * std::sin(wd * t)));
     ASSERT_NEAR(y[k], want, kExact * K) << "t=" << t;
   }
 }
@@ -148,17 +149,29 @@ TEST(PlantCore, RefusesMatricesThatDoNotFit) {
     return std::string("no error");
   };
   EXPECT_EQ(field_of([] { pl::state_space({{-1, 0}}, {{1}}, {{1}}, {}); }).substr(0, 2), "A:");
-  EXPECT_EQ(field_of([] { pl::state_space({{-1, 0}, {0, -1}}, {{1}}, {{1, 0}}, {}); }),
+  EXPECT_EQ(field_of([] {
+              pl::state_space({{-1, 0}, {0, -1}}, {{1}}, {{1, 0}}, {});
+            }),
             "B: B is 1x1 but A is 2x2: B needs one row per state (2)");
-  EXPECT_EQ(field_of([] { pl::state_space({{-1}}, {{1}}, {{1, 2}}, {}); }),
+  EXPECT_EQ(field_of([] {
+              pl::state_space({{-1}}, {{1}}, {{1, 2}}, {});
+            }),
             "C: C is 1x2 but A is 1x1: C needs one column per state (1)");
-  EXPECT_EQ(field_of([] { pl::state_space({{-1}}, {{1, 1}}, {{1}}, {{0}}); }),
+  EXPECT_EQ(field_of([] {
+              pl::state_space({{-1}}, {{1, 1}}, {{1}}, {{0}});
+            }),
             "D: D is 1x1, it must be 1x2 (one row per output as C, one column per input as B)");
-  EXPECT_EQ(field_of([] { pl::state_space({{-1, 0}, {1}}, {{1}, {0}}, {{1, 0}}, {}); }),
+  EXPECT_EQ(field_of([] {
+              pl::state_space({{-1, 0}, {1}}, {{1}, {0}}, {{1, 0}}, {});
+            }),
             "A: A row 2 has 1 entries, row 1 has 2 (every row needs the same number)");
-  EXPECT_EQ(field_of([] { pl::state_space({{-1, NAN}, {0, 1}}, {{1}, {0}}, {{1, 0}}, {}); }),
+  EXPECT_EQ(field_of([] {
+              pl::state_space({{-1, NAN}, {0, 1}}, {{1}, {0}}, {{1, 0}}, {});
+            }),
             "A: A(1,2) is not a finite number");
-  EXPECT_EQ(field_of([] { pl::transfer_function({1, 0, 0}, {1, 1}); }),
+  EXPECT_EQ(field_of([] {
+              pl::transfer_function({1, 0, 0}, {1, 1});
+            }),
             "num: num is of degree 2, above den's 1: the plant is not proper (it differentiates)");
   EXPECT_EQ(field_of([] { pl::first_order(1, 0); }), "tau: tau must be a finite number above 0");
 }
@@ -201,7 +214,8 @@ TEST(PlantCore, StepsAllocateNothing) {
     A(i, i) = -1.0 - 0.1 * i;
     if (i) A(i, i - 1) = 0.5;
   }
-  pl::Rows a(20, std::vector<double>(20)), b(20, std::vector<double>(3, 0.1)), c(2, std::vector<double>(20, 0.05));
+  pl::Rows a(20, std::vector<double>(20)), b(20, std::vector<double>(3, 0.1)),
+      c(2, std::vector<double>(20, 0.05));
   for (int i = 0; i < 20; ++i)
     for (int j = 0; j < 20; ++j) a[i][j] = A(i, j);
   pl::DiscretiseOptions opt;

@@ -93,7 +93,8 @@ TEST(PlantModel, ChannelTypesScalingOffsetAndSaturation) {
 
 TEST(PlantModel, NoiseIsSeededAndDeterministic) {
   auto p = [](const char* seed) {
-    return params({{"gain", "1"}, {"tau", "1s"}, {"y1.type", "REAL"}, {"y1.noise", "0.5"}, {"seed", seed}});
+    return params(
+        {{"gain", "1"}, {"tau", "1s"}, {"y1.type", "REAL"}, {"y1.noise", "0.5"}, {"seed", seed}});
   };
   Bench a(p("7")), b(p("7")), c(p("8"));
   double sum = 0, sq = 0;
@@ -117,7 +118,10 @@ TEST(PlantModel, NoiseIsSeededAndDeterministic) {
 TEST(PlantModel, OwnSampleTimeAndDeadTime) {
   // sample 5 ms on 1 ms steps: the output moves every fifth step; 100 ms
   // dead time: nothing before it.
-  Bench b(params({{"gain", "1"}, {"tau", "1s"}, {"sample", "5ms"}, {"dead_time", "100ms"},
+  Bench b(params({{"gain", "1"},
+                  {"tau", "1s"},
+                  {"sample", "5ms"},
+                  {"dead_time", "100ms"},
                   {"y1.type", "REAL"}}));
   io::store_be<std::int16_t>(b.q, 0, 27648);
   float last = 0;
@@ -140,7 +144,8 @@ TEST(PlantModel, OwnSampleTimeAndDeadTime) {
 
 TEST(PlantModel, StepAllocatesNothing) {
   if (!plant_test::counting()) GTEST_SKIP() << "a sanitizer owns malloc";
-  Bench b(params({{"num", "[1]"}, {"den", "[1, 3, 3, 1]"}, {"dead_time", "250ms"}, {"y1.noise", "0.1"}}));
+  Bench b(params(
+      {{"num", "[1]"}, {"den", "[1, 3, 3, 1]"}, {"dead_time", "250ms"}, {"y1.noise", "0.1"}}));
   io::store_be<std::int16_t>(b.q, 0, 10000);
   b.step();
   const std::size_t before = plant_test::allocations();
@@ -215,7 +220,8 @@ TEST_P(PlantConfigErrors, NameFileLineAndKey) {
 INSTANTIATE_TEST_SUITE_P(
     Plant, PlantConfigErrors,
     ::testing::Values(
-        ErrorCase{"BWithTooFewRows", "      A: [[-1, 0], [0, -2]]\n      B: [[1]]\n      C: [[1, 0]]",
+        ErrorCase{"BWithTooFewRows",
+                  "      A: [[-1, 0], [0, -2]]\n      B: [[1]]\n      C: [[1, 0]]",
                   "test.yaml:28:7:",
                   "device 'oven': key 'B': B is 1x1 but A is 2x2: B needs one row per state (2)"},
         ErrorCase{"RaggedMatrix", "      A: [[-1, 0], [0]]\n      B: [[1], [1]]\n      C: [[1, 0]]",
@@ -228,26 +234,28 @@ INSTANTIATE_TEST_SUITE_P(
                   "      A: [[50]]\n      B: [[1]]\n      C: [[1]]\n      allow_unstable: true\n"
                   "      sample: 20s",
                   "test.yaml:27:7:", "key 'A': the discretised plant is not finite"},
-        ErrorCase{"TwoFormsOfDynamics", "      gain: 2\n      tau: 3s\n      num: [1]\n      den: [1, 1]",
+        ErrorCase{"TwoFormsOfDynamics",
+                  "      gain: 2\n      tau: 3s\n      num: [1]\n      den: [1, 1]",
                   "test.yaml:28:7:", "key 'tau': more than one form of dynamics"},
         ErrorCase{"NoDynamics", "      seed: 3", "test.yaml:27:7:", "the plant has no dynamics"},
         ErrorCase{"ChannelThePlantDoesNotHave", "      tau: 3s\n      u2: {type: REAL}",
                   "test.yaml:28:7:", "key 'u2': the plant has 1 input(s) (columns of B), no u2"},
-        ErrorCase{"UnknownChannelType", "      tau: 3s\n      y1: {type: FLOAT}", "test.yaml:28:12:",
-                  "key 'y1.type': unknown type 'FLOAT'"},
+        ErrorCase{"UnknownChannelType", "      tau: 3s\n      y1: {type: FLOAT}",
+                  "test.yaml:28:12:", "key 'y1.type': unknown type 'FLOAT'"},
         ErrorCase{"UnknownPeer", "      tau: 3s\n      u1: {from: pump, area: inputs, byte: 0}",
                   "test.yaml:28:12:",
                   "key 'u1.from': no device 'pump' before this one in the same sim plugin (a plant "
                   "couples to devices listed above it; here: tank1, card)"},
-        ErrorCase{"PeerByteBeyondItsData", "      tau: 3s\n      u1: {from: tank1, area: inputs, byte: 3}",
+        ErrorCase{"PeerByteBeyondItsData",
+                  "      tau: 3s\n      u1: {from: tank1, area: inputs, byte: 3}",
                   "test.yaml:28:39:",
                   "key 'u1.byte': byte 3 + 2 bytes is beyond tank1's inputs (4 bytes)"},
-        ErrorCase{"PeerWithoutArea", "      tau: 3s\n      u1: {from: tank1, byte: 0}", "test.yaml:28:12:",
-                  "give u1.area: inputs (what tank1 sends the PLC) or outputs"},
+        ErrorCase{"PeerWithoutArea", "      tau: 3s\n      u1: {from: tank1, byte: 0}",
+                  "test.yaml:28:12:", "give u1.area: inputs (what tank1 sends the PLC) or outputs"},
         ErrorCase{"DeadTimeTooLong", "      tau: 3s\n      sample: 1us\n      dead_time: 2s",
                   "test.yaml:29:7:", "key 'dead_time': the dead time is 2000000 samples"},
-        ErrorCase{"UnknownKey", "      tau: 3s\n      tua: 2s", "test.yaml:28:7:",
-                  "unknown parameter 'tua'"}));
+        ErrorCase{"UnknownKey", "      tau: 3s\n      tua: 2s",
+                  "test.yaml:28:7:", "unknown parameter 'tua'"}));
 
 // The sim plugin with tank1 (first_order), card (loopback, 4 bytes) and the
 // plant last, stepped by hand as the runtime does in virtual time:
@@ -307,7 +315,8 @@ TEST(PlantCell, WritesIntoAnotherDevicesInputs) {
   // y1 goes into the loopback card's input bytes 2..3, after the card
   // stepped (it echoes its outputs there otherwise): the PLC reads the
   // plant's value there, not the echo.
-  Cell c(params({{"gain", "1"}, {"tau", "100ms"}, {"x0", "[50]"}, {"y1.to", "card"}, {"y1.byte", "2"}}));
+  Cell c(params(
+      {{"gain", "1"}, {"tau", "100ms"}, {"x0", "[50]"}, {"y1.to", "card"}, {"y1.byte", "2"}}));
   EXPECT_EQ(c.i[2].size(), 0u);
   io::store_be<std::int16_t>(c.q[1], 0, 1111);
   io::store_be<std::int16_t>(c.q[1], 2, 2222);
@@ -326,8 +335,12 @@ TEST(PlantCell, Vf66bSpeedDrivesAConveyorLoad) {
   // which AcDrive runs at 450 r/min. The belt's speed is a REAL to the PLC.
   io::SimPlugin sim;
   io::DeviceSpec drive{"conveyor", "vf66b", {}};
-  for (const auto& [k, v] : {std::pair{"j09", "1"}, {"j10", "1"}, {"b10", "3"}, {"b11", "3"},
-                             {"startup_time", "100ms"}, {"accel_time", "2s"},
+  for (const auto& [k, v] : {std::pair{"j09", "1"},
+                             {"j10", "1"},
+                             {"b10", "3"},
+                             {"b11", "3"},
+                             {"startup_time", "100ms"},
+                             {"accel_time", "2s"},
                              {"top_speed_rpm", "1800"}})
     drive.params.set(k, v);
   const auto dsz = sim.add_device(drive);

@@ -23,8 +23,8 @@ void PID_StepTune::operator()(const ScanContext& ctx) {
   auto phase = static_cast<TunePhase>(Phase);
 
   // Finished states hold while Execute stays TRUE, then go idle.
-  if ((phase == TunePhase::Done || phase == TunePhase::Error || phase == TunePhase::Aborted) && !Execute &&
-      !start) {
+  if ((phase == TunePhase::Done || phase == TunePhase::Error || phase == TunePhase::Aborted) &&
+      !Execute && !start) {
     Phase = INT(TunePhase::Idle);
     Done = Error = CommandAborted = false;
     ErrorID = 0;

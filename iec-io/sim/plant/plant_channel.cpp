@@ -54,15 +54,33 @@ std::size_t type_size(ChannelType t) { return info(t).size; }
 double ChannelCodec::decode(const std::uint8_t* p) const {
   double raw = 0;
   switch (type) {
-    case ChannelType::BOOL: raw = (*p & 1) ? 1.0 : 0.0; break;
-    case ChannelType::SINT: raw = io::load<std::int8_t>(p, order); break;
-    case ChannelType::USINT: raw = io::load<std::uint8_t>(p, order); break;
-    case ChannelType::INT: raw = io::load<std::int16_t>(p, order); break;
-    case ChannelType::UINT: raw = io::load<std::uint16_t>(p, order); break;
-    case ChannelType::DINT: raw = io::load<std::int32_t>(p, order); break;
-    case ChannelType::UDINT: raw = io::load<std::uint32_t>(p, order); break;
-    case ChannelType::REAL: raw = io::load<float>(p, order); break;
-    case ChannelType::LREAL: raw = io::load<double>(p, order); break;
+    case ChannelType::BOOL:
+      raw = (*p & 1) ? 1.0 : 0.0;
+      break;
+    case ChannelType::SINT:
+      raw = io::load<std::int8_t>(p, order);
+      break;
+    case ChannelType::USINT:
+      raw = io::load<std::uint8_t>(p, order);
+      break;
+    case ChannelType::INT:
+      raw = io::load<std::int16_t>(p, order);
+      break;
+    case ChannelType::UINT:
+      raw = io::load<std::uint16_t>(p, order);
+      break;
+    case ChannelType::DINT:
+      raw = io::load<std::int32_t>(p, order);
+      break;
+    case ChannelType::UDINT:
+      raw = io::load<std::uint32_t>(p, order);
+      break;
+    case ChannelType::REAL:
+      raw = io::load<float>(p, order);
+      break;
+    case ChannelType::LREAL:
+      raw = io::load<double>(p, order);
+      break;
   }
   return saturation.apply(scale.to_eng(raw));
 }
@@ -77,15 +95,32 @@ void ChannelCodec::encode(double eng, std::uint8_t* p) const {
   if (!is_real(type)) raw = std::round(raw);
   raw = std::min(std::max(raw, ti.lo), ti.hi);
   switch (type) {
-    case ChannelType::BOOL: break;
-    case ChannelType::SINT: io::store<std::int8_t>(p, static_cast<std::int8_t>(raw), order); break;
-    case ChannelType::USINT: io::store<std::uint8_t>(p, static_cast<std::uint8_t>(raw), order); break;
-    case ChannelType::INT: io::store<std::int16_t>(p, static_cast<std::int16_t>(raw), order); break;
-    case ChannelType::UINT: io::store<std::uint16_t>(p, static_cast<std::uint16_t>(raw), order); break;
-    case ChannelType::DINT: io::store<std::int32_t>(p, static_cast<std::int32_t>(raw), order); break;
-    case ChannelType::UDINT: io::store<std::uint32_t>(p, static_cast<std::uint32_t>(raw), order); break;
-    case ChannelType::REAL: io::store<float>(p, static_cast<float>(raw), order); break;
-    case ChannelType::LREAL: io::store<double>(p, raw, order); break;
+    case ChannelType::BOOL:
+      break;
+    case ChannelType::SINT:
+      io::store<std::int8_t>(p, static_cast<std::int8_t>(raw), order);
+      break;
+    case ChannelType::USINT:
+      io::store<std::uint8_t>(p, static_cast<std::uint8_t>(raw), order);
+      break;
+    case ChannelType::INT:
+      io::store<std::int16_t>(p, static_cast<std::int16_t>(raw), order);
+      break;
+    case ChannelType::UINT:
+      io::store<std::uint16_t>(p, static_cast<std::uint16_t>(raw), order);
+      break;
+    case ChannelType::DINT:
+      io::store<std::int32_t>(p, static_cast<std::int32_t>(raw), order);
+      break;
+    case ChannelType::UDINT:
+      io::store<std::uint32_t>(p, static_cast<std::uint32_t>(raw), order);
+      break;
+    case ChannelType::REAL:
+      io::store<float>(p, static_cast<float>(raw), order);
+      break;
+    case ChannelType::LREAL:
+      io::store<double>(p, raw, order);
+      break;
   }
 }
 
@@ -101,8 +136,10 @@ ChannelCodec parse_codec(const io::ModelParams& p, const std::string& prefix, io
       known = true;
     }
   }
-  if (!known) throw io::ParamError(prefix + ".type", "unknown type '" + type + "' (one of " + names + ")");
-  const std::string ord = p.get_string(prefix + ".order", order == io::ByteOrder::Big ? "big" : "little");
+  if (!known)
+    throw io::ParamError(prefix + ".type", "unknown type '" + type + "' (one of " + names + ")");
+  const std::string ord =
+      p.get_string(prefix + ".order", order == io::ByteOrder::Big ? "big" : "little");
   if (ord != "big" && ord != "little")
     throw io::ParamError(prefix + ".order", "byte order is big or little, not '" + ord + "'");
   c.order = ord == "big" ? io::ByteOrder::Big : io::ByteOrder::Little;
@@ -115,8 +152,8 @@ ChannelCodec parse_codec(const io::ModelParams& p, const std::string& prefix, io
   }
   const bool has_raw = pair(p, prefix + ".raw", c.scale.raw0, c.scale.raw1);
   const bool has_eng = pair(p, prefix + ".eng", c.scale.eng0, c.scale.eng1);
-  if (c.type == ChannelType::BOOL && has_raw && (std::min(c.scale.raw0, c.scale.raw1) != 0 ||
-                                                 std::max(c.scale.raw0, c.scale.raw1) != 1))
+  if (c.type == ChannelType::BOOL && has_raw &&
+      (std::min(c.scale.raw0, c.scale.raw1) != 0 || std::max(c.scale.raw0, c.scale.raw1) != 1))
     throw io::ParamError(prefix + ".raw", "a BOOL's raw values are 0 and 1");
   // An integer or BOOL channel is an analog module or a switch: saturated
   // to its engineering range unless min/max say otherwise. A REAL is not

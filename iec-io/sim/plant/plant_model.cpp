@@ -22,22 +22,26 @@ ContinuousModel dynamics(const io::ModelParams& p) {
       "gain, wn and zeta";
   if (forms == 0) throw io::ParamError("", std::string("the plant has no dynamics: ") + kWays);
   if (forms > 1) {
-    const char* second = osc ? (p.has("wn") ? "wn" : "zeta")
+    const char* second = osc   ? (p.has("wn") ? "wn" : "zeta")
                          : lag ? (p.has("tau") ? "tau" : "tau2")
                                : (p.has("num") ? "num" : "den");
     throw io::ParamError(second, std::string("more than one form of dynamics: ") + kWays);
   }
   if ((ss || tf) && p.has("gain"))
-    throw io::ParamError("gain", "gain belongs to the tau and wn/zeta forms; with A..D or num/den "
-                                 "the gain is in the matrices or coefficients");
+    throw io::ParamError("gain",
+                         "gain belongs to the tau and wn/zeta forms; with A..D or num/den "
+                         "the gain is in the matrices or coefficients");
   auto need_matrix = [&](const char* k) {
     auto m = p.get_matrix(k);
-    if (!m) throw io::ParamError(k, std::string("missing ") + k + " (state space needs A, B and C)");
+    if (!m)
+      throw io::ParamError(k, std::string("missing ") + k + " (state space needs A, B and C)");
     return *m;
   };
   auto need_list = [&](const char* k) {
     auto l = p.get_list(k);
-    if (!l) throw io::ParamError(k, std::string("missing ") + k + " (a transfer function needs num and den)");
+    if (!l)
+      throw io::ParamError(
+          k, std::string("missing ") + k + " (a transfer function needs num and den)");
     return *l;
   };
   auto seconds_of = [&](const char* k, bool required) {
@@ -85,7 +89,8 @@ ChannelPlace place(const io::ModelParams& p, const std::string& prefix, const ch
     return pl;
   }
   if (!p.has(byte_key))
-    throw io::ParamError(dev_key, "give " + byte_key + ", where the value is in " + pl.device + "'s bytes");
+    throw io::ParamError(dev_key,
+                         "give " + byte_key + ", where the value is in " + pl.device + "'s bytes");
   pl.byte = static_cast<std::size_t>(p.get_int(byte_key, 0, 0, 65535));
   if (input) {
     if (!p.has(area_key))
@@ -175,8 +180,8 @@ PlantModel::PlantModel(const io::ModelParams& p)
   plant_ = std::make_unique<LinearPlant>(d);
   if (auto x0 = p.get_list("x0")) {
     if (static_cast<int>(x0->size()) != n)
-      throw io::ParamError("x0", "x0 has " + std::to_string(x0->size()) + " values, the plant has " +
-                                     std::to_string(n) + " state(s)");
+      throw io::ParamError("x0", "x0 has " + std::to_string(x0->size()) +
+                                     " values, the plant has " + std::to_string(n) + " state(s)");
     plant_->set_state(*x0);
   }
   u_.assign(static_cast<std::size_t>(k), 0.0);
@@ -208,11 +213,11 @@ void PlantModel::bind_peers(const io::DevicePeers& peers) {
     }
     const std::span<std::uint8_t> area = pl.peer_outputs ? peer->outputs : peer->inputs;
     if (pl.byte + type_size(c.type) > area.size())
-      throw io::ParamError(key + ".byte",
-                           "byte " + std::to_string(pl.byte) + " + " + std::to_string(type_size(c.type)) +
-                               " bytes is beyond " + pl.device + "'s " +
-                               (pl.peer_outputs ? "outputs" : "inputs") + " (" +
-                               std::to_string(area.size()) + " bytes)");
+      throw io::ParamError(key + ".byte", "byte " + std::to_string(pl.byte) + " + " +
+                                              std::to_string(type_size(c.type)) +
+                                              " bytes is beyond " + pl.device + "'s " +
+                                              (pl.peer_outputs ? "outputs" : "inputs") + " (" +
+                                              std::to_string(area.size()) + " bytes)");
     pl.bytes = area;
   };
   for (auto& i : inputs_) bind(i.place, i.codec, i.key, "from");
@@ -227,7 +232,8 @@ void PlantModel::step(TIME, TIME dt, std::span<const std::uint8_t> from_plc,
     const Input& in = inputs_[i];
     const std::uint8_t* src = nullptr;
     if (in.place.device.empty()) {
-      if (in.place.byte + type_size(in.codec.type) <= from_plc.size()) src = from_plc.data() + in.place.byte;
+      if (in.place.byte + type_size(in.codec.type) <= from_plc.size())
+        src = from_plc.data() + in.place.byte;
     } else if (!in.place.bytes.empty()) {
       src = in.place.bytes.data() + in.place.byte;
     }
@@ -264,7 +270,8 @@ void PlantModel::step(TIME, TIME dt, std::span<const std::uint8_t> from_plc,
     const Output& o = outputs_[i];
     std::uint8_t* dst = nullptr;
     if (o.place.device.empty()) {
-      if (o.place.byte + type_size(o.codec.type) <= to_plc.size()) dst = to_plc.data() + o.place.byte;
+      if (o.place.byte + type_size(o.codec.type) <= to_plc.size())
+        dst = to_plc.data() + o.place.byte;
     } else if (!o.place.bytes.empty()) {
       dst = o.place.bytes.data() + o.place.byte;
     }

@@ -12,9 +12,9 @@
 #include <map>
 #include <optional>
 #include <set>
-#include <vector>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "plc/types.hpp"
 

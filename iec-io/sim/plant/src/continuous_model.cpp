@@ -34,11 +34,13 @@ void check_limits(const ContinuousModel& m) {
     throw PlantError("A", "the plant has " + std::to_string(m.states()) + " states, at most " +
                               std::to_string(kMaxStates) + " are supported");
   if (m.inputs() > kMaxInputs)
-    throw PlantError("B", "the plant has " + std::to_string(m.inputs()) + " inputs (columns of B), at most " +
-                              std::to_string(kMaxInputs) + " are supported");
+    throw PlantError("B", "the plant has " + std::to_string(m.inputs()) +
+                              " inputs (columns of B), at most " + std::to_string(kMaxInputs) +
+                              " are supported");
   if (m.outputs() > kMaxOutputs)
-    throw PlantError("C", "the plant has " + std::to_string(m.outputs()) + " outputs (rows of C), at most " +
-                              std::to_string(kMaxOutputs) + " are supported");
+    throw PlantError("C", "the plant has " + std::to_string(m.outputs()) +
+                              " outputs (rows of C), at most " + std::to_string(kMaxOutputs) +
+                              " are supported");
 }
 
 void positive(const char* field, double v) {
@@ -56,7 +58,8 @@ ContinuousModel state_space(const Rows& A, const Rows& B, const Rows& C, const R
   ContinuousModel m;
   m.A = matrix("A", A);
   if (m.A.rows() != m.A.cols())
-    throw PlantError("A", "A is " + dims(m.A.rows(), m.A.cols()) + ", it must be square (n x n, n states)");
+    throw PlantError(
+        "A", "A is " + dims(m.A.rows(), m.A.cols()) + ", it must be square (n x n, n states)");
   m.B = matrix("B", B);
   if (m.B.rows() != m.A.rows())
     throw PlantError("B", "B is " + dims(m.B.rows(), m.B.cols()) + " but A is " +
@@ -99,7 +102,8 @@ ContinuousModel transfer_function(const std::vector<double>& num, const std::vec
   const std::size_t num_degree = num.size() - n0 - 1;
   if (num_degree > n)
     throw PlantError("num", "num is of degree " + std::to_string(num_degree) + ", above den's " +
-                                std::to_string(n) + ": the plant is not proper (it differentiates)");
+                                std::to_string(n) +
+                                ": the plant is not proper (it differentiates)");
   // Monic denominator s^n + a(n-1) s^(n-1) + .. + a0; numerator padded to
   // n+1 coefficients bn .. b0.
   const double lead = den[d0];

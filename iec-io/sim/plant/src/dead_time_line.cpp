@@ -10,7 +10,8 @@ DeadTimeLine::DeadTimeLine(std::span<const std::int64_t> delays, std::span<const
     throw std::invalid_argument("DeadTimeLine: one initial value per input");
   std::size_t total = 0;
   for (std::int64_t d : delays) {
-    if (d < 0 || d > kMaxDelaySamples) throw std::invalid_argument("DeadTimeLine: delay out of range");
+    if (d < 0 || d > kMaxDelaySamples)
+      throw std::invalid_argument("DeadTimeLine: delay out of range");
     Line l;
     l.offset = total;
     l.len = static_cast<std::uint32_t>(d + 2);

@@ -8,8 +8,8 @@ namespace {
 std::vector<std::int64_t> checked_delays(const DiscreteModel& d) {
   for (std::int64_t s : d.delay_samples)
     if (s > kMaxDelaySamples)
-      throw PlantError("dead_time", "a dead time of " + std::to_string(s) +
-                                        " samples: at most " + std::to_string(kMaxDelaySamples) +
+      throw PlantError("dead_time", "a dead time of " + std::to_string(s) + " samples: at most " +
+                                        std::to_string(kMaxDelaySamples) +
                                         " (choose a longer sample time or a shorter dead time)");
   std::vector<std::int64_t> v = d.delay_samples;
   v.resize(static_cast<std::size_t>(d.Gamma0.cols()), 0);

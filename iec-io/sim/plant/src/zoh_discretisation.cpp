@@ -47,8 +47,8 @@ DiscreteModel discretise_zoh(const ContinuousModel& m, TIME h, const DiscretiseO
   const double re = max_real_eigenvalue(m.A);
   const double tol = 1e-9 * (1.0 + m.A.cwiseAbs().maxCoeff());
   if (re > tol && !opt.allow_unstable) {
-    throw PlantError("A", "the plant is unstable: A has an eigenvalue with real part " + number(re) +
-                              " 1/s > 0 (the output grows as e^(" + number(re) +
+    throw PlantError("A", "the plant is unstable: A has an eigenvalue with real part " +
+                              number(re) + " 1/s > 0 (the output grows as e^(" + number(re) +
                               " t) without input); check the signs of A, or set "
                               "allow_unstable: true if the plant really is unstable");
   }
@@ -76,9 +76,10 @@ DiscreteModel discretise_zoh(const ContinuousModel& m, TIME h, const DiscretiseO
     d.Gamma1.col(i) = E0.topLeftCorner(n, n) * E1.topRightCorner(n, k).col(i);
   }
   if (!d.Phi.allFinite() || !d.Gamma0.allFinite() || !d.Gamma1.allFinite())
-    throw PlantError("A", "the discretised plant is not finite (e^(A h) overflows for h = " +
-                              number(hs) + " s): the plant is far too fast or unstable for this "
-                                           "sample time; choose a shorter sample or check A");
+    throw PlantError(
+        "A", "the discretised plant is not finite (e^(A h) overflows for h = " + number(hs) +
+                 " s): the plant is far too fast or unstable for this "
+                 "sample time; choose a shorter sample or check A");
   return d;
 }
 

@@ -44,7 +44,15 @@ namespace plc::control {
 
 struct PID_StepTune {
   static constexpr std::size_t kMaxSamples = 2000;
-  enum class TunePhase : INT { Idle = 0, Baseline = 1, Step = 2, Identify = 3, Done = 4, Error = 5, Aborted = 6 };
+  enum class TunePhase : INT {
+    Idle = 0,
+    Baseline = 1,
+    Step = 2,
+    Identify = 3,
+    Done = 4,
+    Error = 5,
+    Aborted = 6
+  };
 
   // ---------------- inputs ----------------
   BOOL Execute{};

@@ -39,7 +39,8 @@ class LinearPlant {
   // One sample: `u` (m inputs) holds from now for one sample time h.
   void step(std::span<const double> u) {
     for (Eigen::Index i = 0; i < m_; ++i) u_[i] = u[static_cast<std::size_t>(i)];
-    line_.push({u_.data(), static_cast<std::size_t>(m_)}, {ud0_.data(), static_cast<std::size_t>(m_)},
+    line_.push({u_.data(), static_cast<std::size_t>(m_)},
+               {ud0_.data(), static_cast<std::size_t>(m_)},
                {ud1_.data(), static_cast<std::size_t>(m_)});
     next_.noalias() = phi_ * x_;
     next_.noalias() += gamma0_ * ud0_;
