@@ -11,6 +11,7 @@
 // number with a point or an exponent a REAL, other numbers an integer
 // (DINT); anything else (TIME, STRING) is left out. Exit 0, or 2 with a
 // message.
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>

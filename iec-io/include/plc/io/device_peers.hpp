@@ -46,8 +46,12 @@ class PeerCoupledModel {
   // unknown device or of a byte range that does not fit it. The spans stay
   // valid for the host's lifetime.
   virtual void bind_peers(const DevicePeers& peers) = 0;
-  // Whether the config asks for couplings at all (a host without peers
-  // refuses such a model instead of running it unconnected).
+  // Whether the config asks for couplings at all. A host that cannot offer
+  // peers should refuse such a model: unbound, a coupled input reads 0 and
+  // a coupled output goes nowhere. (The sim plugin is the only host that
+  // creates coupled models today: pndevsim and dnslave do not link the
+  // plant model, and the profinet plugin needs a description of the
+  // model's IO data, which no built-in one has.)
   [[nodiscard]] virtual bool needs_peers() const = 0;
 };
 
