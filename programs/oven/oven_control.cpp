@@ -42,9 +42,19 @@ void OvenControl::cycle(const ScanContext& ctx) {
       pid.ManualValue = 0.0f;
       break;
   }
-  pid.Setpoint = step == Step::Control && ctx.now - control_since >= second_setpoint_after
-                     ? second_setpoint
-                     : setpoint;
+  // The scan that hands over to automatic uses the measured temperature as
+  // setpoint, the next ones `setpoint`: a bumpless transfer straight to a
+  // distant setpoint would put the whole error into the integral action
+  // (the first output equals the last), and only the integral would close
+  // the gap, over many minutes. So the loop takes over at zero error and
+  // then answers a setpoint step as tuned.
+  if (step == Step::Control && ctx.now == control_since) {
+    pid.Setpoint = temperature;
+  } else {
+    pid.Setpoint = step == Step::Control && ctx.now - control_since >= second_setpoint_after
+                       ? second_setpoint
+                       : setpoint;
+  }
   pid.Input_PER = temperature_raw;
   pid(ctx);
   heater = pid.Output_PER;

@@ -5,8 +5,9 @@
 //            a baseline at 0 % heater, then a 30 % step, a FOPDT model
 //            fitted to the response, SIMC gains proposed.
 //   Control  the proposed Gain/Ti/Td copied into PID_Compact, which goes
-//            to automatic (bumpless from the step test's 30 %) with the
-//            setpoint `setpoint`, and `second_setpoint` after
+//            to automatic (bumpless from the step test's 30 %, for one scan
+//            at the measured temperature as setpoint), then steps to
+//            `setpoint`, and to `second_setpoint` after
 //            `second_setpoint_after`.
 //   Failed   the step test ended in an error: heater off, ErrorID kept in
 //            tune.ErrorID.

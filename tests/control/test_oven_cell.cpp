@@ -123,7 +123,7 @@ TEST(OvenCell, TraceAndFigureFromPlcrun) {
   const std::string csv = plctest::temp_path("oven.csv"), png = plctest::temp_path("oven.png");
   const auto run = plctest::run_command(
       plctest::plcrun_path() + " " + plctest::source_path("programs/oven/cell.yaml") +
-      " --for 40min --trace " + csv +
+      " --for 40m --trace " + csv +
       " --trace-vars Oven.temperature,Oven.pid.EffectiveSetpoint,Oven.pid.Output,Oven.tune.Phase");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::string trace = plctest::read_file(csv);
