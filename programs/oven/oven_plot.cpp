@@ -3,7 +3,7 @@
 // per type class over a common time axis). Used for the oven figure in the
 // README:
 //
-//   build/bin/plcrun programs/oven/cell.yaml --for 1h --trace oven.csv \
+//   build/bin/plcrun programs/oven/cell.yaml --for 1h --trace oven.csv
 //     --trace-vars Oven.temperature,Oven.pid.EffectiveSetpoint,Oven.pid.Output,Oven.tune.Phase
 //   build/bin/oven_plot oven.csv oven.png "oven: step test, then PID"
 //
