@@ -255,7 +255,15 @@ INSTANTIATE_TEST_SUITE_P(
         ErrorCase{"DeadTimeTooLong", "      tau: 3s\n      sample: 1us\n      dead_time: 2s",
                   "test.yaml:29:7:", "key 'dead_time': the dead time is 2000000 samples"},
         ErrorCase{"UnknownKey", "      tau: 3s\n      tua: 2s",
-                  "test.yaml:28:7:", "unknown parameter 'tua'"}));
+                  "test.yaml:28:7:", "unknown parameter 'tua'"},
+        // The config loader's nesting (runtime/src/cell_config.cpp): two
+        // levels of mappings, lists of numbers or of lists.
+        ErrorCase{"NestsTooDeep", "      tau: 3s\n      u1: {type: {a: {b: 1}}}",
+                  "test.yaml:28:22:", "parameter 'u1.type.a' nests too deep"},
+        ErrorCase{"ListOfMappings", "      tau: 3s\n      x0: [{a: 1}]",
+                  "test.yaml:28:12:", "parameter 'x0': a list holds values or lists of values"},
+        ErrorCase{"ListTooDeep", "      tau: 3s\n      x0: [[[1]]]",
+                  "test.yaml:28:13:", "parameter 'x0': a list holds values or lists of values"}));
 
 // The sim plugin with tank1 (first_order), card (loopback, 4 bytes) and the
 // plant last, stepped by hand as the runtime does in virtual time:
