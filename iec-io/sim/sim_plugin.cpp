@@ -4,6 +4,8 @@
 
 #include <cstring>
 
+#include "plc/io/device_peers.hpp"
+
 namespace plc::io {
 
 SimPlugin::~SimPlugin() { stop(); }
@@ -24,6 +26,25 @@ DeviceSizes SimPlugin::add_device(const DeviceSpec& spec) {
     throw ParamError("model", "unknown device model '" + spec.model + "' (known: " + known + ")");
   }
   auto model = (*f)(spec.params);
+  // A coupled model (plc/io/device_peers.hpp) sees the devices added before
+  // it: step() runs them first, so it reads what they delivered this step.
+  if (auto* coupled = dynamic_cast<PeerCoupledModel*>(model.get())) {
+    class Earlier final : public DevicePeers {
+     public:
+      explicit Earlier(SimPlugin& p) : p_(p) {}
+      std::optional<Peer> find(std::string_view name) const override {
+        for (std::size_t i = 0; i < p_.names_.size(); ++i)
+          if (p_.names_[i] == name)
+            return Peer{p_.devices_[i]->inputs(), p_.devices_[i]->outputs()};
+        return std::nullopt;
+      }
+      std::vector<std::string> names() const override { return p_.names_; }
+
+     private:
+      SimPlugin& p_;
+    };
+    coupled->bind_peers(Earlier(*this));
+  }
   devices_.push_back(std::make_unique<SimDevice>(std::move(model)));
   names_.push_back(spec.name);
   return {devices_.back()->inputs().size(), devices_.back()->outputs().size()};
