@@ -1,0 +1,161 @@
+"""plcsweep run with the local executor: results, a failing check's
+recording that replays to the same failure, resume, the determinism check,
+located errors, the report."""
+
+import json
+import os
+import subprocess
+import unittest
+
+import sweep_fixture as F
+
+
+class LocalCampaign(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = F.temp_dir()
+        cls.campaign = F.write_campaign(cls.dir)
+        cls.out = os.path.join(cls.dir, "out")
+        cls.rc, cls.stdout, cls.stderr = F.plcsweep(
+            "run", cls.campaign, "--out", cls.out, "--executor", "local:2",
+            "--determinism-sample", "2")
+
+    def records(self):
+        with open(os.path.join(self.out, "results.jsonl"), encoding="utf-8") as f:
+            return [json.loads(line) for line in f]
+
+    def test_runs_every_scenario_and_fails_those_with_the_cut(self):
+        self.assertEqual(self.rc, 0, self.stderr)
+        rows = F.read(os.path.join(self.out, "results.csv")).splitlines()
+        self.assertEqual(len(rows), 5, rows)
+        self.assertTrue(rows[0].startswith("index,hash,status,programs.Cell.init.target_kg,"
+                                           "fault:safety_cut,failed_checks,"), rows[0])
+        status = {r["index"]: r["status"] for r in self.records()}
+        # Grid order: target 5 (no cut, cut), target 12 (no cut, cut).
+        self.assertEqual(status, {0: "passed", 1: "failed", 2: "passed", 3: "failed"})
+        self.assertIn("passed 2, failed 2", self.stdout)
+        self.assertIn("passivated_only_at_start     error    2", self.stdout)
+
+    def test_a_failure_is_recorded_and_replays_to_the_same_failure(self):
+        failed = [r for r in self.records() if r["status"] == "failed"]
+        self.assertEqual(len(failed), 2)
+        for r in failed:
+            d = r["failure_dir"]
+            for name in ("cell.yaml", "failure.plcrec", "to-failure.cmd", "verdict.json"):
+                self.assertTrue(os.path.exists(os.path.join(d, name)), name)
+            # The recording, replayed with the same checks: the same verdict.
+            res = os.path.join(self.dir, "replayed.json")
+            p = subprocess.run([F.PLCRUN, os.path.join(d, "cell.yaml"), "--quiet", "--replay",
+                                os.path.join(d, "failure.plcrec"), "--checks",
+                                os.path.join(self.out, "campaign.yaml"), "--results-json", res],
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                               timeout=300)
+            self.assertEqual(p.returncode, 3, p.stdout)
+            self.assertIn("replay: ", p.stdout)
+            self.assertIn(", 0 with different outputs", p.stdout)
+            replayed = json.loads(F.read(res))
+            replayed.pop("timing")
+            self.assertEqual(replayed, r["verdict"])
+            # The debugger session goes straight to the failing scan: the
+            # condition holds one scan before and not at it.
+            scan = [c for c in r["verdict"]["checks"] if not c["passed"]][0]["first_fail_scan"]
+            cmds = F.read(os.path.join(d, "to-failure.cmd"))
+            self.assertIn("goto %d\n" % scan, cmds)
+            probe = os.path.join(self.dir, "probe.cmd")
+            with open(probe, "w", encoding="utf-8") as f:
+                f.write(cmds + "print Cell.guard.QBAD Cell.containers\ngoto %d\n"
+                        "print Cell.guard.QBAD\nquit\n" % (scan - 1))
+            p = subprocess.run([F.PLCRUN, os.path.join(d, "cell.yaml"), "--replay",
+                                os.path.join(d, "failure.plcrec"), "--commands", probe],
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                               timeout=300)
+            self.assertEqual(p.returncode, 0, p.stdout)
+            # What each `print` answered (the watch list prints at every stop).
+            at, before = p.stdout.split("] > print Cell.guard.QBAD")[1:3]
+            self.assertIn("\nCell.guard.QBAD = TRUE", at, p.stdout)
+            self.assertNotIn("\nCell.containers = 0 ", at, p.stdout)
+            self.assertIn("\nCell.guard.QBAD = FALSE", before, p.stdout)
+
+    def test_determinism_sample_agrees(self):
+        det = json.loads(F.read(os.path.join(self.out, "determinism.json")))
+        self.assertEqual(len(det["sampled"]), 2)
+        self.assertEqual(det["mismatches"], [])
+
+    def test_report_is_self_contained(self):
+        html = F.read(os.path.join(self.out, "report", "report.html"))
+        self.assertGreaterEqual(html.count("src='data:image/png;base64,iVBOR"), 4)
+        self.assertNotIn("src='report", html)
+        for name in ("param-1.png", "faults.png", "output-1.png", "output-2.png", "wall.png",
+                     "summary.txt"):
+            self.assertTrue(os.path.exists(os.path.join(self.out, "report", name)), name)
+
+
+class Resume(unittest.TestCase):
+    def test_a_second_run_skips_finished_scenarios_and_a_cut_record_is_run_again(self):
+        d = F.temp_dir()
+        c = F.write_campaign(d)
+        out = os.path.join(d, "out")
+        rc, _, err = F.plcsweep("run", c, "--out", out, "--executor", "local:2",
+                                "--determinism-sample", "0", "--no-report")
+        self.assertEqual(rc, 0, err)
+        csv1 = F.read(os.path.join(out, "results.csv"))
+        rc, _, err = F.plcsweep("run", c, "--out", out, "--determinism-sample", "0",
+                                "--no-report")
+        self.assertEqual(rc, 0, err)
+        self.assertIn("4 scenarios of 10s (virtual time), 4 already done", err)
+        self.assertEqual(json.loads(F.read(os.path.join(out, "run.json")))["run_now"], 0)
+        # A crash in the middle of writing the last record: that scenario is
+        # run again, the others are not, and the results are the same.
+        path = os.path.join(out, "results.jsonl")
+        lines = F.read(path).splitlines(keepends=True)
+        with open(path, "w", encoding="utf-8") as f:
+            f.writelines(lines[:-1])
+            f.write(lines[-1][:40])
+        rc, _, err = F.plcsweep("run", c, "--out", out, "--determinism-sample", "0",
+                                "--no-report")
+        self.assertEqual(rc, 0, err)
+        self.assertIn("3 already done", err)
+        self.assertEqual(F.read(os.path.join(out, "results.csv")), csv1)
+
+
+class Determinism(unittest.TestCase):
+    def test_a_stored_result_that_differs_is_caught(self):
+        d = F.temp_dir()
+        c = F.write_campaign(d)
+        out = os.path.join(d, "out")
+        rc, _, err = F.plcsweep("run", c, "--out", out, "--limit", "2", "--executor", "local:2",
+                                "--determinism-sample", "0", "--no-report")
+        self.assertEqual(rc, 0, err)
+        path = os.path.join(out, "results.jsonl")
+        recs = [json.loads(x) for x in F.read(path).splitlines()]
+        recs[0]["verdict"]["state_digest"] = "0000000000000000"
+        with open(path, "w", encoding="utf-8") as f:
+            f.write("".join(json.dumps(r) + "\n" for r in recs))
+        rc, _, err = F.plcsweep("run", c, "--out", out, "--limit", "2",
+                                "--determinism-sample", "2", "--no-report")
+        self.assertEqual(rc, 1, err)
+        self.assertIn("determinism: 2 scenarios run again, 1 differ: %s" % recs[0]["hash"], err)
+
+
+class Errors(unittest.TestCase):
+    def test_an_unknown_variable_in_a_check_names_the_campaign_line(self):
+        d = F.temp_dir()
+        text = (F.SMALL % F.CELL).replace("Cell.containers = 0", "Cell.boxes = 0")
+        c = F.write_campaign(d, text)
+        rc, _, err = F.plcsweep("run", c, "--out", os.path.join(d, "out"))
+        self.assertEqual(rc, 2, err)
+        self.assertTrue(err.startswith(c + ":15:13: check 'passivated_only_at_start': "), err)
+        self.assertIn("Cell.boxes", err)
+
+    def test_a_bad_model_param_names_the_overrides(self):
+        d = F.temp_dir()
+        text = (F.SMALL % F.CELL).replace("link_down_for: 300ms", "link_down_for: 0ms")
+        c = F.write_campaign(d, text)
+        rc, _, err = F.plcsweep("run", c, "--out", os.path.join(d, "out"), "--limit", "2")
+        self.assertEqual(rc, 2, err)
+        self.assertIn("link_down_for", err)
+        self.assertIn("(%s:12)" % c, err)
+
+
+if __name__ == "__main__":
+    unittest.main()
