@@ -6,6 +6,7 @@ writes, and no scenario is in it twice."""
 
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -65,7 +66,7 @@ class DaskCluster:
     def tail(self):
         self.log.flush()
         with open(self.log.name) as f:
-            return f.read()[-3000:]
+            return f.read()[-20000:]
 
     def close(self):
         for p in reversed(self.procs):
@@ -119,6 +120,12 @@ class DaskExecutor(unittest.TestCase):
             self.assertEqual(len(hashes), 8)
             self.assertEqual(len(set(hashes)), 8)
             self.assertIn("determinism: 1 scenarios run again, 0 differ", stderr)
+            # The scheduler lost the worker with scenarios on it (running and
+            # queued; Dask 2022.12's log line) and ran them on the other.
+            m = re.search(r"Remove worker <WorkerState '[^']*', name: w0, status: \w+, "
+                          r"memory: \d+, processing: (\d+)>", cluster.tail())
+            self.assertIsNotNone(m, cluster.tail())
+            self.assertGreater(int(m.group(1)), 0, cluster.tail())
             # The recordings of the failures are whole (written once, renamed).
             recs = [json.loads(x) for x in F.read(results).splitlines()]
             for r in recs:
@@ -129,6 +136,8 @@ class DaskExecutor(unittest.TestCase):
                               if ".tmp-" in x])
         finally:
             cluster.close()
+            if os.environ.get("PLCSWEEP_SHOW_CLUSTER_LOG"):
+                print(F.read(os.path.join(d, "cluster.log")))
 
 
 if __name__ == "__main__":
