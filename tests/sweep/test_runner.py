@@ -88,6 +88,12 @@ class LocalCampaign(unittest.TestCase):
         for name in ("param-1.png", "faults.png", "output-1.png", "output-2.png", "wall.png",
                      "summary.txt"):
             self.assertTrue(os.path.exists(os.path.join(self.out, "report", name)), name)
+        # `plcsweep report` writes it again from the results folder alone.
+        os.remove(os.path.join(self.out, "report", "report.html"))
+        rc, stdout, err = F.plcsweep("report", self.out)
+        self.assertEqual(rc, 0, err)
+        self.assertIn("passed 2, failed 2", stdout)
+        self.assertTrue(os.path.exists(os.path.join(self.out, "report", "report.html")))
 
 
 class Resume(unittest.TestCase):
@@ -135,6 +141,25 @@ class Determinism(unittest.TestCase):
                                 "--determinism-sample", "2", "--no-report")
         self.assertEqual(rc, 1, err)
         self.assertIn("determinism: 2 scenarios run again, 1 differ: %s" % recs[0]["hash"], err)
+
+
+class DemoCampaign(unittest.TestCase):
+    def test_the_filling_cells_demo_campaign_reduced_for_ci(self):
+        """programs/filling_cell/campaign: 20 of its 1,000 scenarios, 30 s each
+        (the README shows the full run's report)."""
+        d = F.temp_dir()
+        out = os.path.join(d, "out")
+        campaign = os.path.join(F.SOURCE, "programs", "filling_cell", "campaign",
+                                "filling_campaign.yaml")
+        rc, stdout, err = F.plcsweep("run", campaign, "--out", out, "--samples", "20",
+                                     "--duration", "30s", "--determinism-sample", "2")
+        self.assertEqual(rc, 0, err)
+        self.assertIn("== campaign 'filling_demo': 20 scenarios of 30s virtual time ==", stdout)
+        self.assertIn("determinism: 2 scenarios run again, 0 differ", err)
+        rows = F.read(os.path.join(out, "results.csv")).splitlines()
+        self.assertEqual(len(rows), 21)
+        self.assertTrue(os.path.exists(os.path.join(out, "report", "report.html")))
+        self.assertTrue(os.path.exists(os.path.join(out, "report", "pairs.png")))
 
 
 class Errors(unittest.TestCase):

@@ -186,7 +186,7 @@ def cmd_run(args):
     store.close()
     results.write_csv(args.out, c, scenarios, store.records)
     meta = {"campaign": c.name, "file": os.path.abspath(c.file), "scenarios": len(scenarios),
-            "duration": c.duration_text, "executor": args.executor or "local",
+            "duration": c.duration_text, "samples": c.samples, "executor": args.executor or "local",
             "elapsed_s": elapsed, "run_now": len(todo)}
     with open(os.path.join(args.out, "run.json"), "w", encoding="utf-8") as f:
         json.dump(meta, f, indent=1)
@@ -220,21 +220,35 @@ def cmd_expand(args):
 
 
 def cmd_report(args):
-    with open(os.path.join(args.dir, "campaign.yaml"), encoding="utf-8"):
-        pass
+    """The report of a results folder again (e.g. after a resumed run was
+    interrupted): the campaign as it was run (OUT/campaign.yaml, its base
+    taken from where the campaign file was)."""
     try:
-        c = C.parse(open(os.path.join(args.dir, "campaign.yaml"), encoding="utf-8").read(),
-                    json.load(open(os.path.join(args.dir, "run.json")))["file"])
+        with open(os.path.join(args.dir, "run.json"), encoding="utf-8") as f:
+            meta = json.load(f)
+        with open(os.path.join(args.dir, "campaign.yaml"), encoding="utf-8") as f:
+            text = f.read()
+    except OSError as e:
+        print("plcsweep: %s is not a results folder (%s)" % (args.dir, e), file=sys.stderr)
+        return 2
+    try:
+        c = C.parse(text, meta["file"])
+        if meta.get("duration"):
+            from . import iec_time
+            c.duration_ns = iec_time.parse(meta["duration"])
+            c.duration_text = meta["duration"]
+        if meta.get("samples"):
+            c.samples = meta["samples"]
+        scenarios = C.expand(c)
     except CampaignError as e:
         print(e, file=sys.stderr)
         return 2
-    meta = json.load(open(os.path.join(args.dir, "run.json"), encoding="utf-8"))
-    scenarios = C.expand(c)
     store = results.ResultStore(args.dir)
     store.close()
     scenarios = [s for s in scenarios if s.hash in store.records]
     from . import report, summary
-    print(report.write(args.dir, c, scenarios, store.records, meta))
+    print("plcsweep: report %s" % report.write(args.dir, c, scenarios, store.records, meta),
+          file=sys.stderr)
     print(summary.text(c, scenarios, store.records, meta), end="")
     return 0
 
