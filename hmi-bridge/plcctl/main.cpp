@@ -244,9 +244,7 @@ int cmd_trend(Client& c, const std::vector<std::string>& patterns, const std::st
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   po::options_description opts(kUsage + std::string("\nOptions"));
   // clang-format off
   opts.add_options()
@@ -430,4 +428,20 @@ int main(int argc, char** argv) {
     a = {cond};
   }
   return print_reply(c->command(cmd, a, err), err);
+}
+
+}  // namespace
+
+// Nothing ends plcctl with an uncaught exception: what escapes run() (a
+// file that cannot be written, the LCM link failing) is a message and exit
+// code 1.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "plcctl: " << e.what() << "\n";
+  } catch (...) {
+    std::cerr << "plcctl: an unknown error\n";
+  }
+  return 1;
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "plc/config_path.hpp"
 #include "plc/iec_literal.hpp"
 
 namespace plc::io {
@@ -72,6 +73,11 @@ TIME ModelParams::get_time(const std::string& key, TIME def, TIME min, TIME max)
 std::string ModelParams::get_string(const std::string& key, const std::string& def) const {
   const std::string* v = find(key);
   return v ? *v : def;
+}
+
+std::string ModelParams::get_path(const std::string& key) const {
+  const std::string* v = find(key);
+  return v ? path_in_folder(folder_.empty() ? "." : folder_, *v) : std::string();
 }
 
 void ModelParams::reject_unknown() const {

@@ -21,6 +21,7 @@
 #include "debug_console.hpp"
 #include "new_cell.hpp"
 #include "plc/cell_config.hpp"
+#include "plc/config_path.hpp"
 #include "plc/debug/recording.hpp"
 #include "plc/debug/trace.hpp"
 #include "plc/hmi/bridge.hpp"
@@ -216,9 +217,9 @@ bool report_retain_stop(retain::Manager& retained) {
   return false;
 }
 
-}  // namespace
-
-int plcrun_main(int argc, char** argv) {
+// plcrun itself; `running` turns true once the cell runs (plcrun_main's
+// exit code for an exception that escapes).
+int run_plcrun(int argc, char** argv, bool& running) {
   g_main_thread = pthread_self();
   po::options_description opts(
       "Usage: plcrun CONFIG [options]\n\nRuns a cell (tasks, programs, devices) from its YAML "
@@ -295,6 +296,18 @@ int plcrun_main(int argc, char** argv) {
     std::cerr << "plcrun: missing CONFIG (plcrun --help for usage)\n";
     return 2;
   }
+  if (vm["config"].as<std::string>().empty()) {
+    std::cerr << "plcrun: CONFIG is an empty path (plcrun --help for usage)\n";
+    return 2;
+  }
+  // Read only once the session has started: checked before anything runs.
+  if (vm.count("commands")) {
+    const std::string f = vm["commands"].as<std::string>();
+    if (const std::string why = readable_file_problem(f); !why.empty()) {
+      std::cerr << "plcrun: cannot read command file '" << f << "': " << why << "\n";
+      return 2;
+    }
+  }
   if (vm.count("virtual") && vm.count("realtime")) {
     std::cerr << "plcrun: --virtual and --realtime exclude each other\n";
     return 2;
@@ -326,7 +339,7 @@ int plcrun_main(int argc, char** argv) {
     mode = cfg.clock.value;
     rt = std::make_unique<Runtime>(cfg);
   } catch (const ConfigError& e) {
-    std::cerr << e.what() << "\n";
+    std::cerr << (e.file.empty() ? "plcrun: " : "") << e.what() << "\n";
     return 2;
   }
   if (vm.count("virtual")) mode = io::ClockMode::Virtual;
@@ -508,6 +521,11 @@ int plcrun_main(int argc, char** argv) {
                    cfg.hmi.prefix.value.c_str());
     }
     g_debugger = dbg.get();
+    // Forgotten before the debugger goes, however this block is left.
+    struct ForgetDebugger {
+      ~ForgetDebugger() { g_debugger = nullptr; }
+    } forget_debugger;
+    running = true;
     g_console = vm.count("debug") != 0;
     struct sigaction sa {};
     sa.sa_handler = on_signal;
@@ -647,6 +665,11 @@ int plcrun_main(int argc, char** argv) {
   if (!vm.count("quiet")) status = std::make_unique<StatusLine>(*rt, isatty(STDERR_FILENO) != 0);
 
   g_runtime = rt.get();
+  // Forgotten before the runtime goes, however plcrun leaves.
+  struct ForgetRuntime {
+    ~ForgetRuntime() { g_runtime = nullptr; }
+  } forget_runtime;
+  running = true;
   struct sigaction sa {};
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
@@ -728,6 +751,24 @@ int plcrun_main(int argc, char** argv) {
     f << rt->stats_json();
   }
   return rc;
+}
+
+}  // namespace
+
+int plcrun_main(int argc, char** argv) {
+  // Every error is a message and an exit code, never std::terminate (the
+  // shell's 134): what escapes before the cell runs is about what plcrun was
+  // given (2, as a bad config), what escapes once it runs is a failure of
+  // the run (1).
+  bool running = false;
+  try {
+    return run_plcrun(argc, argv, running);
+  } catch (const std::exception& e) {
+    std::cerr << "plcrun: " << e.what() << "\n";
+  } catch (...) {
+    std::cerr << "plcrun: an unknown error\n";
+  }
+  return running ? 1 : 2;
 }
 
 }  // namespace plc

@@ -7,6 +7,7 @@ namespace plc {
 namespace fs = std::filesystem;
 
 std::string write_new_cell(const std::string& dir) {
+  if (dir.empty()) return "DIR is an empty path (give a new folder)";
   std::error_code ec;
   // bin/plcrun -> share/softplc/cell-template, installed or in a build folder.
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);

@@ -3,21 +3,29 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
 
+#include "plc/config_path.hpp"
 #include "plc/iec_literal.hpp"
 
 namespace plc {
 
+namespace {
+
+// "file:line:column: message"; "file: message" where no line is known (the
+// file cannot be read), the message alone without a file.
+std::string located(const std::string& file, Mark m, const std::string& msg) {
+  if (file.empty()) return msg;
+  if (m.line == 0) return file + ": " + msg;
+  return file + ":" + std::to_string(m.line) + ":" + std::to_string(m.column) + ": " + msg;
+}
+
+}  // namespace
+
 ConfigError::ConfigError(const std::string& f, Mark m, const std::string& msg)
-    : std::runtime_error(f + ":" + std::to_string(m.line) + ":" + std::to_string(m.column) + ": " +
-                         msg),
-      file(f),
-      mark(m),
-      message(msg) {}
+    : std::runtime_error(located(f, m, msg)), file(f), mark(m), message(msg) {}
 
 namespace {
 
@@ -29,7 +37,7 @@ Mark mark_of(const YAML::Node& n) {
 
 class Loader {
  public:
-  explicit Loader(std::string file) : file_(std::move(file)) {}
+  explicit Loader(std::string file) : file_(std::move(file)), folder_(config_folder(file_)) {}
 
   [[noreturn]] void fail(Mark m, const std::string& msg) const { throw ConfigError(file_, m, msg); }
   [[noreturn]] void fail(const YAML::Node& n, const std::string& msg) const {
@@ -61,6 +69,9 @@ class Loader {
     return v;
   }
 
+  // A path written in this config: relative ones are taken from its folder.
+  std::string in_folder(const std::string& path) const { return path_in_folder(folder_, path); }
+
   Item<std::string> scalar(const YAML::Node& v, const std::string& key) const {
     if (!v.IsScalar()) fail(v, "key '" + key + "' must be a single value");
     return {v.Scalar(), mark_of(v)};
@@ -87,6 +98,7 @@ class Loader {
   Params params(const YAML::Node& v, const std::string& key) const {
     Params p;
     p.mark = mark_of(v);
+    p.values.set_folder(folder_);  // a file parameter (gsdml:, pcap:) is taken from there
     if (!v.IsMap()) fail(v, "key '" + key + "' must be a mapping of parameter: value");
     for (auto it = v.begin(); it != v.end(); ++it) {
       const std::string k = it->first.Scalar();
@@ -131,11 +143,12 @@ class Loader {
     each(root, "libraries", [&](const YAML::Node& n) {
       auto lib = scalar(n, "libraries");
       if (lib.value.empty()) fail(n, "key 'libraries': an empty path");
-      const std::filesystem::path p(lib.value);
-      if (p.is_relative())
-        lib.value = (std::filesystem::absolute(std::filesystem::path(file_).parent_path()) / p)
-                        .lexically_normal()
-                        .string();
+      // Absolute: the path is the library's identity (a debugger `reload`
+      // names it from its own current directory, a recording keeps it).
+      std::string why;
+      const auto abs = absolute_path(in_folder(lib.value), why);
+      if (!abs) fail(n, "key 'libraries': " + lib.value + ": " + why);
+      lib.value = *abs;
       c.libraries.push_back(std::move(lib));
     });
     if (const auto n = root["clock"]) {
@@ -225,12 +238,9 @@ class Loader {
     check_keys(n, {"file", "save_every", "memory"}, "retain");
     r.file = scalar(require(n, "file", "retain"), "file");
     if (r.file.value.empty()) fail(n["file"], "key 'file': names no file");
-    r.path = r.file.value;
     // Relative to the config's folder: the cell keeps its file wherever it
     // is started from.
-    const auto slash = file_.rfind('/');
-    if (r.path[0] != '/' && slash != std::string::npos)
-      r.path = file_.substr(0, slash + 1) + r.path;
+    r.path = in_folder(r.file.value);
     r.save_every.mark = r.mark;
     if (n["save_every"]) {
       r.save_every = time(n["save_every"], "save_every");
@@ -302,10 +312,7 @@ class Loader {
     if (n["key_file"]) {
       h.key_file = scalar(n["key_file"], "key_file");
       if (h.key_file.value.empty()) fail(n["key_file"], "key 'key_file': names no file");
-      h.key_path = h.key_file.value;
-      const auto slash = file_.rfind('/');
-      if (h.key_path[0] != '/' && slash != std::string::npos)
-        h.key_path = file_.substr(0, slash + 1) + h.key_path;
+      h.key_path = in_folder(h.key_file.value);
     }
     return h;
   }
@@ -416,6 +423,7 @@ class Loader {
 
  private:
   std::string file_;
+  std::string folder_;
 };
 
 }  // namespace
@@ -437,6 +445,8 @@ CellConfig parse_cell_config(const std::string& text, const std::string& file_na
 }
 
 CellConfig load_cell_config(const std::string& path) {
+  if (const std::string why = readable_file_problem(path); !why.empty())
+    throw ConfigError(path, {}, why);
   std::ifstream in(path);
   if (!in) throw ConfigError(path, {}, "cannot open the config file");
   std::stringstream ss;

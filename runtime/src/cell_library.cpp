@@ -38,15 +38,18 @@ struct Capture {
 // A private copy of the file to dlopen (see the header), removed once it is
 // mapped.
 std::string private_copy(const std::string& path) {
-  std::string tmpl = (fs::temp_directory_path() / "softplc-cell-XXXXXX.so").string();
+  std::error_code ec;
+  const fs::path tmp = fs::temp_directory_path(ec);  // TMPDIR may name no folder
+  if (ec) throw CellLibraryError("no folder for a temporary copy: " + ec.message());
+  std::string tmpl = (tmp / "softplc-cell-XXXXXX.so").string();
   const int fd = mkstemps(tmpl.data(), 3);
   if (fd < 0)
     throw CellLibraryError("cannot make a temporary copy: " + std::string(strerror(errno)));
   close(fd);
-  std::error_code ec;
   fs::copy_file(path, tmpl, fs::copy_options::overwrite_existing, ec);
   if (ec) {
-    fs::remove(tmpl);
+    std::error_code ignored;
+    fs::remove(tmpl, ignored);
     throw CellLibraryError("cannot copy it to " + tmpl + ": " + ec.message());
   }
   return tmpl;

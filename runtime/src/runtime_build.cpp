@@ -56,7 +56,7 @@ void Runtime::build(const CellConfig& cfg) {
   for (const Item<std::string>& lib : cfg.libraries) {
     try {
       libraries_.push_back(use_cell_library(lib.value));
-    } catch (const CellLibraryError& e) {
+    } catch (const std::exception& e) {  // CellLibraryError, or e.g. no temporary folder
       fail(lib.mark, "key 'libraries': " + lib.value + ": " + e.what());
     }
   }
@@ -77,6 +77,10 @@ void Runtime::build(const CellConfig& cfg) {
       p->configure(pc.params.values);
     } catch (const io::ParamError& e) {
       fail(param_mark(pc.params, e.key), "plugin '" + pc.name.value + "': " + with_key(e));
+    } catch (const std::exception& e) {
+      // Whatever else a plugin throws for its parameters is still about
+      // this entry: a config error at its line, never an uncaught exception.
+      fail(pc.mark, "plugin '" + pc.name.value + "': " + e.what());
     }
     plugins_.emplace_back(pc.name.value, std::move(p));
   }
@@ -146,6 +150,8 @@ void Runtime::build(const CellConfig& cfg) {
     } catch (const io::ParamError& e) {
       const Mark m = e.key == "model" ? dc.model.mark : param_mark(dc.params, e.key);
       fail(m.line ? m : dc.mark, "device '" + dc.name.value + "': " + with_key(e));
+    } catch (const std::exception& e) {  // e.g. a description the controller cannot connect
+      fail(dc.mark, "device '" + dc.name.value + "': " + e.what());
     }
     // Answers and device states change only at scan boundaries.
     d.plugin->link(d.index).set_deferred(true);

@@ -17,7 +17,9 @@
 //       faults: {silent: false, size_error: 0, refuse_allocation: false}
 //
 // SIGUSR1 toggles "silent" on every slave (a pulled plug without killing the
-// process); SIGTERM/SIGINT end it. Exit code 2 on a bad config.
+// process); SIGTERM/SIGINT end it. Exit code 2 on a bad config (a relative
+// pcap: file is taken from the config file's folder), 1 when it fails while
+// it runs.
 #include <poll.h>
 #include <yaml-cpp/yaml.h>
 
@@ -33,6 +35,7 @@
 #include "plc/can/fan_out.hpp"
 #include "plc/can/pcap_writer.hpp"
 #include "plc/can/udp_bus.hpp"
+#include "plc/config_path.hpp"
 #include "plc/devicenet/slave.hpp"
 #include "plc/devicenet/slave_profiles.hpp"
 #include "plc/fb/acdrive/assemblies.hpp"
@@ -91,9 +94,7 @@ struct Hosted {
   std::unique_ptr<dn::Slave> slave;
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr, "usage: dnslave CONFIG.yaml [--for DURATION]\n");
     return 2;
@@ -120,6 +121,10 @@ int main(int argc, char** argv) {
   std::unique_ptr<plc::can::FanOut> fan;
   std::vector<Hosted> slaves;
   try {
+    if (const std::string why = plc::readable_file_problem(file); !why.empty()) {
+      std::fprintf(stderr, "%s: %s\n", file.c_str(), why.c_str());
+      return 2;
+    }
     const YAML::Node root = YAML::LoadFile(file);
     reject_unknown(root, {"bus", "hub", "pcap", "slaves"});
     const std::string spec = root["bus"] ? root["bus"].as<std::string>() : "udp:127.0.0.1:47800";
@@ -133,7 +138,10 @@ int main(int argc, char** argv) {
     }
     bus = plc::can::open_bus(spec);
     fan = std::make_unique<plc::can::FanOut>(*bus);
-    if (root["pcap"]) pcap = std::make_unique<plc::can::PcapWriter>(root["pcap"].as<std::string>());
+    // A relative capture file is taken from the config file's folder.
+    if (root["pcap"])
+      pcap = std::make_unique<plc::can::PcapWriter>(
+          plc::config_relative_path(file, root["pcap"].as<std::string>()));
     if (!root["slaves"] || !root["slaves"].IsSequence() || root["slaves"].size() == 0)
       throw ConfigError(root, "key 'slaves': a list of at least one slave");
     for (const YAML::Node& s : root["slaves"]) {
@@ -180,6 +188,7 @@ int main(int argc, char** argv) {
         id.minor_rev = static_cast<std::uint8_t>(min);
       }
       io::ModelParams params;
+      params.set_folder(plc::config_folder(file));
       if (s["params"])
         for (const auto& kv : s["params"])
           params.set(kv.first.as<std::string>(), kv.second.as<std::string>());
@@ -240,4 +249,19 @@ int main(int argc, char** argv) {
   for (const auto& h : slaves)
     std::printf("dnslave: %s: %s\n", h.name.c_str(), h.slave->describe().c_str());
   return 0;
+}
+
+}  // namespace
+
+// Nothing ends dnslave with an uncaught exception: what escapes run() (the
+// bus failing while it runs) is a message and exit code 1.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "dnslave: %s\n", e.what());
+  } catch (...) {
+    std::fprintf(stderr, "dnslave: an unknown error\n");
+  }
+  return 1;
 }

@@ -51,7 +51,7 @@ void DeviceNetPlugin::configure(const io::ModelParams& p) {
   host_hub_ = p.get_bool("hub", false);
   if (host_hub_ && bus_spec_.rfind("udp:", 0) != 0)
     throw io::ParamError("hub", "hub: true needs a udp:HOST:PORT bus");
-  pcap_path_ = p.get_string("pcap", "");
+  pcap_path_ = p.get_path("pcap");  // a relative file: in the config file's folder
   cfg_.poll_cycle = p.get_time("poll_cycle", cfg_.poll_cycle, milliseconds(1), seconds(10));
   cfg_.dup_mac_wait = p.get_time("dup_mac_wait", cfg_.dup_mac_wait, milliseconds(1), seconds(10));
   cfg_.retry = p.get_time("retry", cfg_.retry, milliseconds(10), seconds(60));

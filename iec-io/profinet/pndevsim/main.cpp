@@ -23,7 +23,9 @@
 // SIGUSR1 toggles "silent" on every device; SIGTERM/SIGINT end it.
 // One line per state change: "pndevsim: NAME: connected", "... data exchange",
 // "... lost (data hold expired)", "... released", "... refused DB810104".
-// Exit code 2 on a bad config or when the interface cannot be opened.
+// Exit code 2 on a bad config or when the interface cannot be opened, 1
+// when it fails while it runs. A relative control FIFO path is taken from
+// the config file's folder.
 #include <fcntl.h>
 #include <poll.h>
 #include <pthread.h>
@@ -44,6 +46,7 @@
 #include <thread>
 #include <vector>
 
+#include "plc/config_path.hpp"
 #include "plc/iec_literal.hpp"
 #include "plc/io/device_model.hpp"
 #include "plc/profinet/description/builtin_descriptions.hpp"
@@ -249,9 +252,7 @@ void realtime_thread(pn::EthernetPort& eth, std::vector<Hosted>& hosted, Mailbox
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   if (argc < 2) {
     std::fprintf(stderr, "usage: pndevsim CONFIG.yaml [--for DURATION]\n");
     return 2;
@@ -277,6 +278,10 @@ int main(int argc, char** argv) {
   nanoseconds period = std::chrono::microseconds(250);
   std::string control = "stdin";
   try {
+    if (const std::string why = plc::readable_file_problem(file); !why.empty()) {
+      std::fprintf(stderr, "%s: %s\n", file.c_str(), why.c_str());
+      return 2;
+    }
     const YAML::Node root = YAML::LoadFile(file);
     reject_unknown(root, {"interface", "poll", "control", "devices"});
     if (!root["interface"])
@@ -285,6 +290,8 @@ int main(int argc, char** argv) {
     if (period < std::chrono::microseconds(50) || period > std::chrono::milliseconds(4))
       throw ConfigError(root["poll"], "key 'poll': between 50us and 4ms");
     if (root["control"]) control = root["control"].as<std::string>();
+    // A FIFO's relative path is taken from the config file's folder.
+    if (control != "stdin" && control != "none") control = plc::config_relative_path(file, control);
     const YAML::Node devs = root["devices"];
     if (!devs || !devs.IsSequence() || devs.size() == 0)
       throw ConfigError(devs ? devs : root, "key 'devices': a list of at least one device");
@@ -306,6 +313,7 @@ int main(int argc, char** argv) {
       const std::string model = d["model"].as<std::string>();
       p.name = d["name"] ? d["name"].as<std::string>() : model;
       io::ModelParams params;
+      params.set_folder(plc::config_folder(file));
       if (d["params"]) {
         if (!d["params"].IsMap()) throw ConfigError(d["params"], "key 'params': a map");
         for (const auto& kv : d["params"])
@@ -442,6 +450,16 @@ int main(int argc, char** argv) {
   const std::int64_t t0 = mono_ns();
   std::thread rt(realtime_thread, std::ref(*eth), std::ref(hosted), std::ref(mb), period, t0,
                  run_ns);
+  // Should anything below throw, the thread is stopped and joined first (a
+  // joinable std::thread destroyed would call std::terminate).
+  struct JoinOnExit {
+    std::thread& t;
+    ~JoinOnExit() {
+      if (!t.joinable()) return;
+      g_stop = true;
+      t.join();
+    }
+  } join_on_exit{rt};
   std::string pending;
   while (!g_stop.load()) {
     pollfd pfd{control_fd, POLLIN, 0};
@@ -472,4 +490,19 @@ int main(int argc, char** argv) {
   for (const auto& h : hosted) print_line("pndevsim: " + h.name + ": " + h.dev->describe());
   if (control_fd >= 0 && control_fd != STDIN_FILENO) close(control_fd);
   return 0;
+}
+
+}  // namespace
+
+// Nothing ends pndevsim with an uncaught exception: what escapes run() once
+// the devices run is a message and exit code 1.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "pndevsim: %s\n", e.what());
+  } catch (...) {
+    std::fprintf(stderr, "pndevsim: an unknown error\n");
+  }
+  return 1;
 }

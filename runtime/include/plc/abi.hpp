@@ -13,7 +13,9 @@
 
 // 2: plc::io::DeviceLink holds the last alarm (issue 11) and its last state
 // change (issue 13).
-#define PLC_ABI_VERSION 2
+// 3: plc::io::ModelParams carries the config file's folder, which a
+// relative file parameter is taken from (issue 21).
+#define PLC_ABI_VERSION 3
 
 // The exported symbol's name, for dlsym.
 #define PLC_CELL_ABI_SYMBOL "softplc_cell_abi_version"

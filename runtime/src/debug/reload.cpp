@@ -27,9 +27,9 @@
 // keeps the builds). `restart` runs the new build, as a real restart would.
 #include <algorithm>
 #include <chrono>
-#include <filesystem>
 #include <thread>
 
+#include "plc/config_path.hpp"
 #include "plc/debug/debugger.hpp"
 #include "plc/online_change.hpp"
 
@@ -92,7 +92,13 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
   const bool realtime_running = opt_.mode == io::ClockMode::RealTime && !rt_->paused();
   const bool at_boundary = !realtime_running && rt_->wait_until_idle(std::chrono::seconds(1));
   std::string lib;
-  if (a.size() == 2) lib = std::filesystem::absolute(a[1]).lexically_normal().string();
+  if (a.size() == 2) {
+    // From the current directory, as any path on a command line.
+    std::string why;
+    const auto abs = absolute_path(a[1], why);
+    if (!abs) return "reload: " + why + "\n";
+    lib = *abs;
+  }
 
   OnlineChange change(*rt_);
   const ChangeReport report = change.prepare(lib);

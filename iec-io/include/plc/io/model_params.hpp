@@ -10,6 +10,7 @@
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "plc/types.hpp"
 
@@ -39,6 +40,16 @@ class ModelParams {
   // "T#2s", "20ms", "1.5s"
   TIME get_time(const std::string& key, TIME def, TIME min, TIME max) const;
   std::string get_string(const std::string& key, const std::string& def) const;
+  // A file the parameter names (a GSDML file, a capture): a relative path
+  // is taken from folder(), the config file's folder (plc/config_path.hpp);
+  // "" when absent.
+  std::string get_path(const std::string& key) const;
+
+  // The folder of the config that gave these parameters ("" = the current
+  // directory: parameters not read from a file). The config loader sets it;
+  // a copy of some of the parameters keeps it (set_folder(other.folder())).
+  void set_folder(std::string folder) { folder_ = std::move(folder); }
+  [[nodiscard]] const std::string& folder() const { return folder_; }
 
   // Throws ParamError naming the first key no getter asked for: a typo in a
   // config must not pass silently. Models call this at the end of their
@@ -51,6 +62,7 @@ class ModelParams {
   const std::string* find(const std::string& key) const;
   std::map<std::string, std::string> values_;
   mutable std::set<std::string> used_;
+  std::string folder_;
 };
 
 }  // namespace plc::io

@@ -37,6 +37,7 @@ ControllerDevice device_from_params(const std::string& name, const std::string& 
 io::ModelParams device_model_params(const io::ModelParams& params) {
   const io::ModelParams rest = model_params_of(params);
   io::ModelParams out;
+  out.set_folder(params.folder());
   for (const auto& [k, v] : rest.values()) {
     bool ours = false;
     for (const char* c : kControllerKeys) ours = ours || k == c;

@@ -165,7 +165,8 @@ DeviceDescription generic(const io::ModelParams& p) {
 }
 
 DeviceDescription from_gsdml(const io::ModelParams& p) {
-  const std::string path = p.get_string("gsdml", "");
+  // A relative file is taken from the config file's folder.
+  const std::string path = p.get_path("gsdml");
   if (path.empty()) throw io::ParamError("gsdml", "model gsdml needs gsdml: FILE");
   GsdmlSelection sel;
   sel.dap = p.get_string("gsdml_dap", "");
@@ -234,6 +235,7 @@ DeviceDescription description_from_params(const std::string& model, const io::Mo
 
 io::ModelParams model_params_of(const io::ModelParams& params) {
   io::ModelParams out;
+  out.set_folder(params.folder());
   for (const auto& [k, v] : params.values())
     if (!is_description_key(k)) out.set(k, v);
   return out;
