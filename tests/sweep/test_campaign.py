@@ -227,9 +227,17 @@ class Overrides(unittest.TestCase):
         self.assertIn("tau: 2s", s.config_text)
 
     def test_scenario_configs_run_from_anywhere(self):
-        d, c = load("parameters: []\n")
+        d = Dir()
+        with open(os.path.join(d.path, "cell.yaml"), "w") as f:
+            f.write(BASE.replace("  - name: sim\n", "  - name: sim\n    params: {gsdml: dev.xml, "
+                                 "other: not_a_file.xml}\n"))
+        with open(os.path.join(d.path, "dev.xml"), "w") as f:
+            f.write("<x/>")
+        c = C.load(d.campaign("parameters: []\n"))
         s = C.expand(c)[0]
         self.assertIn(os.path.join(d.path, "lib/libcell.so"), s.config_text)
+        self.assertIn("gsdml: %s" % os.path.join(d.path, "dev.xml"), s.config_text)
+        self.assertIn("other: not_a_file.xml", s.config_text)
         self.assertNotIn("retain:", s.config_text)
         self.assertNotIn("hmi:", s.config_text)
 

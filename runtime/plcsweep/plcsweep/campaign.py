@@ -552,6 +552,11 @@ def scenario_config(c, overrides):
             for item in v.value:
                 if Y.is_scalar(item) and not os.path.isabs(item.value):
                     item.value = os.path.normpath(os.path.join(base_dir, item.value))
+        if k.value in ("plugins", "devices") and Y.is_seq(v):
+            for item in v.value:
+                params = Y.get(item, "params") if Y.is_map(item) else None
+                if params is not None and Y.is_map(params):
+                    _absolute_file_params(params, base_dir)
         kept.append((k, v))
     root.value = kept
     # Hashed as data with the library paths as the base config writes them,
@@ -560,6 +565,17 @@ def scenario_config(c, overrides):
     if libs_as_written is not None:
         data["libraries"] = libs_as_written
     return Y.dump(root), data
+
+
+def _absolute_file_params(params, base_dir):
+    """A plugin's or device's file parameter (gsdml:, ...) is taken from the
+    config's folder (plc/config_path.hpp); the scenario's config is
+    elsewhere, so a relative one that names a file there is made absolute."""
+    for _, v in params.value:
+        if (Y.is_scalar(v) and v.tag.endswith(":str") and v.value and
+                not os.path.isabs(v.value) and
+                os.path.isfile(os.path.join(base_dir, v.value))):
+            v.value = os.path.normpath(os.path.join(base_dir, v.value))
 
 
 def scenario_hash(c, config_data):
