@@ -16,10 +16,11 @@ import random
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 
 from . import campaign as C
-from . import executors, progress, results, scenario_run
+from . import executors, iec_time, progress, results, scenario_run, summary
 from .yaml_nodes import CampaignError
 
 
@@ -55,7 +56,6 @@ def validate(c, scenarios, args, checks_file):
 
 
 def validate_one(c, scenario, args, checks_file):
-    import tempfile
     with tempfile.TemporaryDirectory(prefix="plcsweep-validate-") as d:
         cfg = os.path.join(d, "cell.yaml")
         with open(cfg, "w", encoding="utf-8") as f:
@@ -117,7 +117,6 @@ def cmd_run(args):
                 raise CampaignError(c.file, None, "--samples applies to sampling random or lhs")
             c.samples = args.samples
         if args.duration is not None:
-            from . import iec_time
             ns = iec_time.parse(args.duration)
             if not ns or ns <= 0:
                 print("plcsweep: --duration: '%s' is not a duration" % args.duration,
@@ -194,10 +193,9 @@ def cmd_run(args):
     if any(r["status"] in ("error", "nondeterministic") for r in recs):
         rc = 1
     if not args.no_report:
-        from . import report
+        from . import report  # matplotlib: loaded only for a report
         path = report.write(args.out, c, scenarios, store.records, meta)
         print("plcsweep: report %s" % path, file=sys.stderr)
-    from . import summary
     print(summary.text(c, scenarios, store.records, meta), end="")
     return rc
 
@@ -234,7 +232,6 @@ def cmd_report(args):
     try:
         c = C.parse(text, meta["file"])
         if meta.get("duration"):
-            from . import iec_time
             c.duration_ns = iec_time.parse(meta["duration"])
             c.duration_text = meta["duration"]
         if meta.get("samples"):
@@ -246,7 +243,7 @@ def cmd_report(args):
     store = results.ResultStore(args.dir)
     store.close()
     scenarios = [s for s in scenarios if s.hash in store.records]
-    from . import report, summary
+    from . import report  # matplotlib: loaded only for a report
     print("plcsweep: report %s" % report.write(args.dir, c, scenarios, store.records, meta),
           file=sys.stderr)
     print(summary.text(c, scenarios, store.records, meta), end="")
