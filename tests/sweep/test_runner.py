@@ -4,7 +4,10 @@ located errors, the report."""
 
 import json
 import os
+import signal
 import subprocess
+import sys
+import time
 import unittest
 
 import sweep_fixture as F
@@ -122,6 +125,50 @@ class Resume(unittest.TestCase):
         self.assertEqual(rc, 0, err)
         self.assertIn("3 already done", err)
         self.assertEqual(F.read(os.path.join(out, "results.csv")), csv1)
+
+
+class Interrupted(unittest.TestCase):
+    def test_ctrl_c_keeps_the_finished_scenarios_reports_them_and_a_rerun_resumes(self):
+        d = F.temp_dir()
+        c = F.write_campaign(d)
+        out = os.path.join(d, "out")
+        # One scenario at a time, 3 virtual minutes each (a few tenths of a
+        # second): the interrupt lands after the first record.
+        run = subprocess.Popen([sys.executable, F.PLCSWEEP, "run", c, "--out", out, "--executor",
+                                "local:1", "--duration", "3m", "--no-record",
+                                "--determinism-sample", "0", "--no-report"],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               start_new_session=True)
+        results = os.path.join(out, "results.jsonl")
+        t0 = time.monotonic()
+        done_at_interrupt = None
+        while run.poll() is None and time.monotonic() - t0 < 300:
+            n = len(F.read(results).splitlines()) if os.path.exists(results) else 0
+            if n >= 1:
+                os.killpg(run.pid, signal.SIGINT)  # Ctrl-C: the whole process group
+                done_at_interrupt = n
+                break
+            time.sleep(0.02)
+        _, err = run.communicate(timeout=300)
+        interrupted_err = err
+        self.assertIsNotNone(done_at_interrupt, "the campaign ended before the interrupt: " + err)
+        self.assertLess(done_at_interrupt, 4, "the interrupt came after the last scenario")
+        self.assertEqual(run.returncode, 130, err)
+        kept = len(F.read(results).splitlines())
+        self.assertLess(kept, 4)
+        # The report of what finished, from the results folder alone.
+        rc, stdout, err = F.plcsweep("report", out)
+        self.assertEqual(rc, 0, err)
+        self.assertIn("== campaign 'small': 4 scenarios of 180s virtual time ==", stdout)
+        self.assertIn("not run %d" % (4 - kept), stdout)
+        self.assertTrue(os.path.exists(os.path.join(out, "report", "report.html")))
+        self.assertIn("interrupted after %d of 4 scenarios" % kept, interrupted_err)
+        # Running it again runs only the rest.
+        rc, _, err = F.plcsweep("run", c, "--out", out, "--duration", "3m", "--no-record",
+                                "--determinism-sample", "0", "--no-report")
+        self.assertEqual(rc, 0, err)
+        self.assertIn("%d already done" % kept, err)
+        self.assertEqual(len(F.read(os.path.join(out, "results.csv")).splitlines()), 5)
 
 
 class Determinism(unittest.TestCase):

@@ -109,6 +109,13 @@ def run_tasks(tasks, args):
     return executors.run_dask(tasks, where)
 
 
+def write_meta(out, meta):
+    tmp = os.path.join(out, "run.json.tmp")
+    with open(tmp, "w", encoding="utf-8") as f:
+        json.dump(meta, f, indent=1)
+    os.replace(tmp, os.path.join(out, "run.json"))
+
+
 def cmd_run(args):
     try:
         c = C.load(args.campaign)
@@ -151,6 +158,12 @@ def cmd_run(args):
     print("plcsweep: campaign '%s': %d scenarios of %s (virtual time), %d already done, "
           "executor %s" % (c.name, len(scenarios), c.duration_text, len(scenarios) - len(todo),
                            args.executor or "local"), file=sys.stderr)
+    meta = {"campaign": c.name, "file": os.path.abspath(c.file), "scenarios": len(scenarios),
+            "duration": c.duration_text, "samples": c.samples, "executor": args.executor or "local",
+            "elapsed_s": None, "run_now": len(todo)}
+    # Written before the scenarios run, so that `plcsweep report` works on
+    # the results of a run that was interrupted.
+    write_meta(args.out, meta)
     t0 = time.monotonic()
     bar = progress.Progress(len(todo))
     try:
@@ -159,11 +172,15 @@ def cmd_run(args):
             bar.update(r["status"])
     except KeyboardInterrupt:
         bar.finish()
-        print("plcsweep: interrupted; `plcsweep run` again resumes", file=sys.stderr)
         store.close()
+        results.write_csv(args.out, c, scenarios, store.records)
+        print("plcsweep: interrupted after %d of %d scenarios; `plcsweep run` again resumes, "
+              "`plcsweep report %s` reports those"
+              % (sum(1 for s in todo if s.hash in store.records), len(todo), args.out),
+              file=sys.stderr)
         return 130
     bar.finish()
-    elapsed = time.monotonic() - t0
+    meta["elapsed_s"] = time.monotonic() - t0
     # A worker that died while it wrote a failure's folder left it half
     # done under a temporary name; the retry wrote the whole one.
     fdir = os.path.join(args.out, "failures")
@@ -184,11 +201,7 @@ def cmd_run(args):
             rc = 1
     store.close()
     results.write_csv(args.out, c, scenarios, store.records)
-    meta = {"campaign": c.name, "file": os.path.abspath(c.file), "scenarios": len(scenarios),
-            "duration": c.duration_text, "samples": c.samples, "executor": args.executor or "local",
-            "elapsed_s": elapsed, "run_now": len(todo)}
-    with open(os.path.join(args.out, "run.json"), "w", encoding="utf-8") as f:
-        json.dump(meta, f, indent=1)
+    write_meta(args.out, meta)
     recs = [store.records[s.hash] for s in scenarios if s.hash in store.records]
     if any(r["status"] in ("error", "nondeterministic") for r in recs):
         rc = 1
@@ -242,7 +255,8 @@ def cmd_report(args):
         return 2
     store = results.ResultStore(args.dir)
     store.close()
-    scenarios = [s for s in scenarios if s.hash in store.records]
+    # The scenarios that run had (its --limit), those not run yet counted.
+    scenarios = scenarios[:meta.get("scenarios", len(scenarios))]
     from . import report  # matplotlib: loaded only for a report
     print("plcsweep: report %s" % report.write(args.dir, c, scenarios, store.records, meta),
           file=sys.stderr)
