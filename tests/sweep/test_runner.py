@@ -219,6 +219,22 @@ class Errors(unittest.TestCase):
         self.assertTrue(err.startswith(c + ":15:13: check 'passivated_only_at_start': "), err)
         self.assertIn("Cell.boxes", err)
 
+    def test_expand_into_a_reader_that_stops_early_ends_quietly(self):
+        """`plcsweep expand CAMPAIGN | head`: the closed pipe ends the
+        listing, without a Python traceback."""
+        d = F.temp_dir()
+        text = (F.SMALL % F.CELL).replace("values: [5.0, 12.0]",
+                                          "range: {from: 5.0, to: 15.0, steps: 500}")
+        c = F.write_campaign(d, text)
+        p = subprocess.Popen([sys.executable, F.PLCSWEEP, "expand", c, "--config"],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        self.assertIn('"index": 0', p.stdout.readline())
+        p.stdout.close()  # 1,000 configs of ~2 kB: more than a pipe buffers
+        err = p.stderr.read()
+        p.stderr.close()
+        self.assertEqual(p.wait(timeout=120), 0, err)
+        self.assertEqual(err, "")
+
     def test_a_bad_model_param_names_the_overrides(self):
         d = F.temp_dir()
         text = (F.SMALL % F.CELL).replace("link_down_for: 300ms", "link_down_for: 0ms")

@@ -222,11 +222,17 @@ def cmd_expand(args):
     except CampaignError as e:
         print(e, file=sys.stderr)
         return 2
-    for s in scenarios:
-        line = {"index": s.index, "hash": s.hash, "params": s.params, "faults": s.faults}
-        if args.config:
-            line["config"] = s.config_text
-        print(json.dumps(line, sort_keys=True))
+    try:
+        for s in scenarios:
+            line = {"index": s.index, "hash": s.hash, "params": s.params, "faults": s.faults}
+            if args.config:
+                line["config"] = s.config_text
+            print(json.dumps(line, sort_keys=True))
+        sys.stdout.flush()
+    except BrokenPipeError:
+        # The reader has what it wanted (`| head`); Python's flush of
+        # stdout at exit would fail again, so stdout goes nowhere now.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
     return 0
 
 
