@@ -154,20 +154,20 @@ def cmd_run(args):
         print(err, file=sys.stderr)
         return 2
     store = results.ResultStore(args.out)
-    todo = [s for s in scenarios if not store.done(s.hash)]
+    pending = [s for s in scenarios if not store.done(s.hash)]
     print("plcsweep: campaign '%s': %d scenarios of %s (virtual time), %d already done, "
-          "executor %s" % (c.name, len(scenarios), c.duration_text, len(scenarios) - len(todo),
+          "executor %s" % (c.name, len(scenarios), c.duration_text, len(scenarios) - len(pending),
                            args.executor or "local"), file=sys.stderr)
     meta = {"campaign": c.name, "file": os.path.abspath(c.file), "scenarios": len(scenarios),
             "duration": c.duration_text, "samples": c.samples, "executor": args.executor or "local",
-            "elapsed_s": None, "run_now": len(todo)}
+            "elapsed_s": None, "run_now": len(pending)}
     # Written before the scenarios run, so that `plcsweep report` works on
     # the results of a run that was interrupted.
     write_meta(args.out, meta)
     t0 = time.monotonic()
-    bar = progress.Progress(len(todo))
+    bar = progress.Progress(len(pending))
     try:
-        for r in run_tasks([make_task(c, s, args, checks_file) for s in todo], args):
+        for r in run_tasks([make_task(c, s, args, checks_file) for s in pending], args):
             store.add(r)
             bar.update(r["status"])
     except KeyboardInterrupt:
@@ -176,7 +176,7 @@ def cmd_run(args):
         results.write_csv(args.out, c, scenarios, store.records)
         print("plcsweep: interrupted after %d of %d scenarios; `plcsweep run` again resumes, "
               "`plcsweep report %s` reports those"
-              % (sum(1 for s in todo if s.hash in store.records), len(todo), args.out),
+              % (sum(1 for s in pending if s.hash in store.records), len(pending), args.out),
               file=sys.stderr)
         return 130
     bar.finish()
