@@ -25,6 +25,19 @@ DeviceSizes SimPlugin::add_device(const DeviceSpec& spec) {
       known += (known.empty() ? "" : ", ") + n;
     throw ParamError("model", "unknown device model '" + spec.model + "' (known: " + known + ")");
   }
+  // The link fault switch is the plugin's, not the model's: read (and so
+  // marked used) before the model rejects keys it does not know.
+  constexpr TIME kForever = std::chrono::hours(24 * 365 * 100);
+  TIME down_at{-1};
+  TIME down_for = kForever;
+  if (spec.params.has("link_down_at"))
+    down_at = spec.params.get_time("link_down_at", TIME(0), TIME(0), kForever);
+  if (spec.params.has("link_down_for")) {
+    if (!spec.params.has("link_down_at"))
+      throw ParamError("link_down_for",
+                       "link_down_for needs link_down_at (when the link goes down)");
+    down_for = spec.params.get_time("link_down_for", kForever, TIME(1), kForever);
+  }
   auto model = (*f)(spec.params);
   // A coupled model (plc/io/device_peers.hpp) sees the devices added before
   // it: step() runs them first, so it reads what they delivered this step.
@@ -46,6 +59,7 @@ DeviceSizes SimPlugin::add_device(const DeviceSpec& spec) {
     coupled->bind_peers(Earlier(*this));
   }
   devices_.push_back(std::make_unique<SimDevice>(std::move(model)));
+  devices_.back()->set_link_down(down_at, down_for);
   names_.push_back(spec.name);
   return {devices_.back()->inputs().size(), devices_.back()->outputs().size()};
 }

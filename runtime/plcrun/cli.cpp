@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "checks.hpp"
 #include "debug_console.hpp"
 #include "new_cell.hpp"
 #include "plc/cell_config.hpp"
@@ -242,6 +243,8 @@ int run_plcrun(int argc, char** argv, bool& running) {
     ("trace-trigger", po::value<std::string>()->value_name("CONDITION"), "start tracing when this condition holds, e.g. 'Tank.step = 3'")
     ("trace-pre", po::value<std::size_t>()->value_name("ROWS"), "rows kept from before the trigger (default 0)")
     ("stats-json", po::value<std::string>()->value_name("FILE"), "write per-task statistics as JSON at the end")
+    ("checks", po::value<std::string>()->value_name("FILE"), "evaluate the checks in FILE (always:, at_end:, eventually:) during the run; exit code 3 when one of severity error fails")
+    ("results-json", po::value<std::string>()->value_name("FILE"), "with --checks: write the checks' verdict, the outputs' final values and a digest of the cell's state as JSON")
     ("list-vars", "print every variable path with its type (and address; 'read-only' for a block's internal state; 'retain' or 'persistent'), then exit")
     ("print-vars", po::value<std::string>()->value_name("PATH,..."), "print these variables' final values after the summary: PATH,PATH,...")
     ("debug", "open the debugger console (pause, step, break, watch, force, trace, goto ...)")
@@ -319,6 +322,10 @@ int run_plcrun(int argc, char** argv, bool& running) {
   }
   if (vm.count("cycles") && vm.count("for")) {
     std::cerr << "plcrun: --cycles and --for exclude each other\n";
+    return 2;
+  }
+  if (vm.count("results-json") && !vm.count("checks")) {
+    std::cerr << "plcrun: --results-json goes with --checks\n";
     return 2;
   }
   if (vm.count("trace") != vm.count("trace-vars")) {
@@ -461,6 +468,14 @@ int run_plcrun(int argc, char** argv, bool& running) {
   }
   if (vm.count("replay") && vm.count("record")) {
     std::cerr << "plcrun: --replay and --record exclude each other\n";
+    return 2;
+  }
+
+  if (vm.count("checks") && (console || hmi)) {
+    // A session can goto and restart: its run has no single verdict. A
+    // failure found by --checks is stepped to with goto in a --replay session.
+    std::cerr << "plcrun: --checks applies to a plain run or a --replay, not to --debug, "
+                 "--commands or a cell with an hmi: section\n";
     return 2;
   }
 
@@ -657,6 +672,17 @@ int run_plcrun(int argc, char** argv, bool& running) {
     if (retain_start.refused) return 1;  // nothing has started
   }
 
+  std::unique_ptr<ScenarioChecks> checks;
+  if (vm.count("checks")) {
+    try {
+      checks =
+          std::make_unique<ScenarioChecks>(*rt, load_checks_file(vm["checks"].as<std::string>()));
+    } catch (const ConfigError& e) {
+      std::cerr << e.what() << "\n";
+      return 2;
+    }
+  }
+
   std::unique_ptr<debug::Trace> trace;
   if (vm.count("trace")) {
     trace = std::make_unique<debug::Trace>(rt->vars(), rt->image(), rt->byte_order());
@@ -748,6 +774,23 @@ int run_plcrun(int argc, char** argv, bool& running) {
   if (rt->stop_requested()) std::printf("stopped by signal; outputs at their safe values\n");
   for (const auto& t : rt->tasks())
     if (!t->stats.snapshot().stop_reason.empty()) rc = 1;
+  if (checks) {
+    checks->finish();
+    std::string stop_reason = rt->stop_requested() ? "signal" : "";
+    for (const auto& t : rt->tasks())
+      if (const std::string r = t->stats.snapshot().stop_reason; !r.empty() && stop_reason.empty())
+        stop_reason = r;
+    std::fputs(checks->failures_text().c_str(), stdout);
+    if (vm.count("results-json")) {
+      std::ofstream f(vm["results-json"].as<std::string>());
+      f << checks->json(stop_reason);
+      if (!f.flush()) {
+        std::cerr << "plcrun: cannot write " << vm["results-json"].as<std::string>() << "\n";
+        return 1;
+      }
+    }
+    if (rc == 0 && !checks->passed()) rc = 3;
+  }
   if (vm.count("stats-json")) {
     std::ofstream f(vm["stats-json"].as<std::string>());
     if (!f) {
