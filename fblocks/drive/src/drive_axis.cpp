@@ -7,6 +7,35 @@
 
 namespace plc::drive {
 
+namespace {
+
+// The bits of a status or control word that its structure keeps (from()
+// drops reserved bits, word() sends 0 in them).
+template <class W>
+constexpr std::uint16_t kept_bits = W::from(0xFFFF).word();
+
+// Whether W::from(w).word() is w with the reserved bits cleared, for every
+// w: then a word is taken or sent as that mask, without building the
+// structure of named bits (the telegram 111 path of begin() and commit(),
+// once per scan and per MC block).
+template <class W>
+constexpr bool round_trip_is_mask() {
+  for (std::uint32_t w = 0; w <= 0xFFFF; ++w)
+    if (W::from(static_cast<std::uint16_t>(w)).word() != (w & kept_bits<W>)) return false;
+  return true;
+}
+static_assert(round_trip_is_mask<Zsw1Pos>());
+static_assert(round_trip_is_mask<PosZsw1>());
+static_assert(round_trip_is_mask<PosZsw2>());
+static_assert(round_trip_is_mask<Zsw2>());
+static_assert(round_trip_is_mask<Meldw>());
+static_assert(round_trip_is_mask<Stw1Pos>());
+static_assert(round_trip_is_mask<PosStw1>());
+static_assert(round_trip_is_mask<PosStw2>());
+static_assert(round_trip_is_mask<Stw2>());
+
+}  // namespace
+
 const char* to_string(AxisState s) {
   switch (s) {
     case AxisState::Disabled:
@@ -90,17 +119,17 @@ void DriveAxis::begin(const ScanContext& ctx) {
               secs;
         break;
       }
-      case TelegramType::Hiwin111: {
-        const auto t = Telegram111In::decode(in);
-        ZSW1 = t.zsw1.word();
-        POS_ZSW1 = t.pos_zsw1.word();
-        POS_ZSW2 = t.pos_zsw2.word();
-        ZSW2 = t.zsw2.word();
-        MELDW = t.meldw.word();
-        XIST_A = t.xist_a;
-        NIST_B = t.nist_b;
-        FAULT_CODE = t.fault_code;
-        WARN_CODE = t.warn_code;
+      case TelegramType::Hiwin111: {  // Telegram111In::decode, the words as masks
+        using T = Telegram111In;
+        ZSW1 = static_cast<std::uint16_t>(wire::u16(in, T::kZsw1) & kept_bits<Zsw1Pos>);
+        POS_ZSW1 = static_cast<std::uint16_t>(wire::u16(in, T::kPosZsw1) & kept_bits<PosZsw1>);
+        POS_ZSW2 = static_cast<std::uint16_t>(wire::u16(in, T::kPosZsw2) & kept_bits<PosZsw2>);
+        ZSW2 = static_cast<std::uint16_t>(wire::u16(in, T::kZsw2) & kept_bits<Zsw2>);
+        MELDW = static_cast<std::uint16_t>(wire::u16(in, T::kMeldw) & kept_bits<Meldw>);
+        XIST_A = wire::i32(in, T::kXistA);
+        NIST_B = wire::i32(in, T::kNistB);
+        FAULT_CODE = wire::u16(in, T::kFaultCode);
+        WARN_CODE = wire::u16(in, T::kWarnCode);
         ActPosition = XIST_A;
         ActVelocity = rpm_to_cu_per_s(nist_b_to_speed(NIST_B, RefSpeedRpm), CuPerRev);
         break;
@@ -492,17 +521,18 @@ void DriveAxis::commit() {
     t.encode(out);
     return;
   }
-  Telegram111Out t;
-  t.stw1 = Stw1Pos::from(STW1);
-  t.pos_stw1 = PosStw1::from(POS_STW1);
-  t.pos_stw2 = PosStw2::from(POS_STW2);
-  t.stw2 = Stw2::from(STW2);
-  t.override_ = OVERRIDE;
-  t.mdi_tarpos = MDI_TARPOS;
-  t.mdi_velocity = MDI_VELOCITY;
-  t.mdi_acc = MDI_ACC;
-  t.mdi_dec = MDI_DEC;
-  t.encode(out);
+  // Telegram111Out::encode, the words as masks.
+  using T = Telegram111Out;
+  wire::put16(out, T::kStw1, static_cast<std::uint16_t>(STW1 & kept_bits<Stw1Pos>));
+  wire::put16(out, T::kPosStw1, static_cast<std::uint16_t>(POS_STW1 & kept_bits<PosStw1>));
+  wire::put16(out, T::kPosStw2, static_cast<std::uint16_t>(POS_STW2 & kept_bits<PosStw2>));
+  wire::put16(out, T::kStw2, static_cast<std::uint16_t>(STW2 & kept_bits<Stw2>));
+  wire::put16(out, T::kOverride, OVERRIDE);
+  wire::put32(out, T::kMdiTarpos, static_cast<std::uint32_t>(MDI_TARPOS));
+  wire::put32(out, T::kMdiVelocity, static_cast<std::uint32_t>(MDI_VELOCITY));
+  wire::put16(out, T::kMdiAcc, static_cast<std::uint16_t>(MDI_ACC));
+  wire::put16(out, T::kMdiDec, static_cast<std::uint16_t>(MDI_DEC));
+  wire::put16(out, T::kReserved12, 0);
 }
 
 }  // namespace plc::drive

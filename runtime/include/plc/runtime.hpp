@@ -31,6 +31,7 @@
 
 #include <time.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <functional>
@@ -63,7 +64,22 @@ struct DeviceRuntime {
   io::DeviceSizes sizes;
   io::IecAddress in{io::Area::Input, io::AddrSize::Byte, 0, 0};
   io::IecAddress out{io::Area::Output, io::AddrSize::Byte, 0, 0};
-  int task = -1;  // the task that exchanges its data
+  int task = -1;                   // the task that exchanges its data
+  io::DeviceLink* link = nullptr;  // plugin->link(index), the same object for the plugin's life
+};
+
+// A span of one image area, [begin, end) in bytes.
+struct ImageRange {
+  std::uint32_t begin = 0, end = 0;
+};
+// One range of bytes a scan copies or merges, with its pointers resolved
+// at build (the images never move): to `dst` from `src`; for a merge, the
+// task's copy at the latch is `before`.
+struct ImageSpan {
+  std::uint8_t* dst = nullptr;
+  const std::uint8_t* src = nullptr;
+  const std::uint8_t* before = nullptr;
+  std::size_t n = 0;
 };
 
 struct TaskRuntime {
@@ -77,14 +93,26 @@ struct TaskRuntime {
   io::ProcessImage image, before;       // private copy; its %Q/%M at scan start
   std::vector<DeviceRuntime*> devices;  // exchanged by this task
   std::vector<std::uint8_t> owned_q;    // bit mask of the %Q bits this task writes
-  LiveTaskStats stats;                  // recorded by the task's thread; snapshot() from any
+  // The image bytes this task's programs can reach (their located variables
+  // and device ports), per area (io::Area), sorted and coalesced; computed
+  // at build. A scan copies in and merges back only these, unless a hook
+  // may write anywhere in the images (ScanHooks::whole_image).
+  std::array<std::vector<ImageRange>, 3> bound;
+  // bound as the scan uses it: the latch copies global -> image (copy_in),
+  // real time keeps image -> before (keep) and merges into global the bits
+  // changed since (merge_out); virtual time copies image -> global (copy_out).
+  std::vector<ImageSpan> copy_in, keep, copy_out, merge_out;
+  bool whole_image_scan = false;   // this scan copies and merges whole areas (set at its latch)
+  std::uint32_t timing_phase = 0;  // virtual time: which scans are timed (Runtime::scan_latch)
+  bool scan_timed = false;         // the scan under way is timed
+  LiveTaskStats stats;             // recorded by the task's thread; snapshot() from any
   std::atomic<bool> stopped{false};
   // Real time: set from before the task looks at the pause flag until its
   // scan is over, so that once the pause is set and this is seen clear, the
   // task is at its next release and everything its scans wrote is visible
   // (Runtime::wait_until_idle).
   std::atomic<bool> busy{false};
-  std::atomic<std::int64_t> scan_started_ns{-1};  // steady/monotonic ns, -1 = idle
+  std::atomic<std::int64_t> scan_started_ns{-1};  // steady/monotonic ns (0: not timed), -1 = idle
   std::atomic<std::uint64_t> scan_seq{0};         // scans started (watchdog bookkeeping)
   // Virtual time: the watchdog thread asks, the scan thread stops the task
   // when the scan returns (so the image is only ever touched by one thread).
@@ -107,6 +135,13 @@ using ScanObserver = std::function<void(const TaskRuntime&, const ScanContext&)>
 class ScanHooks {
  public:
   virtual ~ScanHooks() = default;
+  // Whether this hook set may write image bytes that no program of the task
+  // is bound to, or reads the task's private image outside them: then the
+  // scans copy and merge the whole %I/%Q/%M areas while it is added (forces
+  // and writes of any address, recording, replay). Every hook set says so
+  // today (retain included); one that neither writes image bytes nor reads a
+  // task's private image outside the bound bytes may return false.
+  [[nodiscard]] virtual bool whole_image() const { return true; }
   // 1b: the task's devices are latched into the global image (forced inputs,
   // recording, replay).
   virtual void after_latch(TaskRuntime&, io::ProcessImage& /*global*/) {}
@@ -142,6 +177,9 @@ class Runtime {
   // 4ms/6ms); 1h and 1h1us would need 3.6e9 device steps per scan, which
   // looks like a hang.
   static constexpr std::int64_t kMaxTicksPerRelease = 1000;
+  // Virtual time times one scan in this many for the statistics (every scan
+  // is counted); real time times every scan.
+  static constexpr std::uint32_t kVirtualTimedEvery = 16;
 
   // Builds the whole cell; throws ConfigError naming file:line:column.
   explicit Runtime(const CellConfig& cfg);
@@ -187,7 +225,10 @@ class Runtime {
 
   // Several hook sets may be active (debugger, recorder, replayer); they run
   // in the order they were added.
-  void add_hooks(ScanHooks* h) { hooks_.push_back(h); }
+  void add_hooks(ScanHooks* h) {
+    hooks_.push_back(h);
+    whole_image_hooks_ += h->whole_image() ? 1 : 0;
+  }
   void remove_hooks(ScanHooks* h);
   // Replay of a recording, which fixes the order and times of the scans
   // itself: one scan of `t` at time `now` outside the virtual schedule, in
@@ -285,6 +326,7 @@ class Runtime {
   VarRegistry vars_;
   std::vector<ScanObserver> observers_;
   std::vector<ScanHooks*> hooks_;
+  std::size_t whole_image_hooks_ = 0;  // hooks_ whose whole_image() is true
   bool plugins_enabled_ = true;
   std::atomic<bool> paused_{false};
   bool tick_open_ = false;

@@ -7,6 +7,7 @@
 // Real time: a thread steps the models every `step` (default 1 ms) against
 // CLOCK_MONOTONIC absolute deadlines; latch/publish copy under a mutex held
 // for a memcpy, so a scan never waits for a model step longer than one step.
+// Virtual time has one thread (the scan's, which also steps): no mutex.
 #pragma once
 
 #include <atomic>
@@ -44,6 +45,7 @@ class SimPlugin final : public Plugin {
   std::vector<std::string> names_;
   std::vector<std::unique_ptr<SimDevice>> devices_;
   std::mutex mutex_;
+  bool locking_ = true;  // real time, or not started (tests drive a plugin from threads)
   std::thread thread_;
   std::atomic<bool> running_{false};
 };
