@@ -4,6 +4,8 @@
 
 #include <cstring>
 
+#include "plc/thread_guard.hpp"
+
 namespace plc::io {
 
 SimPlugin::~SimPlugin() { stop(); }
@@ -31,7 +33,11 @@ DeviceSizes SimPlugin::add_device(const DeviceSpec& spec) {
 
 void SimPlugin::start(ClockMode mode) {
   if (mode == ClockMode::RealTime && !running_.exchange(true)) {
-    thread_ = std::thread([this] { run_realtime(); });
+    thread_ = std::thread([this] {
+      run_guarded(
+          "sim plugin", [this] { run_realtime(); },
+          [this](std::string_view what) { fail("sim plugin", what, devices_.size()); });
+    });
   }
 }
 
