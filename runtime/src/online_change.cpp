@@ -388,6 +388,8 @@ void OnlineChange::finish() {
     if (partial_) rt_.partial_libraries_.push_back(new_lib_);
     for (auto& p : retired) rt_.retired_programs_.push_back(std::move(p));
     replaced_.clear();
+    old_lib_.reset();
+    new_lib_.reset();
     for (SwitchFollower* f : together_.followers) f->on_dropped();
     return;
   }
@@ -401,3 +403,5 @@ void OnlineChange::finish() {
   old_lib_.reset();
   new_lib_.reset();
 }
+
+}  // namespace plc
