@@ -326,6 +326,10 @@ bool OnlineChange::switched(std::size_t task) const {
 }
 
 void OnlineChange::withdraw() {
+  // Once: a second call (the destructor's, after the owner's) would find a
+  // swap it took back like one a task took, and wait for it forever. A
+  // change not committed was never handed to a task.
+  if (withdrawn_ || !committed_) return;
   for (auto& [t, s] : swaps_) {
     ProgramSwap* expect = s.get();
     if (t->swap.compare_exchange_strong(expect, nullptr) || expect != nullptr) continue;
@@ -395,7 +399,12 @@ void OnlineChange::finish() {
   }
   // No task can be inside the old code any more (each has started a scan
   // with the new programs): destroy the old programs, then let the old
-  // library go (unloaded when the last holder drops it).
+  // library go (unloaded when the last holder drops it). The old programs an
+  // earlier partial change kept go too: their code is in that library, and
+  // no follower reads them once every task has switched (the retain layout
+  // switched with the last task).
+  for (auto& p : rt_.retired_programs_) retired.push_back(std::move(p));
+  rt_.retired_programs_.clear();
   retired.clear();
   for (auto& l : rt_.libraries_)
     if (l == old_lib_) l = new_lib_;

@@ -1,6 +1,7 @@
 // Issue 21 follow-up, point 9: FillingCellAc retries a fault reset that the
 // drive never saw. Virtual time: the VF66B (in-process sim model) trips a
-// fault; the first reset pulse (100 ms, AcDrive.ResetPulse) falls in a gap
+// fault at 12 s, once the first container is filled (about 10 s); the
+// first reset pulse (100 ms, AcDrive.ResetPulse) falls in a gap
 // of the drive's polls (the test hides the Fault Reset bit of output
 // assembly 21, byte 0 bit 2, from the drive for 300 ms from its first
 // rising edge, as a late poll cycle would). Before, the program held
@@ -29,7 +30,7 @@ plugins: [{name: sim}]
 devices:
   - {name: conveyor, plugin: sim, model: vf66b, input: "%IB0", output: "%QB0",
      params: {j09: 1, j10: 1, b10: 3, b11: 3, accel_time: 500ms, decel_time: 500ms,
-              fault_code: 5, fault_at: 3s}}
+              fault_code: 5, fault_at: 12s}}
   - {name: scale, plugin: sim, model: pr5510, input: "%IB32", output: "%QB32",
      params: {bus: profibus, coarse_rate: 4.0, fine_rate: 0.4, noise: 0.002, seed: 7}}
   - name: safety

@@ -92,24 +92,34 @@ TEST(OnlineChangeRealTime, PartialSwitchKeepsTheNewBuildForTheTasksThatSwitched)
     return fast.stats.snapshot().scans >= fast_scans + 20 &&
            slow.stats.snapshot().scans >= slow_scans + 4;
   }));
-  rt.request_stop();
-  runner.join();
-  // The registry shows what each task runs.
+  // Held again: the registry shows what each task runs.
+  rt.set_paused(true);
+  ASSERT_TRUE(rt.wait_until_idle(std::chrono::seconds(10)));
   EXPECT_EQ(value(rt, "Main.build"), "2");
   EXPECT_EQ(value(rt, "Main.alarms"), "7");
   EXPECT_EQ(value(rt, "Other.build"), "1");
   EXPECT_EQ(value(rt, "Other.note"), "42");
-  for (const auto& t : rt.tasks()) EXPECT_EQ(t->stats.snapshot().stop_reason, "") << t->name;
 
-  // A later change completes it: both tasks on the newest build.
+  // A later change completes it: both tasks on the newest build, and the
+  // old programs the partial change kept go before their library (the
+  // runtime's destruction below would otherwise run their destructors in
+  // an unloaded library).
   folder.install(PLC_TEST_FILLER_V1);
-  OnlineChange again(rt);
-  ASSERT_EQ(again.prepare("").refused, "");
-  again.switch_all_now();  // the cell has stopped: every task at a boundary
-  ASSERT_TRUE(again.switched());
-  again.finish();
+  {
+    OnlineChange again(rt);
+    ASSERT_EQ(again.prepare("").refused, "");
+    again.commit();
+    rt.allow_scans(fast, 3);
+    rt.allow_scans(slow, 3);
+    ASSERT_TRUE(wait_for([&] { return again.switched(); }));
+    again.finish();
+  }
+  rt.set_paused(false);
+  rt.request_stop();
+  runner.join();
   EXPECT_EQ(value(rt, "Main.note"), "42");
   EXPECT_EQ(value(rt, "Other.note"), "42");
+  for (const auto& t : rt.tasks()) EXPECT_EQ(t->stats.snapshot().stop_reason, "") << t->name;
 }
 
 // The debugger's `reload` while the logic runs in real time, with a force,

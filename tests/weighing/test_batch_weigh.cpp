@@ -660,7 +660,7 @@ TEST(BatchWeigh, Spec25_MasterLostMidFillClosesTheValvesAndTheNextBatchRecovers)
             c.run_until([&] { return b.State == wg::BatchState::Coarse; }, 10s, [&] { b(c.ctx); }));
   c.run(300ms, [&] { b(c.ctx); });  // filling
   ASSERT_TRUE(b.CoarseFeed);
-  const double before = c.model().gross_digits() / c.model().digits_per_kg();
+  const double before = c.model().process().load();
   // 10 s without a master: the model keeps the last window it got.
   std::array<std::uint8_t, wg::kWindowSize> last{};
   std::copy(c.sim.w().begin(), c.sim.w().end(), last.begin());
@@ -676,7 +676,7 @@ TEST(BatchWeigh, Spec25_MasterLostMidFillClosesTheValvesAndTheNextBatchRecovers)
   }
   EXPECT_TRUE(b.Error);
   EXPECT_EQ(eid::kDeviceOffline, b.ErrorID);
-  const double after = c.model().gross_digits() / c.model().digits_per_kg();
+  const double after = c.model().process().load();
   EXPECT_LT(after - before, 2.0) << "the valves stayed open without a master: " << before
                                  << " kg -> " << after << " kg";
   EXPECT_FALSE(c.model().status().Out1 || c.model().status().Out2);

@@ -51,14 +51,16 @@ void Pr5510Model::io_connection_lost() {
   st_.Out1 = st_.Out2 = st_.Out3 = false;
 }
 
-void Pr5510Model::step_io(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
-                          bool new_message, std::span<std::uint8_t> to_plc) {
-  if (new_message) master_lost_ = false;  // a master again: its outputs count
-  step(now, dt, from_plc, to_plc);
+// A host that calls step() delivers the outputs every cycle (the sim plugin,
+// the PROFINET device once its AR is up again): each step is a new message.
+void Pr5510Model::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
+                       std::span<std::uint8_t> to_plc) {
+  step_io(now, dt, from_plc, true, to_plc);
 }
 
-void Pr5510Model::step(TIME, TIME dt, std::span<const std::uint8_t> from_plc,
-                       std::span<std::uint8_t> to_plc) {
+void Pr5510Model::step_io(TIME, TIME dt, std::span<const std::uint8_t> from_plc, bool new_message,
+                          std::span<std::uint8_t> to_plc) {
+  if (new_message) master_lost_ = false;  // a master again: its outputs count
   since_ms_ += dt;
   const double alpha =
       std::min(1.0, 1e-3 / std::chrono::duration<double>(cfg_.filter_time).count());

@@ -79,7 +79,8 @@ class Pr5510Model final : public io::DeviceModel {
   void power_cycle() override;
   // The host's I/O connection timed out (a DeviceNet slave's expected
   // packet rate, a PROFINET AR's watchdog): outputs 1-3 off, the valves
-  // closed, until the next I/O message (step_io with new_message). The
+  // closed, until the next I/O message (step_io with new_message, or
+  // step(): a host that calls it delivers the outputs every cycle). The
   // manual says nothing of a fieldbus loss (spec §2.5, §2.6 show only the
   // "connection timeout" LED) [INFERRED]: a dosing output left as last
   // commanded while no master watches it overfills the hopper, and every
