@@ -11,6 +11,7 @@
 
 #include "plc/hmi/checked_decode.hpp"
 #include "plc/iec_literal.hpp"
+#include "plc/thread_guard.hpp"
 #include "softplc_hmi/diagnostics_t.hpp"
 #include "softplc_hmi/stats_t.hpp"
 #include "softplc_hmi/trace_sample_t.hpp"
@@ -538,7 +539,13 @@ void Bridge::add_start_alarm(const std::string& kind, const std::string& source,
 void Bridge::start() {
   stop_ = false;
   publish_description();
-  thread_ = std::thread([this] { run(); });
+  // The bridge faces the operator network; its failure must not touch the
+  // cell: it is said (and counted: plcrun's exit code is 1), the HMI sees
+  // the bridge's updates stop (its stale indication), and the scans run on.
+  thread_ = std::thread([this] {
+    run_guarded(
+        "hmi bridge", [this] { run(); }, [](std::string_view) {});
+  });
 }
 
 void Bridge::stop() {

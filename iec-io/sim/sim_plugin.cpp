@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "plc/io/device_peers.hpp"
+#include "plc/thread_guard.hpp"
 
 namespace plc::io {
 
@@ -67,7 +68,11 @@ DeviceSizes SimPlugin::add_device(const DeviceSpec& spec) {
 void SimPlugin::start(ClockMode mode) {
   locking_ = mode == ClockMode::RealTime;
   if (mode == ClockMode::RealTime && !running_.exchange(true)) {
-    thread_ = std::thread([this] { run_realtime(); });
+    thread_ = std::thread([this] {
+      run_guarded(
+          "sim plugin", [this] { run_realtime(); },
+          [this](std::string_view what) { fail("sim plugin", what, devices_.size()); });
+    });
   }
 }
 

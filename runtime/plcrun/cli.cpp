@@ -29,6 +29,7 @@
 #include "plc/profinet/controller/dcp_tool.hpp"
 #include "plc/retain/retain_manager.hpp"
 #include "plc/runtime.hpp"
+#include "plc/thread_guard.hpp"
 
 namespace plc {
 namespace {
@@ -187,10 +188,14 @@ void print_summary(const Runtime& rt, const retain::StartReport* retained) {
   }
   // Per device, its plugin's own account: state and counters (the
   // DeviceNet scanner: allocations, polls, timeouts, bad frames, bus state).
+  // A plugin whose thread failed says so first.
   for (const auto& d : rt.devices())
     if (d.plugin)
-      std::printf("device %-10s (%s): %s\n", d.name.c_str(), d.plugin_name.c_str(),
+      std::printf("device %-10s (%s): %s%s\n", d.name.c_str(), d.plugin_name.c_str(),
+                  d.plugin->failed() ? ("FAILED (" + d.plugin->failure() + "); ").c_str() : "",
                   d.plugin->diagnostics(d.index).c_str());
+  if (!rt.failure().empty())
+    std::printf("STOPPED: %s; outputs at their safe values\n", rt.failure().c_str());
 }
 
 // --print-vars: the chosen variables' values after the last scan.
@@ -313,6 +318,16 @@ int run_plcrun(int argc, char** argv, bool& running) {
     const std::string f = vm["commands"].as<std::string>();
     if (const std::string why = readable_file_problem(f); !why.empty()) {
       std::cerr << "plcrun: cannot read command file '" << f << "': " << why << "\n";
+      return 2;
+    }
+  }
+  // Where the run's results go must be writable before the cell starts, not
+  // found out when the run is over.
+  for (const char* opt : {"stats-json", "trace", "record"}) {
+    if (!vm.count(opt)) continue;
+    const std::string f = vm[opt].as<std::string>();
+    if (const std::string why = writable_file_problem(f); !why.empty()) {
+      std::cerr << "plcrun: --" << opt << ": cannot write '" << f << "': " << why << "\n";
       return 2;
     }
   }
@@ -626,7 +641,8 @@ int run_plcrun(int argc, char** argv, bool& running) {
         retain_failed = !finish_retain();
       }
       g_debugger = nullptr;
-      return recording_failed || retain_failed ? 1 : 0;
+      // A thread that failed fails the session (plc/thread_guard.hpp).
+      return recording_failed || retain_failed || thread_failures() > 0 ? 1 : 0;
     }
     // Ended by a signal: like a run, every output safe, then the summary.
     if (bridge) bridge->stop();  // no command may reach the cell while it stops
@@ -768,12 +784,22 @@ int run_plcrun(int argc, char** argv, bool& running) {
   g_runtime = nullptr;
   if (retained && !report_retain_stop(*retained)) rc = 1;
   if (status) status->done();
-  if (trace) trace->stop();
+  if (trace) {
+    trace->stop();
+    if (const std::string err = trace->error(); !err.empty()) {
+      std::fprintf(stderr, "plcrun: trace into %s FAILED: %s\n",
+                   vm["trace"].as<std::string>().c_str(), err.c_str());
+      rc = 1;
+    }
+  }
   print_summary(*rt, retained ? &retain_start : nullptr);
   if (vm.count("print-vars")) print_final_values(*rt, vm["print-vars"].as<std::string>());
   if (rt->stop_requested()) std::printf("stopped by signal; outputs at their safe values\n");
   for (const auto& t : rt->tasks())
     if (!t->stats.snapshot().stop_reason.empty()) rc = 1;
+  // A thread that failed (a plugin's, a writer's, the watchdog, the HMI
+  // bridge: plc/thread_guard.hpp) fails the run.
+  if (thread_failures() > 0) rc = 1;
   if (checks) {
     checks->finish();
     std::string stop_reason = rt->stop_requested() ? "signal" : "";

@@ -7,6 +7,7 @@
 
 #include "plc/online_change.hpp"
 #include "plc/runtime.hpp"
+#include "plc/thread_guard.hpp"
 #include "task_thread.hpp"
 
 namespace plc {
@@ -39,7 +40,28 @@ struct MaybeLock {
 // A scan in two halves: both take the image lock once. scan() runs them
 // back to back; a replay runs them apart (Runtime::latch_scan/finish_scan) to
 // reproduce how the locked sections of several real-time tasks interleaved.
-bool Runtime::scan(TaskRuntime& t, TIME now) { return scan_finish(t, scan_latch(t, now)); }
+//
+// What a program throws stops its task (scan_finish). What the rest of the
+// scan throws - a hook, an observer, a plugin's latch or publish - stops the
+// task the same way, in real and in virtual time: the scan is over, its
+// outputs go to their safe values, the other tasks run on.
+bool Runtime::scan(TaskRuntime& t, TIME now) {
+  try {
+    return scan_finish(t, scan_latch(t, now));
+  } catch (const std::exception& e) {
+    scan_failed(t, e.what());
+  } catch (...) {
+    scan_failed(t, "an exception that is not a std::exception");
+  }
+  return true;
+}
+
+void Runtime::scan_failed(TaskRuntime& t, std::string_view what) {
+  io::DeviceLink::set_current_owner(-1);
+  t.scan_started_ns.store(-1, std::memory_order_release);
+  report_thread_failure("task '" + t.name + "'", what);
+  trip(t, "scan failed: " + std::string(what), false);
+}
 
 ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
   // 0: an online change for this task switches here, between two scans.
@@ -213,6 +235,25 @@ void Runtime::remove_hooks(ScanHooks* h) {
   if (std::erase(hooks_, h) && h->whole_image()) --whole_image_hooks_;
 }
 
+// Virtual time: step() is the plugin's thread. What it throws fails the
+// plugin as a failed thread would (its devices to Fault); the cell goes on.
+void Runtime::step_plugin(const std::string& name, io::Plugin& p, TIME dt) {
+  const auto fail = [&](std::string_view what) {
+    std::size_t devices = 0;
+    for (const DeviceRuntime& d : devices_) devices += d.plugin == &p;
+    const std::string thread = "plugin '" + name + "'";
+    report_thread_failure(thread, what);
+    p.fail(thread, what, devices);
+  };
+  try {
+    p.step(now_, dt);
+  } catch (const std::exception& e) {
+    fail(e.what());
+  } catch (...) {
+    fail("an exception that is not a std::exception");
+  }
+}
+
 ScanContext Runtime::latch_scan(TaskRuntime& t, TIME now) {
   now_ = now;
   if (t.stopped.load(std::memory_order_relaxed)) return ScanContext{now, t.period, t.cycle};
@@ -244,7 +285,8 @@ bool Runtime::due(const TaskRuntime& t) const {
 
 void Runtime::begin_tick() {
   if (plugins_enabled_)
-    for (auto& [_, p] : plugins_) p->step(now_, first_tick_ ? TIME(0) : base_tick_);
+    for (auto& [name, p] : plugins_)
+      if (!p->failed()) step_plugin(name, *p, first_tick_ ? TIME(0) : base_tick_);
   first_tick_ = false;
   tick_open_ = true;
   cursor_ = 0;
@@ -291,10 +333,18 @@ void Runtime::finish() {
   }
   if (mode_ == io::ClockMode::Virtual && plugins_enabled_) {
     // Let the devices see the safe outputs once before the plugins stop.
-    for (auto& [_, p] : plugins_) p->step(now_, TIME(0));
+    for (auto& [name, p] : plugins_)
+      if (!p->failed()) step_plugin(name, *p, TIME(0));
   }
   if (plugins_enabled_)
-    for (auto& [_, p] : plugins_) p->stop();
+    for (auto& [name, p] : plugins_) {
+      // Every plugin is stopped, whatever one of them throws.
+      try {
+        p->stop();
+      } catch (const std::exception& e) {
+        report_thread_failure("plugin '" + name + "' stop", e.what());
+      }
+    }
   started_ = false;
 }
 

@@ -100,7 +100,6 @@ TEST(OnlineRetain, RetainedProgramChangesAndTheReportListsTheRetainedDifferences
   OnlineChange change(*cell.rt);
   const ChangeReport r = change.prepare("");
   ASSERT_EQ(r.refused, "");
-  cell.mgr->follow(change);  // as the debugger's reload does: the old programs go at finish()
   EXPECT_EQ(r.retain_added, (std::vector<std::string>{"A.extra: LINT", "A.plain: DINT",
                                                       "B.extra: LINT", "B.plain: DINT"}));
   EXPECT_EQ(r.retain_removed, (std::vector<std::string>{"A.note: INT", "B.note: INT"}));
@@ -133,6 +132,34 @@ TEST(OnlineRetain, RetainedProgramChangesAndTheReportListsTheRetainedDifferences
   EXPECT_EQ(cell.v("A.recipe"), "7");
 }
 
+// Issue 21 follow-up, point 3: nobody asks the manager to follow a change;
+// the change tells it (Runtime::add_change_observer), so the layout after
+// finish() is the new build's and no save reads the destroyed old programs.
+TEST(OnlineRetain, TheRuntimeTellsTheRetainManagerOfEveryChange) {
+  KeeperCell cell(PLC_TEST_KEEPER_V1);
+  cell.scans(20);
+  const std::uint64_t old_hash = cell.mgr->layout().hash();
+  cell.folder.install(PLC_TEST_KEEPER_V2);
+  {
+    OnlineChange change(*cell.rt);
+    ASSERT_EQ(change.prepare("").refused, "");
+    change.switch_all_now();
+    ASSERT_TRUE(change.switched());
+    change.finish();  // the old programs are gone
+  }
+  EXPECT_NE(cell.mgr->layout().hash(), old_hash);
+  bool has_extra = false;
+  for (const auto& e : cell.mgr->layout().entries()) has_extra |= e.path == "A.extra";
+  EXPECT_TRUE(has_extra) << "the manager still saves the old build's layout";
+  cell.scans(20);
+  cell.rt->finish();
+  ASSERT_EQ(cell.mgr->stop(), "");
+  const auto loaded = retain::Storage(cell.file()).load();
+  ASSERT_TRUE(loaded.image);
+  EXPECT_TRUE(has_entry(*loaded.image, "A.extra"));
+  EXPECT_FALSE(has_entry(*loaded.image, "A.note"));
+}
+
 // The retain file follows the change: no file mixes layouts, the switch is
 // made when the last task concerned switched, and the next save is in the
 // new layout; a warm start of the new build restores everything, and one
@@ -144,7 +171,6 @@ TEST(OnlineRetain, RetainFileSwitchesLayoutWhenTheLastTaskSwitched) {
   cell.folder.install(PLC_TEST_KEEPER_V2);
   OnlineChange change(*cell.rt);
   ASSERT_EQ(change.prepare("").refused, "");
-  cell.mgr->follow(change);
   EXPECT_EQ(cell.mgr->layout().hash(), old_hash);  // prepared, not switched
   change.commit();
   // The fast task switches at its next scan, the slow one up to 50 ms later:
@@ -216,7 +242,6 @@ TEST(OnlineRetain, SnapshotOfferedBeforeTheSwitchIsWrittenInItsOwnLayout) {
   cell.folder.install(PLC_TEST_KEEPER_V2);
   OnlineChange change(*cell.rt);
   ASSERT_EQ(change.prepare("").refused, "");
-  cell.mgr->follow(change);
   change.switch_all_now();  // between scans: every task at once
   ASSERT_TRUE(change.switched());
   change.finish();

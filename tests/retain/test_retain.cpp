@@ -420,6 +420,35 @@ TEST(RetainPlcrun, FillingCellListsClassesAndRestartsWarm) {
   std::system(("rm -rf " + dir).c_str());
 }
 
+// Issue 21 follow-up, point 4: a plain --record run that starts warm
+// records from the restored values (the learned preact of the dosing, the
+// container count); its --replay, which loads no retain file, must start
+// from them too - it does, from the state snapshot in the recording's first
+// latch (recording.hpp), taken after the restore - and so be bit-exact.
+TEST(RetainPlcrun, AWarmStartRecordingReplaysBitExact) {
+  const std::string dir = plctest::temp_path("plcrun_retain_record");
+  ASSERT_EQ(std::system(("rm -rf " + dir + " && mkdir -p " + dir).c_str()), 0);
+  const std::string cfg = dir + "/cell.yaml";
+  std::ofstream(cfg) << plctest::read_file(plctest::source_dir() +
+                                           "/programs/filling_cell/cell.yaml")
+                     << "\nretain: {file: filling.retain}\n";
+  const std::string plcrun = plctest::plcrun_path();
+  const auto first = plctest::run_command(plcrun + " " + cfg +
+                                          " --for 60s -q --print-vars Cell.containers,"
+                                          "Cell.dose.PreactActual");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  ASSERT_EQ(first.output.find("Cell.containers = 0\n"), std::string::npos) << first.output;
+  const std::string rec = dir + "/warm.plcrec";
+  const auto warm = plctest::run_command(plcrun + " " + cfg + " --warm --for 20s -q --record " +
+                                         rec + " --print-vars Cell.containers");
+  ASSERT_EQ(warm.exit_code, 0) << warm.output;
+  ASSERT_NE(warm.output.find("plcrun: retain: warm start from"), std::string::npos) << warm.output;
+  const auto replay = plctest::run_command(plcrun + " " + cfg + " --replay " + rec + " -q");
+  EXPECT_EQ(replay.exit_code, 0) << replay.output;
+  EXPECT_NE(replay.output.find(" 0 with different outputs"), std::string::npos) << replay.output;
+  std::system(("rm -rf " + dir).c_str());
+}
+
 }  // namespace
 
 namespace {

@@ -37,7 +37,18 @@
 // retain file's layout, retain::Manager), follows the change as a
 // SwitchFollower: the task that applies the last swap calls it, in its scan
 // latch, before switched() can be true - so before finish() destroys the
-// old programs.
+// old programs. Whoever follows every change registers with the runtime
+// (Runtime::add_change_observer): prepare() tells it, so no caller of
+// prepare() can forget it.
+//
+// A change that not every task took (a task stuck or stopped before its
+// switch point, a timeout: the caller withdraws it) is finished partially:
+// the tasks that switched run the new build until the runtime goes (its
+// programs and library are kept by the runtime, the registry shows them),
+// the others run the old build on, and the old programs of the switched
+// tasks are kept too (a follower that stayed with the old layout reads
+// them). Nothing a task runs or a reader holds is destroyed before the
+// runtime is.
 #pragma once
 
 #include <atomic>
@@ -100,7 +111,7 @@ struct ProgramSwap {
   // who follows the change (null: nobody). Set by OnlineChange::commit().
   struct Together {
     std::atomic<std::size_t> left{0};
-    SwitchFollower* follower = nullptr;
+    std::vector<SwitchFollower*> followers;
   };
   Together* together = nullptr;
 };
@@ -119,11 +130,10 @@ class OnlineChange {
   // given, is where the new build's bytes come from (a replay's kept copy).
   ChangeReport prepare(const std::string& library, const std::string& file = "");
   // After prepare(), before commit(): `f` switches with the last task
-  // (SwitchFollower). It must outlive this object. A cell whose retain is
-  // managed (retain::Manager) must have it follow every change
-  // (Manager::follow, as the debugger's reload does): its layout points
-  // into the programs, and finish() destroys the old ones.
-  void follow(SwitchFollower* f) { together_.follower = f; }
+  // (SwitchFollower). It must outlive this object. The runtime's change
+  // observers (Runtime::add_change_observer: the retain manager) are told
+  // by prepare() and call this themselves.
+  void follow(SwitchFollower* f);
   // After prepare(): the new build, and the tasks (TaskRuntime::order) that
   // switch to it.
   [[nodiscard]] const std::shared_ptr<CellLibrary>& next_library() const { return new_lib_; }
@@ -136,12 +146,19 @@ class OnlineChange {
   // Whether task `task` (TaskRuntime::order) runs the new build already.
   [[nodiscard]] bool switched(std::size_t task) const;
   // Takes the change back from the tasks that have not switched yet (they
-  // run the old build on); after it, switched(task) no longer changes.
+  // run the old build on); after it, switched(task) no longer changes (a
+  // task that took its swap just before is waited for: it is in runtime
+  // code, a few copies from done).
   void withdraw();
   // After prepare(): the variable registry as finish() will make it (the
   // debugger re-resolves what it holds against it before the switch).
   [[nodiscard]] VarRegistry next_vars() const;
+  // After switched(): the change is complete. After withdraw() with only
+  // some tasks switched: the partial finish (see the top). Called by the
+  // destructor when the owner did not.
   void finish();
+  // Whether finish() found only some tasks switched.
+  [[nodiscard]] bool partial() const { return partial_; }
   // Recording (plc/debug/recording.hpp) and other observers: the report of
   // the last finished change.
   [[nodiscard]] const ChangeReport& report() const { return report_; }
@@ -162,6 +179,8 @@ class OnlineChange {
   ProgramSwap::Together together_;
   bool committed_ = false;
   bool finished_ = false;
+  bool withdrawn_ = false;
+  bool partial_ = false;
 };
 
 }  // namespace plc

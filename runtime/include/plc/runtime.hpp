@@ -39,6 +39,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -53,6 +54,7 @@
 namespace plc {
 
 class CellLibrary;   // plc/cell_library.hpp
+class OnlineChange;  // plc/online_change.hpp
 struct ProgramSwap;  // plc/online_change.hpp
 struct TaskThread;   // a real-time task thread's record (runtime/src/task_thread.hpp)
 
@@ -128,6 +130,19 @@ struct TaskRuntime {
 // Called after every scan of every task, in the scan's thread (trace,
 // debugger, HMI snapshot). Must be quick and must not block.
 using ScanObserver = std::function<void(const TaskRuntime&, const ScanContext&)>;
+
+// Told of every online change of the runtime's programs, by the change
+// itself (OnlineChange::prepare), so that no caller can forget one: what
+// points into the programs (the retain manager's layout) must follow every
+// change, or it reads programs that the change destroys.
+class ChangeObserver {
+ public:
+  virtual ~ChangeObserver() = default;
+  // In prepare(), once the change can be applied, before it is committed
+  // (OnlineChange::follow subscribes to its switch). May throw: the change
+  // is then refused with the reason.
+  virtual void follow(OnlineChange& change) = 0;
+};
 
 // Points inside a scan where the debugger (forcing, writes, freeze points,
 // recording and replay) acts. All run in the scan's thread; the two that get
@@ -275,6 +290,10 @@ class Runtime {
   [[nodiscard]] const std::string& cell_name() const { return cell_name_; }
 
   void add_scan_observer(ScanObserver o) { observers_.push_back(std::move(o)); }
+  // Every online change of this runtime tells `o` (ChangeObserver); it
+  // must be removed before it goes.
+  void add_change_observer(ChangeObserver* o) { change_observers_.push_back(o); }
+  void remove_change_observer(ChangeObserver* o) { std::erase(change_observers_, o); }
   // Runs f() with the global image locked against the tasks' latch and
   // merge (real time; in virtual time nothing runs concurrently).
   template <class F>
@@ -289,6 +308,9 @@ class Runtime {
   [[nodiscard]] std::string stats_json() const;
   // Wall-clock seconds spent inside run() (for the virtual/real speed ratio).
   [[nodiscard]] double wall_seconds() const { return wall_seconds_; }
+  // Why the runtime stopped the cell itself ("" = it did not): its
+  // watchdog thread failed (plc/thread_guard.hpp). Read after run().
+  [[nodiscard]] const std::string& failure() const { return failure_; }
 
  private:
   void build(const CellConfig& cfg);
@@ -296,6 +318,8 @@ class Runtime {
   // false: the run left this real-time task thread behind inside a program
   // (TaskThread), and it must return without touching the runtime.
   bool scan(TaskRuntime& t, TIME now);
+  void scan_failed(TaskRuntime& t, std::string_view what);
+  void step_plugin(const std::string& name, io::Plugin& p, TIME dt);
   ScanContext scan_latch(TaskRuntime& t, TIME now);          // step 1
   bool scan_finish(TaskRuntime& t, const ScanContext& ctx);  // steps 2-5
   void trip(TaskRuntime& t, const std::string& reason, bool watchdog);
@@ -311,12 +335,18 @@ class Runtime {
   // First, so destroyed last: the programs, plugins and models below run
   // code from these libraries.
   std::vector<std::shared_ptr<CellLibrary>> libraries_;
+  // Builds of an online change that switched only some tasks (a timeout):
+  // those tasks run them until the runtime goes (OnlineChange::finish).
+  std::vector<std::shared_ptr<CellLibrary>> partial_libraries_;
   std::string cell_name_;
   io::ByteOrder order_ = io::ByteOrder::Big;
   io::ProcessImage global_;
   std::vector<std::uint8_t> safe_q_;
   std::vector<std::pair<std::string, std::unique_ptr<io::Plugin>>> plugins_;
   std::vector<std::pair<std::string, std::unique_ptr<Program>>> programs_;
+  // The old programs such a partial change replaced: a reader that followed
+  // the old layout (retain) may still read them; no task runs them.
+  std::vector<std::unique_ptr<Program>> retired_programs_;
   std::map<std::string, std::string> program_types_;  // program name -> type
   // program name -> (field path -> address or device) from the config's bind:
   std::map<std::string, std::map<std::string, std::string>> program_binds_;
@@ -325,6 +355,7 @@ class Runtime {
   std::vector<TaskRuntime*> exec_order_;  // by priority, then config order
   VarRegistry vars_;
   std::vector<ScanObserver> observers_;
+  std::vector<ChangeObserver*> change_observers_;
   std::vector<ScanHooks*> hooks_;
   std::size_t whole_image_hooks_ = 0;  // hooks_ whose whole_image() is true
   bool plugins_enabled_ = true;
@@ -354,6 +385,7 @@ class Runtime {
   void hand_over_left_behind();
   clockid_t scan_thread_cpu_clock_{};  // virtual time: the thread that calls tick()
   double wall_seconds_ = 0;
+  std::string failure_;  // written by the failing watchdog thread before its stop request
 };
 
 }  // namespace plc

@@ -104,11 +104,11 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
   OnlineChange change(*rt_);
   const ChangeReport report = change.prepare(lib);
   if (!report.refused.empty()) return report.text();
-  // The retain file's next layout, built here; it switches with the last
-  // task (retain::Manager::follow).
+  // The retain file's next layout was built by prepare() (the manager
+  // follows every change: retain::Manager::follow); it switches with the
+  // last task.
   std::string retain_note;
   if (retain_) {
-    retain_->follow(change);
     retain_note =
         "  the retain file is saved in the new layout from the scan where the last task "
         "concerned switches\n";
@@ -198,9 +198,15 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     if (!change.switched()) {
       settle();
+      // Partial: the tasks that switched keep the new build, and the
+      // runtime keeps it alive for them (OnlineChange::finish).
+      change.finish();
+      if (change.partial())
+        reloaded_ = "the library changed in part at scan " + std::to_string(scan_count());
       return report.text() + dropped +
              "reload: not every task reached a scan boundary in time (a stopped or stuck "
-             "task); the tasks that did run the new code, the others run the old code on" +
+             "task); the tasks that did run the new code (until the cell stops), the others run "
+             "the old code on" +
              (retain_ ? "; the retain file keeps the old layout (its values of the tasks that "
                         "switched stay as their last scan of the old code left them)"
                       : "") +

@@ -95,7 +95,9 @@ Manager::Manager(Runtime& rt, const RetainConfig& cfg)
 }
 
 Manager::~Manager() {
-  if (started_) rt_.remove_hooks(this);
+  if (!started_) return;
+  rt_.remove_hooks(this);
+  rt_.remove_change_observer(this);
 }
 
 StartReport Manager::start(StartMode mode) {
@@ -158,6 +160,7 @@ StartReport Manager::start(StartMode mode) {
   cur_->layout.capture(-1, true, cur_->live);
   writer_.start(next);
   rt_.add_hooks(this);
+  rt_.add_change_observer(this);  // every online change from now on: follow()
   started_ = true;
   next_due_ = rt_.now();
   return r;
@@ -236,6 +239,7 @@ void Manager::retire_generations() {
 std::string Manager::stop() {
   if (!started_) return {};
   rt_.remove_hooks(this);
+  rt_.remove_change_observer(this);
   started_ = false;
   // No task runs any more: every value is where its last scan left it.
   cur_->layout.capture(-1, true, cur_->live);

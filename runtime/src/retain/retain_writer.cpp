@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "plc/retain/retain_file.hpp"
+#include "plc/thread_guard.hpp"
 
 namespace plc::retain {
 
@@ -21,11 +22,27 @@ Writer::~Writer() {
 
 void Writer::start(std::uint64_t next_sequence) {
   next_sequence_ = next_sequence;
-  thread_ = std::thread([this] { run(); });
+  thread_ = std::thread([this] {
+    // A failed writer saves nothing more until the stop: counted as a
+    // failed save, its reason the last error, so that the stop (which
+    // writes the final copy itself) says the file FAILED if that fails too,
+    // and the run's exit code is 1 (thread_failures()).
+    run_guarded(
+        "retain writer", [this] { run(); },
+        [this](std::string_view what) {
+          {
+            std::lock_guard<std::mutex> lock(mu_);
+            ++failed_;
+            last_error_ = "the writer thread failed: " + std::string(what);
+          }
+          dead_.store(true, std::memory_order_release);
+        });
+  });
 }
 
 bool Writer::offer(Slot& slot, std::span<const std::uint8_t> snapshot) {
-  if (state_.load(std::memory_order_acquire) & (kFull | kStop)) {
+  if ((state_.load(std::memory_order_acquire) & (kFull | kStop)) ||
+      dead_.load(std::memory_order_acquire)) {
     skipped_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
@@ -104,7 +121,11 @@ std::string Writer::stop(const Layout& layout, std::span<const std::uint8_t> fin
     state_.notify_all();
     thread_.join();
   }
-  return write_one(layout, final_snapshot);
+  const std::string err = write_one(layout, final_snapshot);
+  if (!err.empty() || !dead_.load(std::memory_order_acquire)) return err;
+  // The final copy is saved, but the saves of the run stopped when the
+  // thread failed: reported as a failure all the same.
+  return "the writer thread failed during the run (the final copy was saved)";
 }
 
 WriterStats Writer::stats() const {

@@ -13,23 +13,25 @@
 // counted skip while the writer is busy). Other scans only compare a time.
 //
 // Online change (plc/online_change.hpp, the debugger's `reload`) of programs
-// with retained fields: follow() builds the new build's layout (and its
-// buffers) on the calling thread, outside the scans; the layout switches,
-// by a pointer swap under the image lock, at the scan boundary where the
-// last task concerned switches its programs (OnlineChange's SwitchFollower,
-// before that task's first scan of the new code). The reading chosen for
-// several tasks: until every task concerned has switched, snapshots are
-// gathered in the old layout - a task that switched already contributes
-// the values its last scan of the old code left in the old programs (alive
-// until the change is finished, and no longer written) - so every snapshot
-// is of one layout, each task's part from one whole scan of it (switched at
-// the first task, a task whose scan was under way then would save its new
-// programs' fields before its own switch gave them their values); a snapshot
-// half gathered at the switch is dropped, and the next scan starts one in
-// the new layout. A snapshot offered before the switch and written after
-// it is written whole in its old layout (Writer::Slot). Each copy on disk
-// is self-contained and a start restores by path and type, so a crash
-// leaves the newest valid copy in one layout or the other, never a mix.
+// with retained fields - every change: the change itself tells the manager
+// (Runtime::add_change_observer) - follow() builds the new build's layout
+// (and its buffers) on the calling thread, outside the scans; the layout
+// switches, by a pointer swap under the image lock, at the scan boundary
+// where the last task concerned switches its programs (OnlineChange's
+// SwitchFollower, before that task's first scan of the new code). The
+// reading chosen for several tasks: until every task concerned has
+// switched, snapshots are gathered in the old layout - a task that switched
+// already contributes the values its last scan of the old code left in the
+// old programs (alive until the change is finished, and no longer written) -
+// so every snapshot is of one layout, each task's part from one whole scan
+// of it (switched at the first task, a task whose scan was under way then
+// would save its new programs' fields before its own switch gave them their
+// values); a snapshot half gathered at the switch is dropped, and the next
+// scan starts one in the new layout. A snapshot offered before the switch
+// and written after it is written whole in its old layout (Writer::Slot).
+// Each copy on disk is self-contained and a start restores by path and
+// type, so a crash leaves the newest valid copy in one layout or the other,
+// never a mix.
 #pragma once
 
 #include <cstdint>
@@ -81,7 +83,7 @@ struct StartReport {
   [[nodiscard]] std::string headline() const;
 };
 
-class Manager : public ScanHooks, public SwitchFollower {
+class Manager : public ScanHooks, public SwitchFollower, public ChangeObserver {
  public:
   Manager(Runtime& rt, const RetainConfig& cfg);
   ~Manager() override;
@@ -98,10 +100,12 @@ class Manager : public ScanHooks, public SwitchFollower {
   // this thread. "" or the error.
   std::string stop();
 
-  // Online change: after change.prepare() succeeded and before it is
-  // committed, builds the layout of the registry the change will leave
+  // Online change (ChangeObserver): from start() to stop() the manager is
+  // registered with the runtime, and OnlineChange::prepare() calls this
+  // for every change, once it can be applied and before it is committed:
+  // it builds the layout of the registry the change will leave
   // (OnlineChange::next_vars) and follows the change (see the top).
-  void follow(OnlineChange& change);
+  void follow(OnlineChange& change) override;
 
   // The layout the scans save in now (not while tasks run: it may switch).
   [[nodiscard]] const Layout& layout() const { return cur_->layout; }

@@ -99,7 +99,8 @@ class Writer {
   std::atomic<std::uint32_t> state_{0};
   std::atomic<std::uint64_t> offered_{0}, skipped_{0};
   std::atomic<std::int64_t> write_lead_ns_{0};
-  mutable std::mutex mu_;  // the fields below (writer side, read by stats())
+  std::atomic<bool> dead_{false};  // the thread failed (plc/thread_guard.hpp)
+  mutable std::mutex mu_;          // the fields below (writer side, read by stats())
   std::uint64_t written_ = 0, unchanged_ = 0, failed_ = 0, sequence_ = 0, next_sequence_ = 1;
   std::string last_error_;
   std::function<void()> before_write_;
