@@ -323,7 +323,7 @@ int run_plcrun(int argc, char** argv, bool& running) {
   }
   // Where the run's results go must be writable before the cell starts, not
   // found out when the run is over.
-  for (const char* opt : {"stats-json", "trace", "record"}) {
+  for (const char* opt : {"stats-json", "trace", "record", "results-json"}) {
     if (!vm.count(opt)) continue;
     const std::string f = vm[opt].as<std::string>();
     if (const std::string why = writable_file_problem(f); !why.empty()) {

@@ -90,6 +90,11 @@ TEST(PlcrunCli, OutputFilesThatCannotBeWrittenAreRefusedBeforeTheRun) {
        "the folder '/nonexistent-softplc' does not exist"},
       {"--record /nonexistent-softplc/r.plcrec",
        "the folder '/nonexistent-softplc' does not exist"},
+      // --checks' verdict (scenario campaigns): refused before the checks are
+      // even read, so any campaign file does here.
+      {"--checks " + plctest::source_path("programs/filling_cell/campaign/filling_campaign.yaml") +
+           " --results-json /nonexistent-softplc/r.json",
+       "the folder '/nonexistent-softplc' does not exist"},
   };
   for (const auto& [args, why] : cases) {
     const std::string cmd = plctest::plcrun_path() + " " + demo() + " --cycles 10 -q " + args;
