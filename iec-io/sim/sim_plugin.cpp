@@ -2,6 +2,7 @@
 
 #include <time.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "plc/io/device_peers.hpp"
@@ -111,24 +112,33 @@ void SimPlugin::run_realtime() {
   }
 }
 
+namespace {
+// A device may have no inputs or no outputs (a plant that only writes into
+// another device): an empty span's data() is null, which memcpy must not
+// get even for 0 bytes (UBSan); copy_n takes it.
+void copy_bytes(std::span<const std::uint8_t> src, std::span<std::uint8_t> dst) {
+  std::copy_n(src.data(), std::min(src.size(), dst.size()), dst.data());
+}
+}  // namespace
+
 void SimPlugin::latch_inputs(std::size_t device, std::span<std::uint8_t> dst) {
   auto src = devices_[device]->inputs();
   if (!locking_) {
-    std::memcpy(dst.data(), src.data(), std::min(src.size(), dst.size()));
+    copy_bytes(src, dst);
     return;
   }
   std::lock_guard<std::mutex> lock(mutex_);
-  std::memcpy(dst.data(), src.data(), std::min(src.size(), dst.size()));
+  copy_bytes(src, dst);
 }
 
 void SimPlugin::publish_outputs(std::size_t device, std::span<const std::uint8_t> src) {
   auto dst = devices_[device]->outputs();
   if (!locking_) {
-    std::memcpy(dst.data(), src.data(), std::min(src.size(), dst.size()));
+    copy_bytes(src, dst);
     return;
   }
   std::lock_guard<std::mutex> lock(mutex_);
-  std::memcpy(dst.data(), src.data(), std::min(src.size(), dst.size()));
+  copy_bytes(src, dst);
 }
 
 SimDevice* SimPlugin::device(const std::string& name) {

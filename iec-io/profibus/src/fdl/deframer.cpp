@@ -8,7 +8,7 @@ namespace plc::profibus::fdl {
 void Deframer::push(std::span<const std::uint8_t> bytes) {
   const std::size_t room = buf_.size() - size_;
   const std::size_t n = std::min(room, bytes.size());
-  std::memcpy(buf_.data() + size_, bytes.data(), n);
+  std::copy_n(bytes.data(), n, buf_.data() + size_);  // n may be 0 with a null data()
   size_ += n;
   dropped_ += bytes.size() - n;
 }
