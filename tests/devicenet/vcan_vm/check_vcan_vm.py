@@ -361,11 +361,12 @@ def main():
 
     # The trace (rows where a traced value changed). The frames were injected
     # from 3 s after both devices came on line until the slaves were
-    # silenced, the first time the conveyor's Valid drops: about 8 s, and a
-    # container takes 3.2-4 s (index 0.8 s, fill, settle), so 2 by then
-    # means the cell filled on while the frames arrived (a loaded host
-    # stretches the VM's scenario and gives more). Valid's first rise is the
-    # start-up, not a return: returns are counted after the first drop.
+    # silenced, the first time the conveyor's Valid drops: 6 s on an idle
+    # host, more on a loaded one that stretches the VM's scenario. The first
+    # container is done about 3.3 s after the devices came on line, inside
+    # that window, so at least 1 by then means the cell filled on while the
+    # frames arrived. Valid's first rise is the start-up, not a return:
+    # returns are counted after the first drop.
     # After the last recovery the cell resets the drive (fault 18) and
     # indexes again (step 2); the simulated PR5510 closes its feed valves
     # while its master is away, so the cell also fills on afterwards.
@@ -383,7 +384,7 @@ def main():
                 "trace: the conveyor's Valid dropped twice and came back twice",
                 f"{len(drops)} drops, {len(backs)} returns")
         if drops:
-            c.check(int(drops[0][cont]) >= 2, "trace: containers filled while the frames were injected",
+            c.check(int(drops[0][cont]) >= 1, "trace: containers filled while the frames were injected",
                     f"{drops[0][cont]} containers when the slaves were silenced")
         if backs:
             after = [r for r in rows[1:] if int(r[0]) > int(backs[-1][0])]
