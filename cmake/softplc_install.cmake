@@ -52,8 +52,12 @@ set(CPACK_DEBIAN_PACKAGE_SECTION devel)
 # Run-time libraries from the Debian archive (dpkg-shlibdeps finds them),
 # and what a cell project needs to build against the headers.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "libboost-dev (>= 1.74), cmake (>= 3.25), g++ (>= 4:12)")
-# The cell template's test uses GoogleTest.
-set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "libgtest-dev, ninja-build")
+# plcsweep (bin/plcsweep) is Python: campaign files need python3-yaml.
+set(CPACK_DEBIAN_PACKAGE_DEPENDS
+    "libboost-dev (>= 1.74), cmake (>= 3.25), g++ (>= 4:12), python3, python3-yaml")
+# The cell template's test uses GoogleTest; plcsweep's report matplotlib,
+# its Dask executor (and a machine that is a Dask worker) python3-distributed.
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS
+    "libgtest-dev, ninja-build, python3-matplotlib, python3-distributed")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 include(CPack)

@@ -2,7 +2,11 @@
 
 #include <time.h>
 
+#include <algorithm>
 #include <cstring>
+
+#include "plc/io/device_peers.hpp"
+#include "plc/thread_guard.hpp"
 
 namespace plc::io {
 
@@ -23,15 +27,53 @@ DeviceSizes SimPlugin::add_device(const DeviceSpec& spec) {
       known += (known.empty() ? "" : ", ") + n;
     throw ParamError("model", "unknown device model '" + spec.model + "' (known: " + known + ")");
   }
+  // The link fault switch is the plugin's, not the model's: read (and so
+  // marked used) before the model rejects keys it does not know.
+  constexpr TIME kForever = std::chrono::hours(24 * 365 * 100);
+  TIME down_at{-1};
+  TIME down_for = kForever;
+  if (spec.params.has("link_down_at"))
+    down_at = spec.params.get_time("link_down_at", TIME(0), TIME(0), kForever);
+  if (spec.params.has("link_down_for")) {
+    if (!spec.params.has("link_down_at"))
+      throw ParamError("link_down_for",
+                       "link_down_for needs link_down_at (when the link goes down)");
+    down_for = spec.params.get_time("link_down_for", kForever, TIME(1), kForever);
+  }
   auto model = (*f)(spec.params);
+  // A coupled model (plc/io/device_peers.hpp) sees the devices added before
+  // it: step() runs them first, so it reads what they delivered this step.
+  if (auto* coupled = dynamic_cast<PeerCoupledModel*>(model.get())) {
+    class Earlier final : public DevicePeers {
+     public:
+      explicit Earlier(SimPlugin& p) : p_(p) {}
+      std::optional<Peer> find(std::string_view name) const override {
+        for (std::size_t i = 0; i < p_.names_.size(); ++i)
+          if (p_.names_[i] == name)
+            return Peer{p_.devices_[i]->inputs(), p_.devices_[i]->outputs()};
+        return std::nullopt;
+      }
+      std::vector<std::string> names() const override { return p_.names_; }
+
+     private:
+      SimPlugin& p_;
+    };
+    coupled->bind_peers(Earlier(*this));
+  }
   devices_.push_back(std::make_unique<SimDevice>(std::move(model)));
+  devices_.back()->set_link_down(down_at, down_for);
   names_.push_back(spec.name);
   return {devices_.back()->inputs().size(), devices_.back()->outputs().size()};
 }
 
 void SimPlugin::start(ClockMode mode) {
+  locking_ = mode == ClockMode::RealTime;
   if (mode == ClockMode::RealTime && !running_.exchange(true)) {
-    thread_ = std::thread([this] { run_realtime(); });
+    thread_ = std::thread([this] {
+      run_guarded(
+          "sim plugin", [this] { run_realtime(); },
+          [this](std::string_view what) { fail("sim plugin", what, devices_.size()); });
+    });
   }
 }
 
@@ -70,16 +112,33 @@ void SimPlugin::run_realtime() {
   }
 }
 
+namespace {
+// A device may have no inputs or no outputs (a plant that only writes into
+// another device): an empty span's data() is null, which memcpy must not
+// get even for 0 bytes (UBSan); copy_n takes it.
+void copy_bytes(std::span<const std::uint8_t> src, std::span<std::uint8_t> dst) {
+  std::copy_n(src.data(), std::min(src.size(), dst.size()), dst.data());
+}
+}  // namespace
+
 void SimPlugin::latch_inputs(std::size_t device, std::span<std::uint8_t> dst) {
-  std::lock_guard<std::mutex> lock(mutex_);
   auto src = devices_[device]->inputs();
-  std::memcpy(dst.data(), src.data(), std::min(src.size(), dst.size()));
+  if (!locking_) {
+    copy_bytes(src, dst);
+    return;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  copy_bytes(src, dst);
 }
 
 void SimPlugin::publish_outputs(std::size_t device, std::span<const std::uint8_t> src) {
-  std::lock_guard<std::mutex> lock(mutex_);
   auto dst = devices_[device]->outputs();
-  std::memcpy(dst.data(), src.data(), std::min(src.size(), dst.size()));
+  if (!locking_) {
+    copy_bytes(src, dst);
+    return;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  copy_bytes(src, dst);
 }
 
 SimDevice* SimPlugin::device(const std::string& name) {

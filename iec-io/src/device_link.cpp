@@ -15,8 +15,11 @@ const char* to_string(DeviceState s) {
 }
 
 namespace {
-thread_local int tl_owner = -1;
-}
+// Initial-exec: a scan sets it three times, and the general-dynamic model
+// of a shared library would make each a call to __tls_get_addr. This
+// library is loaded with the program (never dlopen'ed on its own).
+thread_local int tl_owner __attribute__((tls_model("initial-exec"))) = -1;
+}  // namespace
 
 void DeviceLink::set_current_owner(int owner) { tl_owner = owner; }
 
@@ -38,7 +41,10 @@ bool DeviceLink::submit(RecordRequest& r) {
   r.mark_queued();
   ring_[(head_ + count_) % kQueueDepth] = &r;
   ++count_;
-  if (deferred_) tracked_[tracked_n_++] = &r;  // room checked above
+  if (deferred_) {
+    tracked_[tracked_n_++] = &r;  // room checked above
+    tracking_.store(true, std::memory_order_release);
+  }
   unlock();
   return true;
 }
@@ -61,6 +67,7 @@ void DeviceLink::untrack(const RecordRequest* r) {
   for (std::size_t i = 0; i < tracked_n_; ++i)
     if (tracked_[i] != r) tracked_[keep++] = tracked_[i];
   tracked_n_ = keep;
+  tracking_.store(keep != 0, std::memory_order_release);
   unlock();
 }
 

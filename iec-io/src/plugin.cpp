@@ -1,10 +1,25 @@
 #include "plc/io/plugin.hpp"
 
+#include "plc/thread_guard.hpp"
+
 namespace plc::io {
 
 std::string Plugin::diagnostics(std::size_t device) const {
   return std::string(to_string(const_cast<Plugin*>(this)->link(device).live_state()));
 }
+
+void Plugin::fail(std::string_view thread, std::string_view what, std::size_t devices) noexcept {
+  if (failing_.exchange(true)) return;
+  try {
+    failure_ = std::string(thread) + " failed: " + std::string(what);
+  } catch (...) {
+    // No memory for the text: the state still says it.
+  }
+  failed_.store(true, std::memory_order_release);
+  for (std::size_t i = 0; i < devices; ++i) link(i).set_state(DeviceState::Fault);
+}
+
+std::string Plugin::failure() const { return failed() ? failure_ : std::string(); }
 
 PluginRegistry& PluginRegistry::instance() {
   static PluginRegistry r;

@@ -11,22 +11,6 @@ void ProcessImage::resize(const ImageSizes& s) {
   m_.assign(s.memory, 0);
 }
 
-std::span<std::uint8_t> ProcessImage::area(Area a) {
-  switch (a) {
-    case Area::Input:
-      return i_;
-    case Area::Output:
-      return q_;
-    case Area::Memory:
-      return m_;
-  }
-  return {};
-}
-
-std::span<const std::uint8_t> ProcessImage::area(Area a) const {
-  return const_cast<ProcessImage*>(this)->area(a);
-}
-
 bool ProcessImage::contains(const IecAddress& a) const {
   return std::size_t(a.byte) + a.width_bytes() <= area(a.area).size();
 }

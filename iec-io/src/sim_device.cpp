@@ -13,9 +13,9 @@ SimDevice::SimDevice(std::unique_ptr<DeviceModel> model)
   link_.set_state(model_->answering() ? DeviceState::Online : DeviceState::Offline);
 }
 
-void SimDevice::serve_records() {
+void SimDevice::serve_records(bool reachable) {
   while (RecordRequest* r = link_.pop()) {
-    if (!model_->answering()) {
+    if (!reachable || !model_->answering()) {
       r->fail(RecordError::NotReachable);
       continue;
     }
@@ -44,7 +44,17 @@ void SimDevice::serve_records() {
 }
 
 void SimDevice::step(TIME now, TIME dt) {
-  serve_records();
+  const bool down = link_down(now);
+  serve_records(!down);
+  if (down) {
+    // The cut link: no new request reaches the model, no answer the PLC.
+    if (!was_down_) outputs_at_cut_ = outputs_;
+    was_down_ = true;
+    model_->step(now, dt, outputs_at_cut_, silent_sink_);
+    link_.set_state(DeviceState::Offline);
+    return;
+  }
+  was_down_ = false;
   if (model_->answering()) {
     model_->step(now, dt, outputs_, inputs_);
     link_.set_state(DeviceState::Online);

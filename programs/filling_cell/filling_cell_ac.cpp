@@ -37,15 +37,31 @@ void FillingCellAc::cycle(const ScanContext& ctx) {
         step = Step::WaitReady;
       }
       break;
-    case Step::Fault:
+    case Step::Fault: {
       // A drive fault (e.g. 18 after a lost connection) is reset once the
-      // drive is reachable again; then the cell starts over.
-      conveyor.FaultReset = conveyor.Valid && conveyor.Faulted;
+      // drive is reachable again; then the cell starts over. A reset pulse
+      // the drive never saw (it fell between two late polls) leaves the
+      // fault standing, and a request held high makes no new edge: when
+      // the fault is still there reset_pause after the pulse, the request
+      // drops for one scan and rises again (a new pulse), at most
+      // reset_retries times. Then the cell waits in Fault for the operator
+      // (run off and on again grants new retries).
+      const bool faulted = conveyor.Valid && conveyor.Faulted;
+      reset_wait(ctx, faulted && conveyor.FaultReset && !conveyor.ResetActive, reset_pause);
+      if (!run) reset_attempts = 0;
+      if (reset_wait.Q) {
+        conveyor.FaultReset = false;
+        ++reset_attempts;
+      } else {
+        conveyor.FaultReset = faulted && reset_attempts <= reset_retries;
+      }
       if (ok && !conveyor.ResetActive) {
         conveyor.FaultReset = false;
+        reset_attempts = 0;
         step = Step::WaitReady;
       }
       break;
+    }
   }
   if (!ok && step != Step::Fault && step != Step::Fill) step = Step::WaitReady;
   index_timer.IN = step == Step::Index;

@@ -30,6 +30,8 @@ class FillingCellAc : public ProgramBase<FillingCellAc> {
   LREAL belt_speed = 900;  // r/min
   TIME index_time = std::chrono::milliseconds(800);
   REAL target_kg = 20.0F;
+  TIME reset_pause = std::chrono::seconds(1);  // a drive fault still there after a reset: retry
+  DINT reset_retries = 3;                      // ... this many times, then wait for the operator
 
   // Devices and blocks.
   acdrive::AcDrive conveyor;
@@ -43,12 +45,15 @@ class FillingCellAc : public ProgramBase<FillingCellAc> {
   DINT containers = 0;
   WORD last_error = 0;
   iec::R_TRIG fault_edge;
+  iec::TON reset_wait;      // the fault outlasts the reset pulse
+  DINT reset_attempts = 0;  // retries of the fault reset since the fault
 
   FillingCellAc();
   void cycle(const ScanContext& ctx) override;
 
-  PLC_REFLECT(run, belt_speed, index_time, target_kg, conveyor, scale, dose, guard, index_timer,
-              step, containers, last_error, fault_edge)
+  PLC_REFLECT(run, belt_speed, index_time, target_kg, reset_pause, reset_retries, conveyor, scale,
+              dose, guard, index_timer, step, containers, last_error, fault_edge, reset_wait,
+              reset_attempts)
   PLC_RETAIN(containers)
 };
 

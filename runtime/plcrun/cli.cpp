@@ -17,6 +17,7 @@
 #include <thread>
 #include <vector>
 
+#include "checks.hpp"
 #include "debug_console.hpp"
 #include "new_cell.hpp"
 #include "plc/cell_config.hpp"
@@ -28,6 +29,7 @@
 #include "plc/profinet/controller/dcp_tool.hpp"
 #include "plc/retain/retain_manager.hpp"
 #include "plc/runtime.hpp"
+#include "plc/thread_guard.hpp"
 
 namespace plc {
 namespace {
@@ -157,10 +159,13 @@ class StatusLine {
   std::chrono::steady_clock::time_point t0_, last_{};
 };
 
-void print_summary(const Runtime& rt) {
+// `retained`: how the run started from the retain file (none: no retain).
+void print_summary(const Runtime& rt, const retain::StartReport* retained) {
   const double sim = std::chrono::duration<double>(rt.now()).count();
   std::printf("== summary: cell '%s', %s time ==\n", rt.cell_name().c_str(),
               rt.mode() == io::ClockMode::Virtual ? "virtual" : "real");
+  // First, so that a warm start that fell back to a cold one is not missed.
+  if (retained) std::printf("retain: %s\n", retained->headline().c_str());
   std::printf("simulated time: %.3f s   wall time: %.3f s", sim, rt.wall_seconds());
   if (rt.mode() == io::ClockMode::Virtual && rt.wall_seconds() > 0)
     std::printf("   virtual-to-real speed: %.0fx", sim / rt.wall_seconds());
@@ -183,10 +188,14 @@ void print_summary(const Runtime& rt) {
   }
   // Per device, its plugin's own account: state and counters (the
   // DeviceNet scanner: allocations, polls, timeouts, bad frames, bus state).
+  // A plugin whose thread failed says so first.
   for (const auto& d : rt.devices())
     if (d.plugin)
-      std::printf("device %-10s (%s): %s\n", d.name.c_str(), d.plugin_name.c_str(),
+      std::printf("device %-10s (%s): %s%s\n", d.name.c_str(), d.plugin_name.c_str(),
+                  d.plugin->failed() ? ("FAILED (" + d.plugin->failure() + "); ").c_str() : "",
                   d.plugin->diagnostics(d.index).c_str());
+  if (!rt.failure().empty())
+    std::printf("STOPPED: %s; outputs at their safe values\n", rt.failure().c_str());
 }
 
 // --print-vars: the chosen variables' values after the last scan.
@@ -201,6 +210,10 @@ void print_final_values(const Runtime& rt, const std::string& paths) {
 
 // A controlled stop saves the last state (the scans are over) and says
 // what the writer did. False when the final save failed.
+// Thrown from the debugger's first build when the retain start is refused
+// (every copy damaged, on_damage_policy says stop): the cell must not run.
+struct RetainRefused {};
+
 bool report_retain_stop(retain::Manager& retained) {
   const std::string err = retained.stop();
   const retain::WriterStats st = retained.stats();
@@ -235,13 +248,16 @@ int run_plcrun(int argc, char** argv, bool& running) {
     ("trace-trigger", po::value<std::string>()->value_name("CONDITION"), "start tracing when this condition holds, e.g. 'Tank.step = 3'")
     ("trace-pre", po::value<std::size_t>()->value_name("ROWS"), "rows kept from before the trigger (default 0)")
     ("stats-json", po::value<std::string>()->value_name("FILE"), "write per-task statistics as JSON at the end")
+    ("checks", po::value<std::string>()->value_name("FILE"), "evaluate the checks in FILE (always:, at_end:, eventually:) during the run; exit code 3 when one of severity error fails")
+    ("results-json", po::value<std::string>()->value_name("FILE"), "with --checks: write the checks' verdict, the outputs' final values and a digest of the cell's state as JSON")
     ("list-vars", "print every variable path with its type (and address; 'read-only' for a block's internal state; 'retain' or 'persistent'), then exit")
     ("print-vars", po::value<std::string>()->value_name("PATH,..."), "print these variables' final values after the summary: PATH,PATH,...")
     ("debug", "open the debugger console (pause, step, break, watch, force, trace, goto ...)")
     ("commands", po::value<std::string>()->value_name("FILE"), "run debugger commands from FILE (then the console if --debug)")
     ("record", po::value<std::string>()->value_name("FILE"), "record every scan's device inputs into FILE (for --replay)")
     ("replay", po::value<std::string>()->value_name("FILE"), "replay a recording instead of the devices, checking the outputs")
-    ("warm", "warm start: RETAIN and PERSISTENT variables from the retain file (the default when a valid one exists)")
+    ("warm", "warm start: RETAIN and PERSISTENT variables from the retain file; refused when every copy is damaged (unless on_damage: cold)")
+    ("warm-or-cold", "warm start when a valid retain file exists, else cold, also when every copy is damaged (the default, whatever on_damage says)")
     ("cold", "cold start: only PERSISTENT variables from the retain file, everything else initial")
     ("reset-retain", "remove the retain file first: every variable at its initial value")
     ("quiet,q", "no live status line")
@@ -305,6 +321,16 @@ int run_plcrun(int argc, char** argv, bool& running) {
       return 2;
     }
   }
+  // Where the run's results go must be writable before the cell starts, not
+  // found out when the run is over.
+  for (const char* opt : {"stats-json", "trace", "record", "results-json"}) {
+    if (!vm.count(opt)) continue;
+    const std::string f = vm[opt].as<std::string>();
+    if (const std::string why = writable_file_problem(f); !why.empty()) {
+      std::cerr << "plcrun: --" << opt << ": cannot write '" << f << "': " << why << "\n";
+      return 2;
+    }
+  }
   if (vm.count("virtual") && vm.count("realtime")) {
     std::cerr << "plcrun: --virtual and --realtime exclude each other\n";
     return 2;
@@ -313,16 +339,22 @@ int run_plcrun(int argc, char** argv, bool& running) {
     std::cerr << "plcrun: --cycles and --for exclude each other\n";
     return 2;
   }
+  if (vm.count("results-json") && !vm.count("checks")) {
+    std::cerr << "plcrun: --results-json goes with --checks\n";
+    return 2;
+  }
   if (vm.count("trace") != vm.count("trace-vars")) {
     std::cerr << "plcrun: --trace and --trace-vars go together\n";
     return 2;
   }
 
-  if (vm.count("warm") + vm.count("cold") + vm.count("reset-retain") > 1) {
-    std::cerr << "plcrun: --warm, --cold and --reset-retain exclude each other\n";
+  const std::size_t start_modes =
+      vm.count("warm") + vm.count("warm-or-cold") + vm.count("cold") + vm.count("reset-retain");
+  if (start_modes > 1) {
+    std::cerr << "plcrun: --warm, --warm-or-cold, --cold and --reset-retain exclude each other\n";
     return 2;
   }
-  const bool start_mode_given = vm.count("warm") || vm.count("cold") || vm.count("reset-retain");
+  const bool start_mode_given = start_modes > 0;
 
   std::unique_ptr<Runtime> rt;
   io::ClockMode mode = io::ClockMode::Virtual;
@@ -390,7 +422,8 @@ int run_plcrun(int argc, char** argv, bool& running) {
   }
 
   if (start_mode_given && !cfg.retain.present) {
-    std::cerr << "plcrun: --warm/--cold/--reset-retain: the config has no 'retain:' section\n";
+    std::cerr << "plcrun: --warm/--warm-or-cold/--cold/--reset-retain: the config has no 'retain:' "
+                 "section\n";
     return 2;
   }
   // A cell with an `hmi:` section runs as a debugger session (the bridge's
@@ -413,17 +446,33 @@ int run_plcrun(int argc, char** argv, bool& running) {
                  "a --debug or --commands session use the debugger's print (print NAME...)\n";
     return 2;
   }
-  if (start_mode_given && (vm.count("replay") || console)) {
-    // A replay and a console session (goto and restart re-run from the
-    // start) need the initial values; they neither load nor save retain data.
-    std::cerr << "plcrun: --warm/--cold/--reset-retain apply to a plain run or a cell with an "
-                 "hmi: section, not to --replay, --debug or --commands\n";
+  // A replay and a console session in virtual time (goto and restart re-run
+  // from the start) need the initial values; they neither load nor save
+  // retain data. In real time goto and restart are refused: a console
+  // session there never rebuilds its runtime, and keeps retain as a plain
+  // run does (so that an online change, `reload`, can carry it).
+  const bool virtual_console = console && mode == io::ClockMode::Virtual;
+  if (start_mode_given && (vm.count("replay") || virtual_console)) {
+    std::cerr << "plcrun: --warm/--warm-or-cold/--cold/--reset-retain apply to a plain run, a "
+                 "cell with an hmi: section or a real-time debugger session, not to --replay or a "
+                 "virtual-time --debug or --commands session\n";
     return 2;
+  }
+  // Whether this run loads and saves retain data: its file must be
+  // writable before anything starts, not at the first save.
+  const bool uses_retain = cfg.retain.present && !vm.count("replay") && !virtual_console;
+  if (uses_retain) {
+    try {
+      retain::check_file(cfg);
+    } catch (const ConfigError& e) {
+      std::cerr << e.what() << "\n";
+      return 2;
+    }
   }
   // An HMI alone (no console) never rebuilds the runtime (the bridge has no
   // goto or restart): retain is loaded and saved exactly as in a plain run.
-  const bool hmi_retain = hmi && !console && cfg.retain.present && !vm.count("replay");
   const retain::StartMode start_mode = vm.count("warm")           ? retain::StartMode::Warm
+                                       : vm.count("warm-or-cold") ? retain::StartMode::WarmOrCold
                                        : vm.count("cold")         ? retain::StartMode::Cold
                                        : vm.count("reset-retain") ? retain::StartMode::Reset
                                                                   : retain::StartMode::Auto;
@@ -434,6 +483,14 @@ int run_plcrun(int argc, char** argv, bool& running) {
   }
   if (vm.count("replay") && vm.count("record")) {
     std::cerr << "plcrun: --replay and --record exclude each other\n";
+    return 2;
+  }
+
+  if (vm.count("checks") && (console || hmi)) {
+    // A session can goto and restart: its run has no single verdict. A
+    // failure found by --checks is stepped to with goto in a --replay session.
+    std::cerr << "plcrun: --checks applies to a plain run or a --replay, not to --debug, "
+                 "--commands or a cell with an hmi: section\n";
     return 2;
   }
 
@@ -452,27 +509,37 @@ int run_plcrun(int argc, char** argv, bool& running) {
         return 2;
       }
     }
-    if (cfg.retain.present && !hmi_retain)
+    if (cfg.retain.present && !uses_retain)
       std::fprintf(stderr,
-                   "plcrun: retain: not loaded or saved in a debugger session (every variable "
-                   "starts at its initial value; goto re-runs from them)\n");
+                   "plcrun: retain: not loaded or saved in a virtual-time debugger session or a "
+                   "replay (every variable starts at its initial value; goto re-runs from "
+                   "them)\n");
     rt.reset();  // the debugger builds (and for goto rebuilds) its own
     debug::Debugger::Options o;
     o.mode = mode;
     o.span = span;
     if (vm.count("replay")) o.replay_file = vm["replay"].as<std::string>();
     if (vm.count("record")) o.record_file = vm["record"].as<std::string>();
+    retain::StartReport retain_start;
     o.on_build = [&, b = bridge.get()](Runtime& r) {
-      if (b) b->attach(r);
-      if (hmi_retain && !retained) {  // the first (and only) build: before its first scan
+      if (uses_retain && !retained) {  // the first (and only) build: before its first scan
         retained = std::make_unique<retain::Manager>(r, cfg.retain);
-        for (const auto& line : retained->start(start_mode).lines())
+        retain_start = retained->start(start_mode);
+        for (const auto& line : retain_start.lines())
           std::fprintf(stderr, "plcrun: retain: %s\n", line.c_str());
+        // Before the runtime starts (Debugger::build): no scan runs.
+        if (retain_start.refused) throw RetainRefused();
+        if (b && retain_start.fell_back())
+          b->add_start_alarm("retain_cold_start", "retain", retain_start.headline());
       }
+      // After the retain start: the layout the bridge gets carries its alarm.
+      if (b) b->attach(r);
     };
     std::unique_ptr<debug::Debugger> dbg;
     try {
       dbg = std::make_unique<debug::Debugger>([&cfg] { return std::make_unique<Runtime>(cfg); }, o);
+    } catch (const RetainRefused&) {
+      return 1;
     } catch (const debug::RecordingError& e) {
       std::cerr << "plcrun: " << e.what() << "\n";
       return 1;
@@ -486,10 +553,13 @@ int run_plcrun(int argc, char** argv, bool& running) {
       std::unique_ptr<retain::Manager>& m;
       ~ResetRetain() { m.reset(); }
     } reset_retain{retained};
+    // `reload` switches the retain file's layout with the programs.
+    dbg->set_retain(retained.get());
     // After the last scan (Debugger::stop_cell): the final save, as a plain
     // run does. False when it failed.
-    auto finish_retain = [&retained] {
+    auto finish_retain = [&retained, &dbg] {
       if (!retained) return true;
+      dbg->set_retain(nullptr);
       const bool ok = report_retain_stop(*retained);
       retained.reset();
       return ok;
@@ -548,7 +618,7 @@ int run_plcrun(int argc, char** argv, bool& running) {
         dbg->stop_cell();
         retain_failed = !finish_retain();
         std::fflush(stdout);
-        print_summary(dbg->runtime());
+        print_summary(dbg->runtime(), uses_retain ? &retain_start : nullptr);
         if (bridge)
           for (const auto& line : bridge->summary()) std::printf("hmi: %s\n", line.c_str());
         if (vm.count("print-vars"))
@@ -556,6 +626,8 @@ int run_plcrun(int argc, char** argv, bool& running) {
       }
     } else if (!run_debug_session(*dbg, file, g_console)) {
       std::cerr << "plcrun: cannot read command file '" << file << "'\n";
+      dbg->stop_cell();  // a real-time cell runs already: stop it before its retain goes
+      finish_retain();
       g_debugger = nullptr;
       return 2;
     }
@@ -569,15 +641,21 @@ int run_plcrun(int argc, char** argv, bool& running) {
     }
     const int sig = g_end_signal.load();
     if (sig == 0) {
+      if (retained) {  // a real-time console session that ended (quit, end of the file)
+        if (bridge) bridge->stop();
+        dbg->stop_cell();
+        retain_failed = !finish_retain();
+      }
       g_debugger = nullptr;
-      return recording_failed || retain_failed ? 1 : 0;
+      // A thread that failed fails the session (plc/thread_guard.hpp).
+      return recording_failed || retain_failed || thread_failures() > 0 ? 1 : 0;
     }
     // Ended by a signal: like a run, every output safe, then the summary.
     if (bridge) bridge->stop();  // no command may reach the cell while it stops
     dbg->stop_cell();
     finish_retain();
     std::fflush(stdout);
-    print_summary(dbg->runtime());
+    print_summary(dbg->runtime(), uses_retain ? &retain_start : nullptr);
     if (bridge)
       for (const auto& line : bridge->summary()) std::printf("hmi: %s\n", line.c_str());
     if (vm.count("print-vars"))  // only an HMI session gets here with it
@@ -609,10 +687,24 @@ int run_plcrun(int argc, char** argv, bool& running) {
 
   // A replay needs the initial values the recording started from.
   std::unique_ptr<retain::Manager> retained;
-  if (cfg.retain.present && !replayer) {
+  retain::StartReport retain_start;
+  if (uses_retain) {
     retained = std::make_unique<retain::Manager>(*rt, cfg.retain);
-    for (const auto& line : retained->start(start_mode).lines())
+    retain_start = retained->start(start_mode);
+    for (const auto& line : retain_start.lines())
       std::fprintf(stderr, "plcrun: retain: %s\n", line.c_str());
+    if (retain_start.refused) return 1;  // nothing has started
+  }
+
+  std::unique_ptr<ScenarioChecks> checks;
+  if (vm.count("checks")) {
+    try {
+      checks =
+          std::make_unique<ScenarioChecks>(*rt, load_checks_file(vm["checks"].as<std::string>()));
+    } catch (const ConfigError& e) {
+      std::cerr << e.what() << "\n";
+      return 2;
+    }
   }
 
   std::unique_ptr<debug::Trace> trace;
@@ -700,12 +792,39 @@ int run_plcrun(int argc, char** argv, bool& running) {
   g_runtime = nullptr;
   if (retained && !report_retain_stop(*retained)) rc = 1;
   if (status) status->done();
-  if (trace) trace->stop();
-  print_summary(*rt);
+  if (trace) {
+    trace->stop();
+    if (const std::string err = trace->error(); !err.empty()) {
+      std::fprintf(stderr, "plcrun: trace into %s FAILED: %s\n",
+                   vm["trace"].as<std::string>().c_str(), err.c_str());
+      rc = 1;
+    }
+  }
+  print_summary(*rt, retained ? &retain_start : nullptr);
   if (vm.count("print-vars")) print_final_values(*rt, vm["print-vars"].as<std::string>());
   if (rt->stop_requested()) std::printf("stopped by signal; outputs at their safe values\n");
   for (const auto& t : rt->tasks())
     if (!t->stats.snapshot().stop_reason.empty()) rc = 1;
+  // A thread that failed (a plugin's, a writer's, the watchdog, the HMI
+  // bridge: plc/thread_guard.hpp) fails the run.
+  if (thread_failures() > 0) rc = 1;
+  if (checks) {
+    checks->finish();
+    std::string stop_reason = rt->stop_requested() ? "signal" : "";
+    for (const auto& t : rt->tasks())
+      if (const std::string r = t->stats.snapshot().stop_reason; !r.empty() && stop_reason.empty())
+        stop_reason = r;
+    std::fputs(checks->failures_text().c_str(), stdout);
+    if (vm.count("results-json")) {
+      std::ofstream f(vm["results-json"].as<std::string>());
+      f << checks->json(stop_reason);
+      if (!f.flush()) {
+        std::cerr << "plcrun: cannot write " << vm["results-json"].as<std::string>() << "\n";
+        return 1;
+      }
+    }
+    if (rc == 0 && !checks->passed()) rc = 3;
+  }
   if (vm.count("stats-json")) {
     std::ofstream f(vm["stats-json"].as<std::string>());
     if (!f) {

@@ -95,18 +95,58 @@ class Loader {
     return {*i, s.mark};
   }
 
+  // A model's parameters. Nested mappings are flattened into dotted keys
+  // (`u1: {type: INT}` gives "u1.type", with the mark of `type`); a list of
+  // values, or of lists of values, arrives as its flow text ("[1, 2]",
+  // "[[1, 0], [0, 1]]") for ModelParams::get_list/get_matrix.
   Params params(const YAML::Node& v, const std::string& key) const {
     Params p;
     p.mark = mark_of(v);
     p.values.set_folder(folder_);  // a file parameter (gsdml:, pcap:) is taken from there
     if (!v.IsMap()) fail(v, "key '" + key + "' must be a mapping of parameter: value");
-    for (auto it = v.begin(); it != v.end(); ++it) {
-      const std::string k = it->first.Scalar();
-      if (!it->second.IsScalar()) fail(it->second, "parameter '" + k + "' must be a single value");
-      p.values.set(k, it->second.Scalar());
-      p.marks[k] = mark_of(it->first);
-    }
+    flatten_params(v, "", p, 0);
     return p;
+  }
+
+  void flatten_params(const YAML::Node& map, const std::string& prefix, Params& p,
+                      int depth) const {
+    for (auto it = map.begin(); it != map.end(); ++it) {
+      // Copies: the iterator's pair is a temporary proxy.
+      const YAML::Node key = it->first;
+      const YAML::Node val = it->second;
+      const std::string k = prefix + key.Scalar();
+      if (val.IsMap()) {
+        // Two levels are all a model needs (u1: {raw: [..]}); deeper is a
+        // mistake in the config's indentation more often than a design.
+        if (depth >= 2) fail(val, "parameter '" + k + "' nests too deep (at most two levels)");
+        p.marks[k] = mark_of(key);
+        flatten_params(val, k + ".", p, depth + 1);
+      } else if (val.IsSequence()) {
+        p.values.set(k, flow_list(val, k, 0));
+        p.marks[k] = mark_of(key);
+      } else if (val.IsScalar()) {
+        p.values.set(k, val.Scalar());
+        p.marks[k] = mark_of(key);
+      } else {
+        fail(val.IsNull() ? key : val, "parameter '" + k + "' has no value");
+      }
+    }
+  }
+
+  std::string flow_list(const YAML::Node& seq, const std::string& k, int depth) const {
+    std::string out = "[";
+    for (std::size_t i = 0; i < seq.size(); ++i) {
+      const YAML::Node e = seq[i];
+      if (i) out += ", ";
+      if (e.IsScalar()) {
+        out += e.Scalar();
+      } else if (e.IsSequence() && depth == 0) {
+        out += flow_list(e, k, 1);
+      } else {
+        fail(e, "parameter '" + k + "': a list holds values or lists of values (a matrix's rows)");
+      }
+    }
+    return out + "]";
   }
 
   std::vector<std::pair<Item<std::string>, Item<std::string>>> string_map(
@@ -235,7 +275,7 @@ class Loader {
     r.present = true;
     r.mark = mark_of(n);
     expect_map(n, "retain");
-    check_keys(n, {"file", "save_every", "memory"}, "retain");
+    check_keys(n, {"file", "save_every", "memory", "on_damage"}, "retain");
     r.file = scalar(require(n, "file", "retain"), "file");
     if (r.file.value.empty()) fail(n["file"], "key 'file': names no file");
     // Relative to the config's folder: the cell keeps its file wherever it
@@ -255,6 +295,12 @@ class Loader {
              "key 'memory' must be a list of %M addresses or ranges (e.g. [\"%MB0..%MB15\", "
              "%MD20])");
       for (const auto& item : m) r.memory.push_back(memory_range(item, image));
+    }
+    if (const auto d = n["on_damage"]) {
+      const auto s = scalar(d, "on_damage");
+      if (s.value != "cold" && s.value != "stop")
+        fail(d, "key 'on_damage': '" + s.value + "' is not cold or stop");
+      r.on_damage = {s.value == "cold" ? RetainOnDamage::Cold : RetainOnDamage::Stop, s.mark};
     }
     return r;
   }

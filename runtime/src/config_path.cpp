@@ -43,6 +43,24 @@ std::optional<std::string> absolute_path(const std::string& path, std::string& e
   return a.lexically_normal().string();
 }
 
+std::string writable_file_problem(const std::string& path) {
+  if (path.empty()) return "an empty path names no file";
+  const std::string dir = config_folder(path);
+  struct stat st {};
+  if (::stat(dir.c_str(), &st) != 0)
+    return errno == ENOENT ? "the folder '" + dir + "' does not exist"
+                           : "cannot look at the folder '" + dir + "': " + std::strerror(errno);
+  if (!S_ISDIR(st.st_mode)) return "'" + dir + "' is not a folder";
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    return "the folder '" + dir + "' is not writable (" + std::strerror(errno) + ")";
+  if (::stat(path.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) return "is a folder, not a file";
+    if (::access(path.c_str(), W_OK) != 0)
+      return std::string("cannot write: ") + std::strerror(errno);
+  }
+  return {};
+}
+
 std::string readable_file_problem(const std::string& path) {
   if (path.empty()) return "an empty path names no file";
   struct stat st {};

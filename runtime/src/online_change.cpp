@@ -4,6 +4,7 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <thread>
 
 #include "plc/cell_library.hpp"
 #include "plc/runtime.hpp"
@@ -45,6 +46,14 @@ std::string ChangeReport::text() const {
   for (const auto& a : added) s += "  added (initial value): " + a + "\n";
   for (const auto& r : removed) s += "  removed (value dropped): " + r + "\n";
   for (const auto& r : retyped) s += "  type changed (initial value): " + r + "\n";
+  if (retain_kept || !retain_added.empty() || !retain_removed.empty() || !retain_retyped.empty())
+    s += "  retained (RETAIN/PERSISTENT): " + std::to_string(retain_kept) +
+         " keep their values and their place in the retain file\n";
+  for (const auto& a : retain_added) s += "  retained, new in the retain file: " + a + "\n";
+  for (const auto& r : retain_retyped)
+    s += "  retained, type changed in the retain file: " + r + "\n";
+  for (const auto& r : retain_removed)
+    s += "  retained no more (dropped from the retain file): " + r + "\n";
   return s;
 }
 
@@ -58,23 +67,32 @@ void apply_program_swap(TaskRuntime& t, ProgramSwap& s) {
   }
   for (const auto& [index, p] : s.programs) t.programs[index] = p;
   t.swap.store(nullptr, std::memory_order_relaxed);
+  // The last task to switch switches the followers, before any applied
+  // flag can make switched() true.
+  if (s.together && s.together->left.fetch_sub(1, std::memory_order_acq_rel) == 1)
+    for (SwitchFollower* f : s.together->followers) f->on_switched();
   s.applied.store(true, std::memory_order_release);
 }
 
 OnlineChange::OnlineChange(Runtime& rt) : rt_(rt) {}
 
 OnlineChange::~OnlineChange() {
-  // A change handed to the tasks must be seen through (finish()); one that
-  // was only prepared is dropped here, with the new library.
+  // A change handed to the tasks is seen through: a task that applied its
+  // swap runs the new programs, which must then live as long as the
+  // runtime (finish(), partially if not every task switched). One that was
+  // only prepared is dropped here, with the new library.
   if (committed_ && !finished_) {
-    for (auto& [t, s] : swaps_) {
-      ProgramSwap* expect = s.get();
-      t->swap.compare_exchange_strong(expect, nullptr);
-    }
-    // A task that applied the swap already runs the new programs: they and
-    // their library must live as long as the runtime.
-    if (switched()) finish();
+    withdraw();
+    finish();
   }
+  if (!finished_)
+    for (SwitchFollower* f : together_.followers) f->on_dropped();
+}
+
+void OnlineChange::follow(SwitchFollower* f) {
+  if (std::find(together_.followers.begin(), together_.followers.end(), f) ==
+      together_.followers.end())
+    together_.followers.push_back(f);
 }
 
 ChangeReport OnlineChange::prepare(const std::string& library, const std::string& file) {
@@ -137,6 +155,18 @@ ChangeReport OnlineChange::prepare(const std::string& library, const std::string
     } catch (...) {
       return refuse("program '" + name + "': the constructor of " + type + " threw");
     }
+    // init() as at a start (Program::init), on the new object alone: its
+    // located variables and ports are not bound yet (they write a scratch
+    // value), and the values that carry over are copied over it at the
+    // switch - so it initialises what is new (CODESYS calls FB_init with
+    // bInCopyCode = TRUE on an online change, then copies).
+    try {
+      next->init();
+    } catch (const std::exception& e) {
+      return refuse("program '" + name + "': init() of " + type + " threw: " + e.what());
+    } catch (...) {
+      return refuse("program '" + name + "': init() of " + type + " threw");
+    }
     FieldVisitor before(name), after(name);
     old->describe(before);
     next->describe(after);
@@ -173,14 +203,33 @@ ChangeReport OnlineChange::prepare(const std::string& library, const std::string
     if (before.ports.size() != after.ports.size())
       return refuse("a device port of program '" + name +
                     "' was removed: devices cannot be added or removed online (restart the cell)");
+    // Retained variables, old build against new: what the retain file's
+    // layout gains and loses (their values follow the rules above).
+    std::map<std::string, VarType> old_retained;
     for (const auto& f : before.fields)
-      if (f.retain != RetainClass::None)
-        return refuse(f.path + " is " + std::string(to_string(f.retain)) +
-                      ": the retain file's layout is fixed while the cell runs (restart the cell)");
+      if (f.retain != RetainClass::None) old_retained[f.path] = f.type;
+    for (const auto& l : before.located)
+      if (l.retain != RetainClass::None) old_retained[l.path] = l.type;
+    auto retained_now = [&](const std::string& path, VarType type) {
+      auto o = old_retained.find(path);
+      if (o == old_retained.end()) {
+        r.retain_added.push_back(path + ": " + type_text(type));
+        return;
+      }
+      if (o->second != type)
+        r.retain_retyped.push_back(path + ": " + type_text(o->second) + " -> " + type_text(type));
+      else
+        ++r.retain_kept;
+      old_retained.erase(o);
+    };
     for (const auto& f : after.fields)
-      if (f.retain != RetainClass::None)
-        return refuse(f.path + " is " + std::string(to_string(f.retain)) +
-                      ": the retain file's layout is fixed while the cell runs (restart the cell)");
+      if (f.retain != RetainClass::None) retained_now(f.path, f.type);
+    for (const auto& l : after.located)
+      if (l.retain != RetainClass::None) retained_now(l.path, l.type);
+    for (const auto& f : before.fields)
+      if (old_retained.count(f.path)) r.retain_removed.push_back(f.path + ": " + type_text(f.type));
+    for (const auto& l : before.located)
+      if (old_retained.count(l.path)) r.retain_removed.push_back(l.path + ": " + type_text(l.type));
 
     // Bind the new program where the old one is bound.
     for (auto& l : after.located) {
@@ -228,6 +277,15 @@ ChangeReport OnlineChange::prepare(const std::string& library, const std::string
     s->copies = merged(std::move(s->copies));
     swaps_.emplace_back(t, std::move(s));
   }
+  // Whoever follows every change of this runtime (the retain manager)
+  // follows this one, before anything can switch.
+  for (ChangeObserver* o : rt_.change_observers_) {
+    try {
+      o->follow(*this);
+    } catch (const std::exception& e) {
+      return refuse(std::string("cannot follow the change: ") + e.what());
+    }
+  }
   report_ = r;
   return r;
 }
@@ -247,7 +305,11 @@ void OnlineChange::switch_all_now() {
 void OnlineChange::commit() {
   if (committed_ || swaps_.empty()) return;
   committed_ = true;
-  for (auto& [t, s] : swaps_) t->swap.store(s.get(), std::memory_order_release);
+  together_.left.store(swaps_.size(), std::memory_order_relaxed);
+  for (auto& [t, s] : swaps_) {
+    s->together = &together_;
+    t->swap.store(s.get(), std::memory_order_release);
+  }
 }
 
 bool OnlineChange::switched() const {
@@ -264,10 +326,18 @@ bool OnlineChange::switched(std::size_t task) const {
 }
 
 void OnlineChange::withdraw() {
+  // Once: a second call (the destructor's, after the owner's) would find a
+  // swap it took back like one a task took, and wait for it forever. A
+  // change not committed was never handed to a task.
+  if (withdrawn_ || !committed_) return;
   for (auto& [t, s] : swaps_) {
     ProgramSwap* expect = s.get();
-    t->swap.compare_exchange_strong(expect, nullptr);
+    if (t->swap.compare_exchange_strong(expect, nullptr) || expect != nullptr) continue;
+    // The task took the swap and is applying it (apply_program_swap: the
+    // copies, then `applied`); runtime code that always completes.
+    while (!s->applied.load(std::memory_order_acquire)) std::this_thread::yield();
   }
+  withdrawn_ = true;
 }
 
 VarRegistry OnlineChange::next_vars() const {
@@ -296,10 +366,15 @@ std::vector<VarInfo> OnlineChange::program_vars(const Replaced& rp) const {
 }
 
 void OnlineChange::finish() {
-  if (finished_ || !switched()) return;
+  if (finished_ || !committed_) return;
+  const bool complete = switched();
+  // Partial: only once no task can switch any more.
+  if (!complete && !withdrawn_) return;
   finished_ = true;
   std::vector<std::unique_ptr<Program>> retired;
   for (Replaced& rp : replaced_) {
+    // Not switched (partial change): its task runs the old program on.
+    if (!complete && !switched(static_cast<std::size_t>(rp.task))) continue;
     rt_.vars_.replace_prefix(rp.name + ".", program_vars(rp));
     for (auto& [n, p] : rt_.programs_)
       if (n == rp.name) {
@@ -307,9 +382,29 @@ void OnlineChange::finish() {
         p = std::move(rp.next);
       }
   }
+  if (!complete) {
+    // The switched tasks run the new programs (now the runtime's) from the
+    // new library until the runtime goes; the old programs they left stay
+    // for whoever kept the old layout (the followers are dropped: they
+    // never saw the last task switch). The new programs of the other tasks
+    // never ran: they go, with the library if no task switched at all.
+    partial_ = !retired.empty();
+    if (partial_) rt_.partial_libraries_.push_back(new_lib_);
+    for (auto& p : retired) rt_.retired_programs_.push_back(std::move(p));
+    replaced_.clear();
+    old_lib_.reset();
+    new_lib_.reset();
+    for (SwitchFollower* f : together_.followers) f->on_dropped();
+    return;
+  }
   // No task can be inside the old code any more (each has started a scan
   // with the new programs): destroy the old programs, then let the old
-  // library go (unloaded when the last holder drops it).
+  // library go (unloaded when the last holder drops it). The old programs an
+  // earlier partial change kept go too: their code is in that library, and
+  // no follower reads them once every task has switched (the retain layout
+  // switched with the last task).
+  for (auto& p : rt_.retired_programs_) retired.push_back(std::move(p));
+  rt_.retired_programs_.clear();
   retired.clear();
   for (auto& l : rt_.libraries_)
     if (l == old_lib_) l = new_lib_;

@@ -38,6 +38,30 @@ void set_bits(std::vector<std::uint8_t>& mask, std::size_t byte, std::size_t n) 
   for (std::size_t i = byte; i < byte + n && i < mask.size(); ++i) mask[i] = 0xFF;
 }
 
+void add_bound(TaskRuntime& t, io::Area area, std::size_t byte, std::size_t n) {
+  if (n)
+    t.bound[static_cast<std::size_t>(area)].push_back(
+        {static_cast<std::uint32_t>(byte), static_cast<std::uint32_t>(byte + n)});
+}
+
+// Sorts the ranges and joins those that overlap or lie close together: a
+// gap of a few dozen bytes costs less to copy along than one more copy.
+// The gap bytes are no program's, so copying them in and back changes
+// nothing (Runtime::scan_latch).
+void coalesce(std::vector<ImageRange>& v) {
+  constexpr std::uint32_t kJoinGap = 64;
+  std::sort(v.begin(), v.end(),
+            [](const ImageRange& a, const ImageRange& b) { return a.begin < b.begin; });
+  std::vector<ImageRange> out;
+  for (const ImageRange& r : v) {
+    if (!out.empty() && r.begin <= out.back().end + kJoinGap)
+      out.back().end = std::max(out.back().end, r.end);
+    else
+      out.push_back(r);
+  }
+  v = std::move(out);
+}
+
 }  // namespace
 
 Runtime::Runtime(const CellConfig& cfg) { build(cfg); }
@@ -269,6 +293,7 @@ void Runtime::build(const CellConfig& cfg) {
                     io::area_letter(r.address->area) + ")");
       std::uint8_t* p = task.image.at(*r.address);
       l.var->bind(p, r.address->bit, order_);
+      add_bound(task, r.address->area, r.address->byte, r.address->width_bytes());
       if (r.address->area == io::Area::Output) {
         if (r.address->size == io::AddrSize::Bit)
           task.owned_q[r.address->byte] |= static_cast<std::uint8_t>(1U << r.address->bit);
@@ -313,6 +338,8 @@ void Runtime::build(const CellConfig& cfg) {
       auto in = task.image.area(io::Area::Input).subspan(d->in.byte, d->sizes.input_bytes);
       auto out = task.image.area(io::Area::Output).subspan(d->out.byte, d->sizes.output_bytes);
       pf.port->bind(in, out, &d->plugin->link(d->index));
+      add_bound(task, io::Area::Input, d->in.byte, d->sizes.input_bytes);
+      add_bound(task, io::Area::Output, d->out.byte, d->sizes.output_bytes);
       set_bits(task.owned_q, d->out.byte, d->sizes.output_bytes);
     }
     task.programs.push_back(prog.get());
@@ -336,6 +363,23 @@ void Runtime::build(const CellConfig& cfg) {
       if (!err.empty()) fail(value.mark, "init of '" + path.value + "': " + err);
     }
   }
+  for (auto& t : tasks_) {
+    for (auto& ranges : t->bound) coalesce(ranges);
+    for (io::Area a : {io::Area::Input, io::Area::Output, io::Area::Memory}) {
+      std::uint8_t* img = t->image.area(a).data();
+      std::uint8_t* glob = global_.area(a).data();
+      std::uint8_t* before = t->before.area(a).data();
+      for (const ImageRange& r : t->bound[static_cast<std::size_t>(a)]) {
+        const std::size_t n = r.end - r.begin;
+        t->copy_in.push_back({img + r.begin, glob + r.begin, nullptr, n});
+        if (a == io::Area::Input) continue;
+        t->keep.push_back({before + r.begin, img + r.begin, nullptr, n});
+        t->copy_out.push_back({glob + r.begin, img + r.begin, nullptr, n});
+        t->merge_out.push_back({glob + r.begin, img + r.begin, before + r.begin, n});
+      }
+    }
+  }
+  for (auto& d : devices_) d.link = &d.plugin->link(d.index);
   // Tasks run their programs in the order the task lists them.
   for (auto& t : tasks_) {
     std::vector<Program*> ordered;

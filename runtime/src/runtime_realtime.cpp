@@ -15,6 +15,7 @@
 
 #include "plc/release_schedule.hpp"
 #include "plc/runtime.hpp"
+#include "plc/thread_guard.hpp"
 #include "task_thread.hpp"
 
 namespace plc {
@@ -69,7 +70,14 @@ void Runtime::run_realtime(TIME span) {
     rec->owner = t.get();
     threads.emplace_back([this, task = t.get(), t0, rec] {
       TaskThread::current() = rec.get();
-      realtime_task_loop(*task, t0);
+      // scan() stops the task on what a scan throws; this catches the rest
+      // of the loop: the task stops, its outputs safe, the others run on.
+      run_guarded(
+          "task '" + task->name + "'", [&] { realtime_task_loop(*task, t0); },
+          [&](std::string_view what) {
+            trip(*task, "task thread failed: " + std::string(what), false);
+            task->busy.store(false, std::memory_order_release);
+          });
     });
   }
   start_watchdog();
@@ -183,7 +191,16 @@ void Runtime::start_watchdog() {
   bool any = false;
   for (const auto& t : tasks_) any |= t->watchdog > 0;
   if (!any || watchdog_running_.exchange(true)) return;
-  watchdog_thread_ = std::thread([this] { watchdog_loop(); });
+  // Without its watchdog the cell may not run on: it stops cleanly (every
+  // output safe, Runtime::finish) at the next boundary.
+  watchdog_thread_ = std::thread([this] {
+    run_guarded(
+        "watchdog", [this] { watchdog_loop(); },
+        [this](std::string_view) {
+          failure_ = "the watchdog thread failed";
+          request_stop();
+        });
+  });
 }
 
 void Runtime::stop_watchdog() {

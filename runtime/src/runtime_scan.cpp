@@ -2,10 +2,12 @@
 // exceptions, and the final safe state.
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <mutex>
 
 #include "plc/online_change.hpp"
 #include "plc/runtime.hpp"
+#include "plc/thread_guard.hpp"
 #include "task_thread.hpp"
 
 namespace plc {
@@ -15,6 +17,10 @@ std::int64_t steady_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
              std::chrono::steady_clock::now().time_since_epoch())
       .count();
+}
+
+void copy_spans(const std::vector<ImageSpan>& spans) {
+  for (const ImageSpan& s : spans) std::memcpy(s.dst, s.src, s.n);
 }
 
 template <class M>
@@ -34,15 +40,45 @@ struct MaybeLock {
 // A scan in two halves: both take the image lock once. scan() runs them
 // back to back; a replay runs them apart (Runtime::latch_scan/finish_scan) to
 // reproduce how the locked sections of several real-time tasks interleaved.
-bool Runtime::scan(TaskRuntime& t, TIME now) { return scan_finish(t, scan_latch(t, now)); }
+//
+// What a program throws stops its task (scan_finish). What the rest of the
+// scan throws - a hook, an observer, a plugin's latch or publish - stops the
+// task the same way, in real and in virtual time: the scan is over, its
+// outputs go to their safe values, the other tasks run on.
+bool Runtime::scan(TaskRuntime& t, TIME now) {
+  try {
+    return scan_finish(t, scan_latch(t, now));
+  } catch (const std::exception& e) {
+    scan_failed(t, e.what());
+  } catch (...) {
+    scan_failed(t, "an exception that is not a std::exception");
+  }
+  return true;
+}
+
+void Runtime::scan_failed(TaskRuntime& t, std::string_view what) {
+  io::DeviceLink::set_current_owner(-1);
+  t.scan_started_ns.store(-1, std::memory_order_release);
+  report_thread_failure("task '" + t.name + "'", what);
+  trip(t, "scan failed: " + std::string(what), false);
+}
 
 ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
   // 0: an online change for this task switches here, between two scans.
   if (ProgramSwap* s = t.swap.load(std::memory_order_acquire)) apply_program_swap(t, *s);
-  const std::int64_t start = steady_ns();
-  t.scan_seq.fetch_add(1, std::memory_order_relaxed);
+  // The scan's duration for the statistics: every scan in real time; in
+  // virtual time one in kVirtualTimedEvery, since two clock reads cost as
+  // much as a small cell's whole scan there (the sample still shows what a
+  // scan costs; every scan is counted).
+  const bool timed = lock_image_ || (t.timing_phase++ % kVirtualTimedEvery) == 0;
+  const std::int64_t start = timed ? steady_ns() : 0;
+  // The watchdog's bookkeeping (the recorder's arm() also looks at
+  // scan_started_ns). One writer: a load and a store, no locked instruction.
+  t.scan_seq.store(t.scan_seq.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
   t.scan_started_ns.store(start, std::memory_order_release);
+  t.scan_timed = timed;
   t.scan_time = now;
+  t.whole_image_scan = whole_image_hooks_ != 0;
   {
     // 1: latch this task's devices into the global %I, take a private copy.
     MaybeLock lock(image_mutex_, lock_image_);
@@ -53,47 +89,57 @@ ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
           d->plugin->latch_inputs(d->index, gi.subspan(d->in.byte, d->sizes.input_bytes));
     // 1a: the answers to this task's acyclic requests and its devices'
     // states become visible now, so they never change during the scan.
-    for (std::size_t i = 0; i < devices_.size(); ++i)
-      devices_[i]
-          .plugin->link(devices_[i].index)
-          .deliver_answered(static_cast<int>(t.order), [&](const io::RecordRequest& r) {
-            for (ScanHooks* h : hooks_) h->on_answer(t, i, r);
-          });
-    for (DeviceRuntime* d : t.devices) d->plugin->link(d->index).latch_state(t.cycle + 1, now);
+    for (std::size_t i = 0; i < devices_.size(); ++i) {
+      io::DeviceLink& link = *devices_[i].link;
+      if (!link.tracking()) continue;
+      link.deliver_answered(static_cast<int>(t.order), [&](const io::RecordRequest& r) {
+        for (ScanHooks* h : hooks_) h->on_answer(t, i, r);
+      });
+    }
+    for (DeviceRuntime* d : t.devices) d->link->latch_state(t.cycle + 1, now);
     io::DeviceLink::set_current_owner(static_cast<int>(t.order));
     for (ScanHooks* h : hooks_) h->after_latch(t, global_);
-    t.image.copy_from(global_);
+    if (t.whole_image_scan)
+      t.image.copy_from(global_);
+    else
+      copy_spans(t.copy_in);
   }
-  auto q = t.image.area(io::Area::Output);
-  auto m = t.image.area(io::Area::Memory);
-  std::copy(q.begin(), q.end(), t.before.area(io::Area::Output).begin());
-  std::copy(m.begin(), m.end(), t.before.area(io::Area::Memory).begin());
+  // Real time merges the bits the scan changed (another task may have
+  // written the global image meanwhile), so it keeps the %Q/%M as they were
+  // at the latch; in virtual time nothing runs between a latch and its merge.
+  if (t.whole_image_scan) {
+    auto q = t.image.area(io::Area::Output);
+    auto m = t.image.area(io::Area::Memory);
+    std::copy(q.begin(), q.end(), t.before.area(io::Area::Output).begin());
+    std::copy(m.begin(), m.end(), t.before.area(io::Area::Memory).begin());
+  } else if (lock_image_) {
+    copy_spans(t.keep);
+  }
   return ScanContext{now, t.period, t.cycle};
 }
 
 bool Runtime::scan_finish(TaskRuntime& t, const ScanContext& ctx) {
-  const std::int64_t start = t.scan_started_ns.load(std::memory_order_relaxed);
-  auto q = t.image.area(io::Area::Output);
-  auto m = t.image.area(io::Area::Memory);
   // A replay may have latched another task in between (same thread).
   io::DeviceLink::set_current_owner(static_cast<int>(t.order));
 
   // 3: the programs. A program that the watchdog stopped may come back
   // after the run left its thread behind (or the runtime is gone): then
-  // nothing here may be touched any more (TaskThread).
+  // nothing here may be touched any more (TaskThread). Only a real-time
+  // task thread can be left behind.
   for (ScanHooks* h : hooks_) h->before_programs(t, ctx);
+  const bool task_thread = lock_image_;
   try {
     for (std::size_t i = 0; i < t.programs.size(); ++i) {
       for (ScanHooks* h : hooks_) h->before_program(t, i, ctx);
-      TaskThread::enter_program();
+      if (task_thread) TaskThread::enter_program();
       t.programs[i]->cycle(ctx);
-      if (!TaskThread::leave_program()) return false;
+      if (task_thread && !TaskThread::leave_program()) return false;
     }
   } catch (const std::exception& e) {
-    if (!TaskThread::leave_program()) return false;
+    if (task_thread && !TaskThread::leave_program()) return false;
     trip(t, std::string("program threw: ") + e.what(), false);
   } catch (...) {
-    if (!TaskThread::leave_program()) return false;
+    if (task_thread && !TaskThread::leave_program()) return false;
     trip(t, "program threw a non-standard exception", false);
   }
   if (t.trip_requested.load(std::memory_order_acquire)) trip(t, t.trip_reason, true);
@@ -103,8 +149,16 @@ bool Runtime::scan_finish(TaskRuntime& t, const ScanContext& ctx) {
     // 5: merge what this scan changed, publish this task's devices.
     MaybeLock lock(image_mutex_, lock_image_);
     if (!t.stopped.load(std::memory_order_acquire)) {
-      io::merge_changes(global_.area(io::Area::Output), t.before.area(io::Area::Output), q);
-      io::merge_changes(global_.area(io::Area::Memory), t.before.area(io::Area::Memory), m);
+      if (t.whole_image_scan) {
+        for (io::Area a : {io::Area::Output, io::Area::Memory})
+          io::merge_changes(global_.area(a), t.before.area(a), t.image.area(a));
+      } else if (lock_image_) {
+        for (const ImageSpan& s : t.merge_out)
+          io::merge_changes({s.dst, s.n}, {s.before, s.n}, {s.src, s.n});
+      } else {
+        // Virtual time: the global bytes are still those the latch copied.
+        copy_spans(t.copy_out);
+      }
       for (ScanHooks* h : hooks_) h->before_publish(t, global_);
       auto gq = global_.area(io::Area::Output);
       if (plugins_enabled_)
@@ -113,10 +167,12 @@ bool Runtime::scan_finish(TaskRuntime& t, const ScanContext& ctx) {
             d->plugin->publish_outputs(d->index, gq.subspan(d->out.byte, d->sizes.output_bytes));
     }
   }
-  const std::int64_t end = steady_ns();
   io::DeviceLink::set_current_owner(-1);
+  if (t.scan_timed)
+    t.stats.record_scan(steady_ns() - t.scan_started_ns.load(std::memory_order_relaxed));
+  else
+    t.stats.count_scan();
   t.scan_started_ns.store(-1, std::memory_order_release);
-  t.stats.record_scan(end - start);
   for (const auto& o : observers_) o(t, ctx);
   ++t.cycle;
   return true;
@@ -175,7 +231,28 @@ void Runtime::start(io::ClockMode mode) {
   first_tick_ = true;
 }
 
-void Runtime::remove_hooks(ScanHooks* h) { std::erase(hooks_, h); }
+void Runtime::remove_hooks(ScanHooks* h) {
+  if (std::erase(hooks_, h) && h->whole_image()) --whole_image_hooks_;
+}
+
+// Virtual time: step() is the plugin's thread. What it throws fails the
+// plugin as a failed thread would (its devices to Fault); the cell goes on.
+void Runtime::step_plugin(const std::string& name, io::Plugin& p, TIME dt) {
+  const auto fail = [&](std::string_view what) {
+    std::size_t devices = 0;
+    for (const DeviceRuntime& d : devices_) devices += d.plugin == &p;
+    const std::string thread = "plugin '" + name + "'";
+    report_thread_failure(thread, what);
+    p.fail(thread, what, devices);
+  };
+  try {
+    p.step(now_, dt);
+  } catch (const std::exception& e) {
+    fail(e.what());
+  } catch (...) {
+    fail("an exception that is not a std::exception");
+  }
+}
 
 ScanContext Runtime::latch_scan(TaskRuntime& t, TIME now) {
   now_ = now;
@@ -208,7 +285,8 @@ bool Runtime::due(const TaskRuntime& t) const {
 
 void Runtime::begin_tick() {
   if (plugins_enabled_)
-    for (auto& [_, p] : plugins_) p->step(now_, first_tick_ ? TIME(0) : base_tick_);
+    for (auto& [name, p] : plugins_)
+      if (!p->failed()) step_plugin(name, *p, first_tick_ ? TIME(0) : base_tick_);
   first_tick_ = false;
   tick_open_ = true;
   cursor_ = 0;
@@ -255,10 +333,18 @@ void Runtime::finish() {
   }
   if (mode_ == io::ClockMode::Virtual && plugins_enabled_) {
     // Let the devices see the safe outputs once before the plugins stop.
-    for (auto& [_, p] : plugins_) p->step(now_, TIME(0));
+    for (auto& [name, p] : plugins_)
+      if (!p->failed()) step_plugin(name, *p, TIME(0));
   }
   if (plugins_enabled_)
-    for (auto& [_, p] : plugins_) p->stop();
+    for (auto& [name, p] : plugins_) {
+      // Every plugin is stopped, whatever one of them throws.
+      try {
+        p->stop();
+      } catch (const std::exception& e) {
+        report_thread_failure("plugin '" + name + "' stop", e.what());
+      }
+    }
   started_ = false;
 }
 

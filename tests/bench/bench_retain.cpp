@@ -62,16 +62,17 @@ void BM_Offer(benchmark::State& state) {
   Fixture f(std::size_t(state.range(0)));
   const std::string path = "/tmp/bench_retain_offer_" + std::to_string(::getpid());
   retain::Storage storage(path);
-  retain::Writer w(*f.layout, storage);
+  retain::Writer w(storage);
+  retain::Writer::Slot slot(*f.layout);
   w.start(1);
   for (auto _ : state) {
     state.PauseTiming();  // the writer's side is not the scan's cost
     while (w.busy()) {
     }
     state.ResumeTiming();
-    w.offer(f.live);
+    w.offer(slot, f.live);
   }
-  w.stop(f.live);
+  w.stop(*f.layout, f.live);
   storage.discard();
 }
 BENCHMARK(BM_Offer)->Arg(1000)->Arg(10000);

@@ -510,3 +510,44 @@ TEST(DeviceNetScanner, BusOffLosesEveryDeviceAndRecovers) {
       << r.scanner->diagnostics(d1);
   EXPECT_EQ(r.scanner->counters(d1).losses, 1u);
 }
+
+// Issue 21 follow-up, point 7: the interface takes no frame for a while
+// (link down: send() fails, no bus-off seen). The device is lost, and the
+// Release sent while the interface is still down never reaches the slave,
+// which still counts the scanner as its master. Before, that Release was
+// waited out (explicit timeout) and the Allocate after it was refused by
+// the slave (0x0B, already allocated): a refused allocation and a retry
+// more. Now the lost Release counts as not sent, is sent again after
+// `retry`, and the failed sends are counted in the diagnostics.
+TEST(DeviceNetScanner, AReleaseTheInterfaceDidNotTakeIsSentAgainNotWaitedOut) {
+  class FailingBus final : public plc::can::Bus {
+   public:
+    explicit FailingBus(plc::can::Bus& inner) : inner_(inner) {}
+    bool send(const plc::can::Frame& f) override { return !down && inner_.send(f); }
+    bool receive(plc::can::Frame& f) override { return inner_.receive(f); }
+    const plc::can::BusCounters& counters() const override { return inner_.counters(); }
+    bool down = false;
+
+   private:
+    plc::can::Bus& inner_;
+  };
+  dn::ScannerConfig c;
+  c.retry = 200ms;
+  Rig r(c);
+  FailingBus bus(*r.master_bus);
+  r.scanner->attach(&bus);
+  const auto d = r.add_device(5, 8, 8);
+  r.add_slave(5, 8, 8);
+  ASSERT_GE(r.run_until([&] { return online(r, d); }, 5s), 0ms);
+  bus.down = true;
+  ASSERT_GE(r.run_until([&] { return !online(r, d); }, 5s), 0ms);
+  // The Release after `retry` goes nowhere; the interface is back just after.
+  r.run(c.retry + 5ms);
+  bus.down = false;
+  ASSERT_GE(r.run_until([&] { return online(r, d); }, 5s), 0ms) << r.scanner->diagnostics(d);
+  EXPECT_EQ(r.scanner->counters(d).allocation_errors, 0u) << r.scanner->diagnostics(d);
+  EXPECT_EQ(r.scanner->counters(d).allocations, 2u);
+  EXPECT_GT(r.scanner->counters(d).send_failures, 0u);
+  EXPECT_NE(r.scanner->diagnostics(d).find(" send-failed "), std::string::npos)
+      << r.scanner->diagnostics(d);
+}

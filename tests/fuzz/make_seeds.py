@@ -216,6 +216,39 @@ def lcm_udpm_seeds():
         bytes([1, 8]) + lc02(1, b"PLC_CMD", b"") + bytes([2, 0, 0, 0xFF, 0, 0]))
 
 
+def profibus_seeds():
+    """PROFIBUS: telegrams from outside (profirust's real-hardware FDL status
+    exchange, pyprofibus's start-up against dpslavesim, tests/profibus) as a
+    stream, the same bytes as a rogue station's, and GSD files."""
+    clear("profibus_fdl")
+    clear("profibus_gsd")
+    h = bytes.fromhex
+    session = [h("10 22 02 49 6D 16"), h("10 02 22 00 24 16"),
+               h("68 05 05 68 85 82 6D 3C 3E EE 16"),
+               h("A2 82 85 08 3E 3C 02 05 00 FF 56 10 F5 16"),
+               h("68 0C 0C 68 85 82 5D 3D 3E 88 32 01 00 56 10 01 01 16"), h("E5"),
+               h("68 06 06 68 85 82 7D 3E 3E B7 B7 16"),
+               h("A2 05 02 7D 00 00 00 00 12 00 00 80 16 16"),
+               h("A2 02 05 08 00 00 00 00 00 40 02 70 C1 16"), h("DC 02 02"),
+               h("68 07 07 68 FF 82 46 3A 3E 08 01 48 16")]
+    put("profibus_fdl", "stream.bin", b"\x00" + b"".join(bytes([len(t) - 1]) + t for t in session))
+    put("profibus_fdl", "garbage.bin", b"\x00" + bytes([40]) + bytes(range(0x60, 0x89)))
+    put("profibus_fdl", "stations.bin",
+        b"\x01" + b"\x00" * 40 + b"".join(b"\x01" + bytes([len(t) - 1]) + t for t in session) +
+        b"\x02\x08\x01" + b"\x00" * 20 + b"\x02\x04\x01" + b"\x00" * 20)
+    put("profibus_gsd", "GWT_5610.gsd", (ROOT / "iec-io/profibus/gsd/GWT_5610.gsd").read_bytes())
+    put("profibus_gsd", "GWT_5610_seed.gsd",
+        (ROOT / "tests/profibus/data/GWT_5610_seed.gsd").read_bytes())
+    put("profibus_gsd", "user_prm.gsd", (
+        "#Profibus_DP\nIdent_Number = 0x00C1\nUser_Prm_Data_Len = 3\n"
+        "Ext_User_Prm_Data_Const(0) = 0x80, \\\n  0x00\nExt_User_Prm_Data_Ref(1) = 2\n"
+        "PrmText = 7\nText(0) = \"off\"\nText(1) = \"on\"\nEndPrmText\n"
+        "ExtUserPrmData = 2 \"Filter\"\nUnsigned16 0x1234 0-0xFFFF\nPrm_Text_Ref = 7\n"
+        "EndExtUserPrmData\nExtUserPrmData = 3 \"Range\"\nBitArea(4-6) 2 1,2,4\n"
+        "EndExtUserPrmData\nModule = \"2 AI\" 0x40,0x41, \\\n  0x00\n  17\n"
+        "Ext_Module_Prm_Data_Len = 1\nExt_User_Prm_Data_Ref(0) = 3\nEndModule\n").encode())
+
+
 def recordings(plcrun, out, tmp):
     """A recording from scan 0 and one started mid-session (with a snapshot)."""
     out.mkdir(parents=True, exist_ok=True)
@@ -268,6 +301,7 @@ def main():
         recordings(plcrun, CORPUS / "recording", tmp)
         hmi_commands()
         lcm_udpm_seeds()
+        profibus_seeds()
 
         rows = trace_bytes(plcrun, tmp, 1500)
         # drive: selector = part * 3 + telegram (2 = telegram 111)

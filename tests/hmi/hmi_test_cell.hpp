@@ -7,6 +7,7 @@
 #pragma once
 
 #include <fstream>
+#include <functional>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -61,14 +62,18 @@ struct HmiCell {
   std::vector<softplc_hmi::reply_t> replies;
 
   // `base`: the cell without its hmi: section (default: the demo cell).
+  // `before_build`: called with the host before the first build (what
+  // plcrun notes before the first scan: a start alarm).
   explicit HmiCell(const std::string& hmi = kHmiSection, const std::string& key_file = "",
-                   const std::string& base = demo_yaml()) {
+                   const std::string& base = demo_yaml(),
+                   const std::function<void(plc::hmi::Host&)>& before_build = {}) {
     std::string text = base + hmi;
     if (!key_file.empty()) text += "  key_file: " + key_file + "\n";
     cfg = plc::parse_cell_config(text, "hmi_test.yaml");
     plc::hmi::Host::Options ho;
     ho.mode = plc::hmi::Host::Mode::Lockstep;
     host = std::make_unique<plc::hmi::Host>(cfg.hmi, cfg.file, ho);
+    if (before_build) before_build(*host);
     plc::debug::Debugger::Options o;
     o.span = std::chrono::minutes(10);
     o.on_build = [this](plc::Runtime& rt) { host->attach(rt); };

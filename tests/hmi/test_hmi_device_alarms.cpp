@@ -179,3 +179,30 @@ TEST(HmiBridge, DeviceFlapBetweenTwoBridgeRoundsIsReported) {
   EXPECT_EQ(seen.alarms[1].kind, "device_back");
   EXPECT_EQ(seen.alarms[1].scan, std::int64_t(back_scan));
 }
+
+// A warm start that fell back to a cold one (every copy of the retain file
+// damaged, issue 21) is an active alarm in every diagnostics_t for the whole
+// run: plcrun notes it at start-up (add_start_alarm), next to the stopped
+// tasks and the devices not online.
+// The alarm crosses from plcrun's host to the bridge in the cell layout.
+TEST(HmiBridge, RetainColdStartFallbackIsAnActiveAlarm) {
+  plctest::HmiCell h(plctest::kHmiSection, "", plctest::demo_yaml(), [](plc::hmi::Host& host) {
+    host.add_start_alarm("retain_cold_start", "retain",
+                         "cold start INSTEAD OF A WARM START: no valid copy");
+  });
+  Seen seen;
+  plc::hmi::subscribe_checked<softplc_hmi::diagnostics_t>(h.bridge->transport(),
+                                                          h.bridge->channels().diag, &seen);
+  for (int i = 0; i < 2; ++i) {
+    ASSERT_TRUE(h.dbg->step(5).ok);
+    h.bridge->publish_diagnostics();
+    round(h);
+    ASSERT_EQ(seen.diags.size(), std::size_t(i + 1));
+    const auto& d = seen.diags.back();
+    ASSERT_EQ(d.n_alarms, 1);
+    EXPECT_EQ(d.alarms[0].kind, "retain_cold_start");
+    EXPECT_EQ(d.alarms[0].source, "retain");
+    EXPECT_TRUE(d.alarms[0].active);
+    EXPECT_EQ(d.alarms[0].text, "cold start INSTEAD OF A WARM START: no valid copy");
+  }
+}

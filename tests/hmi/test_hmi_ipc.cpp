@@ -48,6 +48,7 @@ CellLayout small_layout() {
   s1.buffer_size = 104;
   s1.items = {{2, 0}};
   l.slots = {s0, s1};
+  l.start_alarms = {{"retain_cold_start", "retain", "cold start INSTEAD OF A WARM START", 7}};
   return l;
 }
 

@@ -25,6 +25,7 @@
 #include "plc/hmi/host.hpp"
 #include "runtime/test_helpers.hpp"
 #include "softplc_hmi/alarm_t.hpp"
+#include "softplc_hmi/diagnostics_t.hpp"
 #include "softplc_hmi/stats_t.hpp"
 #include "udpm_test_socket.hpp"
 
@@ -464,7 +465,8 @@ TEST(HmiSupervisedRealTime, HostileBusAgainstPlchmiLeavesTheCellScanning) {
 // The cell scans on, plcrun's host logs the exit and starts plchmi again
 // after the backoff, and the new plchmi publishes the hmi_lost alarm on
 // PREFIX_ALARM with the cause and how long the HMI was down; the client's
-// command is answered through the new process.
+// command is answered through the new process. The outage stays listed in
+// diagnostics_t (not active) for a client that missed the announcement.
 TEST(HmiSupervisedRealTime, KilledBridgeRaisesTheHmiLostAlarmOnceBack) {
   std::string why;
   auto ns = plctest::LoopbackNetns::create(why);
@@ -483,10 +485,13 @@ TEST(HmiSupervisedRealTime, KilledBridgeRaisesTheHmiLostAlarmOnceBack) {
   struct Sink {
     std::vector<softplc_hmi::alarm_t> alarms;
     std::vector<softplc_hmi::reply_t> replies;
+    std::vector<softplc_hmi::diagnostics_t> diags;
     void on(const softplc_hmi::alarm_t& m) { alarms.push_back(m); }
     void on(const softplc_hmi::reply_t& m) { replies.push_back(m); }
+    void on(const softplc_hmi::diagnostics_t& m) { diags.push_back(m); }
   } sink;
   hmi::subscribe_checked<softplc_hmi::alarm_t>(*client, "PLC_ALARM", &sink);
+  hmi::subscribe_checked<softplc_hmi::diagnostics_t>(*client, "PLC_DIAG", &sink);
   hmi::subscribe_checked<softplc_hmi::reply_t>(*client, "PLC_REPLY", &sink);
   const TaskRuntime& fast = *s.rt->tasks()[0];
   const std::uint64_t scans_before = fast.stats.snapshot().scans;
@@ -505,6 +510,16 @@ TEST(HmiSupervisedRealTime, KilledBridgeRaisesTheHmiLostAlarmOnceBack) {
       EXPECT_NE(a.text.find("signal 9"), std::string::npos) << a.text;
       EXPECT_NE(a.text.find("the HMI was down"), std::string::npos) << a.text;
     }
+  // The new plchmi's diagnostics list the outage, no longer active.
+  auto listed = [&sink] {
+    if (sink.diags.empty()) return false;
+    for (const auto& a : sink.diags.back().alarms)
+      if (a.kind == "hmi_lost" && !a.active && a.source == "hmi") return true;
+    return false;
+  };
+  sink.diags.clear();
+  for (int i = 0; i < 300 && !listed(); ++i) client->handle_timeout(10);  // bounded: 3 s
+  EXPECT_TRUE(listed()) << "no diagnostics_t listing the outage";
   EXPECT_GT(fast.stats.snapshot().scans, scans_before + 100) << "the cell stopped scanning";
   EXPECT_NE(s.lines().find("plchmi exited (signal 9, KILL)"), std::string::npos) << s.lines();
   EXPECT_NE(s.lines().find("plchmi back"), std::string::npos) << s.lines();

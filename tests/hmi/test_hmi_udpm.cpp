@@ -92,7 +92,7 @@ for i in $(seq 1 100); do
 done
 [ $up = 1 ] || { kill $PLC $LOGGER; exit 91; }
 )" + bin +
-      R"(/plcctl watch Tank.level --count 30 --for 5s > watch.txt; echo "watch=$?"
+      R"(/plcctl watch Tank.level --count 30 --for 15s > watch.txt; echo "watch=$?"
 )" + bin +
       R"(/plcctl write Tank.high_level 900; echo "write=$?"
 )" + bin +

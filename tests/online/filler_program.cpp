@@ -1,8 +1,8 @@
 // A small filling program, built in several versions into cell libraries
 // for the online-change tests (FILLER_VERSION):
 //   1  the running version;
-//   2  the new build: same logic, one field added (alarms), one removed
-//      (note), one retyped (flow REAL -> LREAL), and `build` = 2;
+//   2  the new build: same logic, one field added (alarms, set by init()),
+//      one removed (note), one retyped (flow REAL -> LREAL), and `build` = 2;
 //   3  the lamp moved from %QX0.0 to %QX0.1 (refused: I/O layout);
 //   4  its constructor throws (refused);
 //   5  calls a function no library defines (dlopen fails: undefined symbol).
@@ -34,7 +34,7 @@ class Filler : public ProgramBase<Filler> {
   LREAL target = 25.0;
 #if FILLER_VERSION == 2
   LREAL flow = 0.125;
-  DINT alarms = 7;  // new in version 2: starts at its initial value
+  DINT alarms = 0;  // new in version 2: init() gives it its initial value, 7
   DINT build = 2;
 #else
   REAL flow = 0.125F;
@@ -47,6 +47,15 @@ class Filler : public ProgramBase<Filler> {
 
 #if FILLER_VERSION == 4
   Filler() { throw std::runtime_error("bad version 4"); }
+#endif
+#if FILLER_VERSION == 2
+  // Also on the programs of an online change, before the values carry
+  // over: the new field gets its value here, the carried weight keeps its
+  // (the first scan of a cold start sets it to 0 anyway).
+  void init() override {
+    alarms = 7;
+    weight = -1;
+  }
 #endif
 
   void cycle(const ScanContext& ctx) override {

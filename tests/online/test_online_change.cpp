@@ -104,6 +104,27 @@ TEST(OnlineChange, SettleTimerRunningCarriesOver) {
   });
 }
 
+// Issue 21 follow-up, point 5: Program::init() runs on the programs an
+// online change creates, before the values carry over (CODESYS: FB_init
+// with bInCopyCode = TRUE, then the copy): version 2's init() gives the new
+// field `alarms` its value 7 and sets `weight` to -1, but the running
+// batch's weight carries over it.
+TEST(OnlineChange, InitRunsOnTheNewProgramsBeforeTheValuesCarryOver) {
+  Cell cell(PLC_TEST_FILLER_V1);
+  for (int i = 0; i < 30; ++i) cell.rt->step_scan();
+  const std::string weight = value(*cell.rt, "Main.weight");
+  ASSERT_NE(weight, "0");
+  cell.folder.install(PLC_TEST_FILLER_V2);
+  OnlineChange change(*cell.rt);
+  ASSERT_EQ(change.prepare("").refused, "");
+  change.switch_all_now();
+  ASSERT_TRUE(change.switched());
+  change.finish();
+  EXPECT_EQ(value(*cell.rt, "Main.alarms"), "7");  // init() ran
+  EXPECT_EQ(value(*cell.rt, "Other.alarms"), "7");
+  EXPECT_EQ(value(*cell.rt, "Main.weight"), weight);  // carried over init()'s -1
+}
+
 // A refused or failed change leaves the cell exactly as it was.
 void refused_leaves_cell_alone(const char* built, const std::string& reason_part,
                                bool remove_file = false) {

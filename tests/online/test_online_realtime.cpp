@@ -50,6 +50,78 @@ TEST(OnlineChangeRealTime, TasksSwitchWhileRunning) {
   for (const auto& t : rt.tasks()) EXPECT_EQ(t->stats.snapshot().stop_reason, "") << t->name;
 }
 
+// Issue 21 follow-up, point 2: a change that only some tasks took before
+// it was withdrawn (the debugger's reload timing out on a stuck task). The
+// fast task switched; the slow one, held at its release, did not. The
+// change object goes: the fast task must go on running the new build (its
+// programs and library kept by the runtime), the slow one the old. Before,
+// ~OnlineChange destroyed the new programs and unloaded their library
+// under the fast task (a crash; ASan: heap-use-after-free).
+TEST(OnlineChangeRealTime, PartialSwitchKeepsTheNewBuildForTheTasksThatSwitched) {
+  CellFolder folder;
+  folder.install(PLC_TEST_FILLER_V1);
+  Runtime rt(folder.config());
+  TaskRuntime& fast = *rt.tasks()[0];
+  TaskRuntime& slow = *rt.tasks()[1];
+  std::thread runner([&] { rt.run(io::ClockMode::RealTime, std::chrono::seconds(60)); });
+  const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  auto wait_for = [&](auto&& done) {
+    while (!done() && std::chrono::steady_clock::now() < limit)
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    return done();
+  };
+  ASSERT_TRUE(wait_for([&] { return slow.stats.snapshot().scans >= 2; }));
+  // Held at their releases; only the fast task may scan.
+  rt.set_paused(true);
+  ASSERT_TRUE(rt.wait_until_idle(std::chrono::seconds(10)));
+  folder.install(PLC_TEST_FILLER_V2);
+  {
+    OnlineChange change(rt);
+    ASSERT_EQ(change.prepare("").refused, "");
+    change.commit();
+    rt.allow_scans(fast, 3);
+    ASSERT_TRUE(wait_for([&] { return change.switched(fast.order); }));
+    EXPECT_FALSE(change.switched(slow.order));
+    change.withdraw();  // the timeout: the slow task keeps the old build
+    EXPECT_FALSE(change.switched());
+  }  // the change object goes, as reload's does
+  const auto fast_scans = fast.stats.snapshot().scans;
+  const auto slow_scans = slow.stats.snapshot().scans;
+  rt.set_paused(false);
+  ASSERT_TRUE(wait_for([&] {
+    return fast.stats.snapshot().scans >= fast_scans + 20 &&
+           slow.stats.snapshot().scans >= slow_scans + 4;
+  }));
+  // Held again: the registry shows what each task runs.
+  rt.set_paused(true);
+  ASSERT_TRUE(rt.wait_until_idle(std::chrono::seconds(10)));
+  EXPECT_EQ(value(rt, "Main.build"), "2");
+  EXPECT_EQ(value(rt, "Main.alarms"), "7");
+  EXPECT_EQ(value(rt, "Other.build"), "1");
+  EXPECT_EQ(value(rt, "Other.note"), "42");
+
+  // A later change completes it: both tasks on the newest build, and the
+  // old programs the partial change kept go before their library (the
+  // runtime's destruction below would otherwise run their destructors in
+  // an unloaded library).
+  folder.install(PLC_TEST_FILLER_V1);
+  {
+    OnlineChange again(rt);
+    ASSERT_EQ(again.prepare("").refused, "");
+    again.commit();
+    rt.allow_scans(fast, 3);
+    rt.allow_scans(slow, 3);
+    ASSERT_TRUE(wait_for([&] { return again.switched(); }));
+    again.finish();
+  }
+  rt.set_paused(false);
+  rt.request_stop();
+  runner.join();
+  EXPECT_EQ(value(rt, "Main.note"), "42");
+  EXPECT_EQ(value(rt, "Other.note"), "42");
+  for (const auto& t : rt.tasks()) EXPECT_EQ(t->stats.snapshot().stop_reason, "") << t->name;
+}
+
 // The debugger's `reload` while the logic runs in real time, with a force,
 // a conditional breakpoint and a trace set up: each task takes them over at
 // its own switch point (reload.cpp); the force on a variable the new build

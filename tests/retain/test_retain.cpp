@@ -154,7 +154,7 @@ TEST(RetainConfig, LocatedErrors) {
   EXPECT_EQ(err("retain: {file: x, memory: [\"%QB0\"]}"),
             "c.yaml:3:28: key 'memory': %QB0 is not a %M address (only memory is retained)");
   EXPECT_EQ(err("retain: {file: x, every: 1s}"),
-            "c.yaml:3:19: unknown key 'every' in retain (expected one of: file, memory, "
+            "c.yaml:3:19: unknown key 'every' in retain (expected one of: file, memory, on_damage, "
             "save_every)");
   const CellConfig ok = parse_cell_config(
       "image: {memory: 16}\ntasks: [{name: m, period: 1ms, programs: []}]\nretain: {file: "
@@ -410,12 +410,42 @@ TEST(RetainPlcrun, FillingCellListsClassesAndRestartsWarm) {
 
   auto both = plctest::run_command(plcrun + " " + cfg + " --cold --warm");
   EXPECT_EQ(both.exit_code, 2);
-  EXPECT_NE(both.output.find("--warm, --cold and --reset-retain exclude each other"),
-            std::string::npos);
+  EXPECT_NE(
+      both.output.find("--warm, --warm-or-cold, --cold and --reset-retain exclude each other"),
+      std::string::npos);
   auto none = plctest::run_command(plcrun + " " + plctest::source_dir() +
                                    "/programs/filling_cell/cell.yaml --warm");
   EXPECT_EQ(none.exit_code, 2);
   EXPECT_NE(none.output.find("the config has no 'retain:' section"), std::string::npos);
+  std::system(("rm -rf " + dir).c_str());
+}
+
+// Issue 21 follow-up, point 4: a plain --record run that starts warm
+// records from the restored values (the learned preact of the dosing, the
+// container count); its --replay, which loads no retain file, must start
+// from them too - it does, from the state snapshot in the recording's first
+// latch (recording.hpp), taken after the restore - and so be bit-exact.
+TEST(RetainPlcrun, AWarmStartRecordingReplaysBitExact) {
+  const std::string dir = plctest::temp_path("plcrun_retain_record");
+  ASSERT_EQ(std::system(("rm -rf " + dir + " && mkdir -p " + dir).c_str()), 0);
+  const std::string cfg = dir + "/cell.yaml";
+  std::ofstream(cfg) << plctest::read_file(plctest::source_dir() +
+                                           "/programs/filling_cell/cell.yaml")
+                     << "\nretain: {file: filling.retain}\n";
+  const std::string plcrun = plctest::plcrun_path();
+  const auto first = plctest::run_command(plcrun + " " + cfg +
+                                          " --for 60s -q --print-vars Cell.containers,"
+                                          "Cell.dose.PreactActual");
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  ASSERT_EQ(first.output.find("Cell.containers = 0\n"), std::string::npos) << first.output;
+  const std::string rec = dir + "/warm.plcrec";
+  const auto warm = plctest::run_command(plcrun + " " + cfg + " --warm --for 20s -q --record " +
+                                         rec + " --print-vars Cell.containers");
+  ASSERT_EQ(warm.exit_code, 0) << warm.output;
+  ASSERT_NE(warm.output.find("plcrun: retain: warm start from"), std::string::npos) << warm.output;
+  const auto replay = plctest::run_command(plcrun + " " + cfg + " --replay " + rec + " -q");
+  EXPECT_EQ(replay.exit_code, 0) << replay.output;
+  EXPECT_NE(replay.output.find(" 0 with different outputs"), std::string::npos) << replay.output;
   std::system(("rm -rf " + dir).c_str());
 }
 
@@ -455,9 +485,22 @@ TEST(RetainPlcrun, RealTimeCellWithHmiSectionLoadsAndSavesRetain) {
   auto cold = plctest::run_command(plcrun + " " + cfg + " --realtime --cold --for 100ms");
   EXPECT_EQ(cold.exit_code, 0) << cold.output;
   EXPECT_NE(cold.output.find("plcrun: retain: cold start"), std::string::npos) << cold.output;
-  // A console session keeps its rule: it may goto/restart, so no retain.
+  // A console session in virtual time keeps its rule: it may goto/restart,
+  // so no retain.
   auto debug = plctest::run_command(plcrun + " " + cfg + " --warm --commands /dev/null");
   EXPECT_EQ(debug.exit_code, 2) << debug.output;
+  // In real time the debugger never rebuilds the cell (goto and restart are
+  // refused): the session loads and saves as a plain run does (issue 21,
+  // online change of retained programs), also when it ends by its file.
+  std::ofstream(dir + "/cmds") << "continue for 50ms\nquit\n";
+  auto rt_debug =
+      plctest::run_command(plcrun + " " + cfg + " --realtime --warm --commands " + dir + "/cmds");
+  EXPECT_EQ(rt_debug.exit_code, 0) << rt_debug.output;
+  EXPECT_NE(rt_debug.output.find("plcrun: retain: warm start from " + dir + "/filling.retain."),
+            std::string::npos)
+      << rt_debug.output;
+  EXPECT_NE(rt_debug.output.find(" saves (last sequence "), std::string::npos) << rt_debug.output;
+  EXPECT_EQ(rt_debug.output.find("FAILED"), std::string::npos) << rt_debug.output;
   std::system(("rm -rf " + dir).c_str());
 }
 

@@ -73,6 +73,42 @@ TEST(PlcrunCli, StatsJsonHasEveryTask) {
   EXPECT_NE(j.find("\"p999\""), std::string::npos);
 }
 
+// Issue 21 follow-up, point 6: where the run's results go (--stats-json,
+// --trace, --record) is checked before the cell starts, like the retain
+// file: a folder that does not exist, a "folder" that is a file, a path
+// that is a folder. Before, --stats-json was found unwritable after the run.
+TEST(PlcrunCli, OutputFilesThatCannotBeWrittenAreRefusedBeforeTheRun) {
+  const std::string file = plctest::write_temp("cli_not_a_folder", "x");
+  const std::string dir = plctest::temp_path("cli_a_folder");
+  std::filesystem::create_directories(dir);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--stats-json /nonexistent-softplc/stats.json",
+       "the folder '/nonexistent-softplc' does not exist"},
+      {"--stats-json " + file + "/stats.json", "'" + file + "' is not a folder"},
+      {"--stats-json " + dir, "is a folder, not a file"},
+      {"--trace /nonexistent-softplc/t.csv --trace-vars Tank.level",
+       "the folder '/nonexistent-softplc' does not exist"},
+      {"--record /nonexistent-softplc/r.plcrec",
+       "the folder '/nonexistent-softplc' does not exist"},
+      // --checks' verdict (scenario campaigns): refused before the checks are
+      // even read, so any campaign file does here.
+      {"--checks " + plctest::source_path("programs/filling_cell/campaign/filling_campaign.yaml") +
+           " --results-json /nonexistent-softplc/r.json",
+       "the folder '/nonexistent-softplc' does not exist"},
+  };
+  for (const auto& [args, why] : cases) {
+    const std::string cmd = plctest::plcrun_path() + " " + demo() + " --cycles 10 -q " + args;
+    const auto r = plctest::run_command(cmd);
+    EXPECT_EQ(r.exit_code, 2) << cmd << "\n" << r.output;
+    EXPECT_NE(r.output.find("cannot write"), std::string::npos) << cmd << "\n" << r.output;
+    EXPECT_NE(r.output.find(why), std::string::npos) << cmd << "\n" << r.output;
+    EXPECT_EQ(r.output.find("running cell"), std::string::npos)
+        << "the cell ran first: " << cmd << "\n"
+        << r.output;
+    EXPECT_EQ(r.output.find("== summary"), std::string::npos) << cmd << "\n" << r.output;
+  }
+}
+
 TEST(PlcrunCli, UsageErrorsExitWithTwo) {
   for (const char* args : {"", " --cycles 5 --for 1s", " --trace x.csv", " --virtual --realtime",
                            " --for soon", " --bogus"}) {

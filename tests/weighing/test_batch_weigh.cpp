@@ -5,6 +5,8 @@
 // R[7].6 and range bits (§3.4), valves on outputs 1-3 (W[6]).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -637,4 +639,52 @@ TEST(BatchWeigh, PauseInFinePhase) {
   c.run_until([&] { return b.Done || b.Error; }, 30s, [&] { b(c.ctx); });
   EXPECT_TRUE(b.Done);
   EXPECT_TRUE(b.InTolerance) << "deviation " << b.LastDeviation;
+}
+
+// Issue 21 follow-up, point 8: the master is lost in the middle of a fill
+// (spec §2.5: the card's "connection timeout"). The transport delivers no
+// new window, and its watchdog tells the model (io_connection_lost, as the
+// DeviceNet slave does): the valves close [INFERRED, pr5510_model.hpp],
+// they do not stay open on the last window, so the hopper does not
+// overfill past FSD. The block reports the device offline (16#8003) and,
+// with the master back, the following batch tares and fills as the README's
+// "Recovery" says. Before, the coarse valve ran on for the whole loss and
+// every later batch failed with 16#8204 (weight above FSD).
+TEST(BatchWeigh, Spec25_MasterLostMidFillClosesTheValvesAndTheNextBatchRecovers) {
+  Cell c(line_config(12));
+  wg::PR5510_BatchWeigh b;
+  setup(b, c.dev);
+  c.idle(200ms);
+  b.Execute = true;
+  ASSERT_NE(-1ms,
+            c.run_until([&] { return b.State == wg::BatchState::Coarse; }, 10s, [&] { b(c.ctx); }));
+  c.run(300ms, [&] { b(c.ctx); });  // filling
+  ASSERT_TRUE(b.CoarseFeed);
+  const double before = c.model().process().load();
+  // 10 s without a master: the model keeps the last window it got.
+  std::array<std::uint8_t, wg::kWindowSize> last{};
+  std::copy(c.sim.w().begin(), c.sim.w().end(), last.begin());
+  std::array<std::uint8_t, wg::kWindowSize> unseen{};
+  c.sim.dev.link().set_state(plc::io::DeviceState::Offline);
+  c.model().io_connection_lost();
+  for (int i = 0; i < 10000; ++i) {
+    c.ctx.now += 1ms;
+    c.dev(c.ctx);
+    b(c.ctx);
+    c.model().step_io(c.ctx.now, 1ms, last, false, unseen);
+    ++c.ctx.cycle;
+  }
+  EXPECT_TRUE(b.Error);
+  EXPECT_EQ(eid::kDeviceOffline, b.ErrorID);
+  const double after = c.model().process().load();
+  EXPECT_LT(after - before, 2.0) << "the valves stayed open without a master: " << before
+                                 << " kg -> " << after << " kg";
+  EXPECT_FALSE(c.model().status().Out1 || c.model().status().Out2);
+  // The master is back: a fresh window, the device online again.
+  b.Execute = false;
+  c.model().step_io(c.ctx.now, plc::TIME(0), c.sim.w(), true, unseen);
+  c.run(200ms, [&] { b(c.ctx); });
+  ASSERT_FALSE(c.model().master_lost());
+  const Ending e = run_batch(c, b);
+  EXPECT_TRUE(e.done) << "ErrorID 16#" << std::hex << e.error_id;
 }

@@ -254,6 +254,28 @@ TEST(Pr5510Model, Spec33_34_DigitalOutputsAndInputs) {
   EXPECT_EQ(0x10, h.r()[wg::r::kCommand] & 0x38);
 }
 
+// Issue 21 follow-up, point 8 [INFERRED, pr5510_model.hpp]: a lost I/O
+// connection turns outputs 1-3 off at once (W[6], §3.3; R[5].3-5, §3.4).
+// A host that calls step() delivers the outputs every cycle - the sim
+// plugin, the PROFINET device once its AR is up again (PnDevice calls
+// step(), not step_io()) - so its next step is a new message and the
+// outputs follow W[6] again. Before, only step_io(new_message) ended the
+// loss: behind a PROFINET device the valves stayed closed for good after an
+// AR loss.
+TEST(Pr5510Model, Spec33_34_OutputsOffAfterAConnectionLossUntilTheNextMessage) {
+  Harness h(quiet_config());
+  h.w()[wg::w::kOutputs] = 0x05;
+  h.run(20ms);
+  ASSERT_TRUE(st(h).Out1);
+  h.model.io_connection_lost();
+  EXPECT_TRUE(h.model.master_lost());
+  EXPECT_FALSE(h.model.status().Out1 || h.model.status().Out3);
+  h.run(40ms);  // the host steps the model again with its outputs
+  EXPECT_FALSE(h.model.master_lost());
+  EXPECT_TRUE(st(h).Out1);
+  EXPECT_TRUE(st(h).Out3);
+}
+
 // §3.4 R[7] weighing status: center zero, below zero, inside ZSR, above
 // FSD, over-load, dimmed, A/D error; error 35 as last error (§5.3).
 TEST(Pr5510Model, Spec34_WeighingStatusRanges) {

@@ -1,11 +1,59 @@
 #include "plc/fb/drive/drive_axis.hpp"
 
 #include <cmath>
+#include <utility>
 
 #include "plc/fb/drive/scaling.hpp"
 #include "plc/fb/drive/sign_of_life.hpp"
 
 namespace plc::drive {
+
+namespace {
+
+// The bits of a status or control word that its structure keeps (from()
+// drops reserved bits, word() sends 0 in them).
+template <class W>
+constexpr std::uint16_t kept_bits = W::from(0xFFFF).word();
+
+// Whether W::from(w).word() is w with the reserved bits cleared, for every
+// w: then a word is taken or sent as that mask, without building the
+// structure of named bits (the telegram 111 path of begin() and commit(),
+// once per scan and per MC block).
+template <class W>
+constexpr bool round_trip_is_mask(std::uint32_t first, std::uint32_t count) {
+  for (std::uint32_t w = first; w < first + count; ++w)
+    if (W::from(static_cast<std::uint16_t>(w)).word() != (w & kept_bits<W>)) return false;
+  return true;
+}
+
+// All 65,536 words, checked in 16 blocks of 4,096: each static_assert is
+// its own constant evaluation, and clang stops one after about a million
+// steps (-fconstexpr-steps), which a whole word type's 65,536 exceed.
+constexpr std::uint32_t kMaskBlock = 4096;
+template <class W, std::uint32_t Block>
+struct MaskBlockChecked {
+  static_assert(round_trip_is_mask<W>(Block * kMaskBlock, kMaskBlock));
+  static constexpr bool value = true;
+};
+template <class W, std::uint32_t... Blocks>
+constexpr bool every_block_checked(std::integer_sequence<std::uint32_t, Blocks...>) {
+  return (MaskBlockChecked<W, Blocks>::value && ...);
+}
+template <class W>
+constexpr bool round_trip_is_mask_everywhere =
+    every_block_checked<W>(std::make_integer_sequence<std::uint32_t, 0x10000 / kMaskBlock>{});
+
+static_assert(round_trip_is_mask_everywhere<Zsw1Pos>);
+static_assert(round_trip_is_mask_everywhere<PosZsw1>);
+static_assert(round_trip_is_mask_everywhere<PosZsw2>);
+static_assert(round_trip_is_mask_everywhere<Zsw2>);
+static_assert(round_trip_is_mask_everywhere<Meldw>);
+static_assert(round_trip_is_mask_everywhere<Stw1Pos>);
+static_assert(round_trip_is_mask_everywhere<PosStw1>);
+static_assert(round_trip_is_mask_everywhere<PosStw2>);
+static_assert(round_trip_is_mask_everywhere<Stw2>);
+
+}  // namespace
 
 const char* to_string(AxisState s) {
   switch (s) {
@@ -90,17 +138,17 @@ void DriveAxis::begin(const ScanContext& ctx) {
               secs;
         break;
       }
-      case TelegramType::Hiwin111: {
-        const auto t = Telegram111In::decode(in);
-        ZSW1 = t.zsw1.word();
-        POS_ZSW1 = t.pos_zsw1.word();
-        POS_ZSW2 = t.pos_zsw2.word();
-        ZSW2 = t.zsw2.word();
-        MELDW = t.meldw.word();
-        XIST_A = t.xist_a;
-        NIST_B = t.nist_b;
-        FAULT_CODE = t.fault_code;
-        WARN_CODE = t.warn_code;
+      case TelegramType::Hiwin111: {  // Telegram111In::decode, the words as masks
+        using T = Telegram111In;
+        ZSW1 = static_cast<std::uint16_t>(wire::u16(in, T::kZsw1) & kept_bits<Zsw1Pos>);
+        POS_ZSW1 = static_cast<std::uint16_t>(wire::u16(in, T::kPosZsw1) & kept_bits<PosZsw1>);
+        POS_ZSW2 = static_cast<std::uint16_t>(wire::u16(in, T::kPosZsw2) & kept_bits<PosZsw2>);
+        ZSW2 = static_cast<std::uint16_t>(wire::u16(in, T::kZsw2) & kept_bits<Zsw2>);
+        MELDW = static_cast<std::uint16_t>(wire::u16(in, T::kMeldw) & kept_bits<Meldw>);
+        XIST_A = wire::i32(in, T::kXistA);
+        NIST_B = wire::i32(in, T::kNistB);
+        FAULT_CODE = wire::u16(in, T::kFaultCode);
+        WARN_CODE = wire::u16(in, T::kWarnCode);
         ActPosition = XIST_A;
         ActVelocity = rpm_to_cu_per_s(nist_b_to_speed(NIST_B, RefSpeedRpm), CuPerRev);
         break;
@@ -492,17 +540,18 @@ void DriveAxis::commit() {
     t.encode(out);
     return;
   }
-  Telegram111Out t;
-  t.stw1 = Stw1Pos::from(STW1);
-  t.pos_stw1 = PosStw1::from(POS_STW1);
-  t.pos_stw2 = PosStw2::from(POS_STW2);
-  t.stw2 = Stw2::from(STW2);
-  t.override_ = OVERRIDE;
-  t.mdi_tarpos = MDI_TARPOS;
-  t.mdi_velocity = MDI_VELOCITY;
-  t.mdi_acc = MDI_ACC;
-  t.mdi_dec = MDI_DEC;
-  t.encode(out);
+  // Telegram111Out::encode, the words as masks.
+  using T = Telegram111Out;
+  wire::put16(out, T::kStw1, static_cast<std::uint16_t>(STW1 & kept_bits<Stw1Pos>));
+  wire::put16(out, T::kPosStw1, static_cast<std::uint16_t>(POS_STW1 & kept_bits<PosStw1>));
+  wire::put16(out, T::kPosStw2, static_cast<std::uint16_t>(POS_STW2 & kept_bits<PosStw2>));
+  wire::put16(out, T::kStw2, static_cast<std::uint16_t>(STW2 & kept_bits<Stw2>));
+  wire::put16(out, T::kOverride, OVERRIDE);
+  wire::put32(out, T::kMdiTarpos, static_cast<std::uint32_t>(MDI_TARPOS));
+  wire::put32(out, T::kMdiVelocity, static_cast<std::uint32_t>(MDI_VELOCITY));
+  wire::put16(out, T::kMdiAcc, static_cast<std::uint16_t>(MDI_ACC));
+  wire::put16(out, T::kMdiDec, static_cast<std::uint16_t>(MDI_DEC));
+  wire::put16(out, T::kReserved12, 0);
 }
 
 }  // namespace plc::drive

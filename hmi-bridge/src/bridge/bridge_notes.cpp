@@ -63,6 +63,22 @@ std::string local_time(std::int64_t utime) {
   return b;
 }
 
+// An outage of the bridge as plcrun noted it, once it was back.
+softplc_hmi::alarm_t outage_alarm(const ipc::OutageNote::Outage& o) {
+  softplc_hmi::alarm_t a{};
+  a.source = "hmi";
+  a.kind = "hmi_lost";
+  a.active = false;
+  char b[64];
+  std::snprintf(b, sizeof b, "%.2f s", double(o.up_utime - o.down_utime) / 1e6);
+  a.text = o.cause + " at " + local_time(o.down_utime) + "; the HMI was down " + b + " (outage " +
+           std::to_string(o.number) + ")";
+  a.from_state = "lost";
+  a.to_state = "back";
+  a.utime = o.up_utime;
+  return a;
+}
+
 }  // namespace
 
 void Bridge::publish_stats() {
@@ -158,7 +174,24 @@ void Bridge::publish_diagnostics() {
         a.utime = m.utime;
         m.alarms.push_back(a);
       }
+    for (const ipc::CellLayout::Alarm& s : cell.start_alarms) {
+      softplc_hmi::alarm_t a{};
+      a.source = s.source;
+      a.text = s.text;
+      a.kind = s.kind;
+      a.active = true;
+      a.utime = s.utime;
+      m.alarms.push_back(a);
+    }
   }
+  // The bridge's own outages that plcrun keeps (the last OutageNote::kKept),
+  // for a client that was not listening when they were announced: each as
+  // an hmi_lost alarm, no longer active (the bridge publishing this is up).
+  std::optional<ipc::OutageNote> outages;
+  if (regions_->outages().read(bytes)) outages = ipc::OutageNote::decode(bytes);
+  if (outages)
+    for (const ipc::OutageNote::Outage& o : outages->recent)
+      if (o.up_utime != 0) m.alarms.push_back(outage_alarm(o));
   m.n_devices = int(m.devices.size());
   m.n_alarms = int(m.alarms.size());
   transport_->publish(ch_.diag, &m);
@@ -206,18 +239,7 @@ int Bridge::publish_device_alarms() {
     std::uint64_t upto = announced.load(std::memory_order_relaxed);
     for (const ipc::OutageNote::Outage& o : outages->recent) {
       if (o.number <= upto || o.up_utime == 0) continue;
-      softplc_hmi::alarm_t a{};
-      a.source = "hmi";
-      a.kind = "hmi_lost";
-      a.active = false;
-      char b[64];
-      std::snprintf(b, sizeof b, "%.2f s", double(o.up_utime - o.down_utime) / 1e6);
-      a.text = o.cause + " at " + local_time(o.down_utime) + "; the HMI was down " + b +
-               " (outage " + std::to_string(o.number) + ")";
-      a.from_state = "lost";
-      a.to_state = "back";
-      a.utime = o.up_utime;
-      out.push_back(a);
+      out.push_back(outage_alarm(o));
       upto = o.number;
     }
     announced.store(upto, std::memory_order_relaxed);

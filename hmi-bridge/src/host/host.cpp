@@ -109,6 +109,11 @@ void Host::log(const std::string& line) const {
   std::fflush(stderr);
 }
 
+void Host::add_start_alarm(const std::string& kind, const std::string& source,
+                           const std::string& text) {
+  start_alarms_.push_back({kind, source, text, utime_now()});
+}
+
 void Host::attach(Runtime& rt) {
   auto l = std::make_shared<Layout>();
   l->rt = &rt;
@@ -122,6 +127,7 @@ void Host::attach(Runtime& rt) {
   for (const DeviceRuntime& d : rt.devices())
     cell.devices.push_back({d.name, d.plugin_name, d.in.to_string(), d.out.to_string(), d.task,
                             std::int32_t(d.sizes.input_bytes), std::int32_t(d.sizes.output_bytes)});
+  cell.start_alarms = start_alarms_;
 
   auto may = [](const std::vector<Item<std::string>>& patterns, const std::string& name) {
     for (const auto& p : patterns)

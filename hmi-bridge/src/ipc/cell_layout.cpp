@@ -72,6 +72,13 @@ std::vector<unsigned char> CellLayout::encode() const {
       w.u32(it.offset);
     }
   }
+  w.u32(std::uint32_t(start_alarms.size()));
+  for (const Alarm& a : start_alarms) {
+    w.str(a.kind);
+    w.str(a.source);
+    w.str(a.text);
+    w.i64(a.utime);
+  }
   return w.bytes();
 }
 
@@ -140,6 +147,13 @@ std::optional<CellLayout> CellLayout::decode(const unsigned char* p, std::size_t
       if (it.offset > s.buffer_size || s.buffer_size - it.offset < size)
         return bad("an item outside its buffer");
     }
+  }
+  l.start_alarms.resize(r.count(20));
+  for (Alarm& a : l.start_alarms) {
+    a.kind = r.str(kMaxName);
+    a.source = r.str(kMaxName);
+    a.text = r.str(kMaxName);
+    a.utime = r.i64();
   }
   if (!r.at_end()) return bad("truncated or with bytes left over");
   return l;

@@ -12,6 +12,8 @@
 #include <cerrno>
 #include <cstring>
 
+#include "plc/thread_guard.hpp"
+
 namespace plc::can {
 
 namespace {
@@ -124,7 +126,12 @@ UdpHub::UdpHub(const std::string& host, std::uint16_t port) {
     close(fd_);
     throw BusError("udp hub: pipe failed");
   }
-  thread_ = std::thread([this] { run(); });
+  // A failed hub forwards nothing more: every node on it sees a silent bus
+  // and times out as it would on a cut cable.
+  thread_ = std::thread([this] {
+    run_guarded(
+        "can udp hub", [this] { run(); }, [](std::string_view) {});
+  });
 }
 
 UdpHub::~UdpHub() {

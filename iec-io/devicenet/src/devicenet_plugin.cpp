@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "plc/devicenet/startup_writes.hpp"
+#include "plc/thread_guard.hpp"
 
 namespace plc::devicenet {
 
@@ -141,11 +142,18 @@ void DeviceNetPlugin::open() {
 void DeviceNetPlugin::start(io::ClockMode mode) {
   open();
   if (mode == io::ClockMode::RealTime && !running_.exchange(true))
-    thread_ = std::thread([this] { run_realtime(); });
+    thread_ = std::thread([this] {
+      // The bus thread failing leaves the slaves unpolled: their devices
+      // go to Fault (Plugin::fail), the slaves' own timeouts stop them.
+      run_guarded(
+          "devicenet bus thread", [this] { run_realtime(); },
+          [this](std::string_view what) { fail("devicenet bus thread", what, entries_.size()); });
+    });
 }
 
 void DeviceNetPlugin::stop() {
   if (running_.exchange(false) && thread_.joinable()) thread_.join();
+  if (failed()) return;  // whatever broke the bus thread may break the flush too
   if (pcap_) pcap_->flush();
 }
 

@@ -85,7 +85,7 @@ void Scanner::tick(TIME now) {
 void Scanner::send_poll(Device& d) {
   IoFrames frames;
   if (!build_io(group2_id(d.cfg.mac, kG2Poll), d.out, frames)) return;
-  for (std::size_t i = 0; i < frames.count; ++i) bus_->send(frames.frames[i]);
+  for (std::size_t i = 0; i < frames.count; ++i) send(d, frames.frames[i]);
   ++d.counters.polls;
 }
 
@@ -168,14 +168,14 @@ void Scanner::on_explicit_response(Device& d, const can::Frame& f, TIME now) {
           d.step = Step::None;
           return;
         }
-        bus_->send(d.tx.frames[d.tx_next++]);
+        send(d, d.tx.frames[d.tx_next++]);
       }
       return;
     case ExplicitReassembler::Result::FragmentAck:
-      bus_->send(explicit_ack(req_id, cfg_.mac, false, d.rx.ack_count(), kAckSuccess));
+      send(d, explicit_ack(req_id, cfg_.mac, false, d.rx.ack_count(), kAckSuccess));
       return;
     case ExplicitReassembler::Result::LastFragment:
-      bus_->send(explicit_ack(req_id, cfg_.mac, false, d.rx.ack_count(), kAckSuccess));
+      send(d, explicit_ack(req_id, cfg_.mac, false, d.rx.ack_count(), kAckSuccess));
       break;
     case ExplicitReassembler::Result::Message:
       break;
@@ -367,8 +367,23 @@ void Scanner::begin(Device& d, Step s, std::span<const std::uint8_t> msg, bool u
   d.step = s;
   d.deadline = now + cfg_.explicit_timeout;
   d.last_explicit = now;
-  bus_->send(d.tx.frames[0]);
   d.tx_next = 1;
+  if (send(d, d.tx.frames[0]) || (s != Step::Release && s != Step::Allocate)) return;
+  // A Release or an Allocate the interface did not take never reached the
+  // slave: it is sent again after `retry`, not waited out. A Release waited
+  // out is followed by an Allocate that a slave still allocated to us
+  // refuses (0x0B, already in the requested mode), a lost retry more.
+  d.step = Step::None;
+  d.state = ScanState::Waiting;
+  d.last_error = s == Step::Release ? "Release not sent (the interface took no frame)"
+                                    : "Allocate not sent (the interface took no frame)";
+  d.next_try = now + cfg_.retry;
+}
+
+bool Scanner::send(Device& d, const can::Frame& f) {
+  if (bus_->send(f)) return true;
+  ++d.counters.send_failures;
+  return false;
 }
 
 void Scanner::allocate(Device& d, TIME now) {
@@ -489,7 +504,7 @@ std::string Scanner::diagnostics(std::size_t i) const {
       b, sizeof b,
       "devicenet mac %u %s; polls %llu responses %llu losses %llu allocations %llu "
       "(refused %llu) bad-frames %llu wrong-size %llu explicit ok %llu err %llu "
-      "timeout %llu%s%s",
+      "timeout %llu send-failed %llu%s%s",
       d.cfg.mac, to_string(d.state), static_cast<unsigned long long>(c.polls),
       static_cast<unsigned long long>(c.responses), static_cast<unsigned long long>(c.losses),
       static_cast<unsigned long long>(c.allocations),
@@ -498,6 +513,7 @@ std::string Scanner::diagnostics(std::size_t i) const {
       static_cast<unsigned long long>(c.explicit_ok),
       static_cast<unsigned long long>(c.explicit_errors),
       static_cast<unsigned long long>(c.explicit_timeouts),
+      static_cast<unsigned long long>(c.send_failures),
       d.last_error.empty() ? "" : "; last: ", d.last_error.c_str());
   return b;
 }

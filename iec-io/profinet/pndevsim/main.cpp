@@ -53,6 +53,7 @@
 #include "plc/profinet/device/pn_device.hpp"
 #include "plc/profinet/link/raw_ethernet_port.hpp"
 #include "plc/profinet/link/socket_udp_port.hpp"
+#include "plc/thread_guard.hpp"
 
 namespace pn = plc::profinet;
 namespace io = plc::io;
@@ -448,8 +449,13 @@ int run(int argc, char** argv) {
                pn::to_string(h.dev->ip()) + " " + pn::to_string(h.dev->mac()));
 
   const std::int64_t t0 = mono_ns();
-  std::thread rt(realtime_thread, std::ref(*eth), std::ref(hosted), std::ref(mb), period, t0,
-                 run_ns);
+  // The devices' thread failing ends pndevsim (exit code 1): its devices
+  // stop answering, and the controller sees them go as on a cut cable.
+  std::thread rt([&] {
+    plc::run_guarded(
+        "device thread", [&] { realtime_thread(*eth, hosted, mb, period, t0, run_ns); },
+        [](std::string_view) { g_stop = true; });
+  });
   // Should anything below throw, the thread is stopped and joined first (a
   // joinable std::thread destroyed would call std::terminate).
   struct JoinOnExit {
@@ -489,7 +495,7 @@ int run(int argc, char** argv) {
   for (const auto& l : mb.lines) print_line(l);
   for (const auto& h : hosted) print_line("pndevsim: " + h.name + ": " + h.dev->describe());
   if (control_fd >= 0 && control_fd != STDIN_FILENO) close(control_fd);
-  return 0;
+  return plc::thread_failures() ? 1 : 0;
 }
 
 }  // namespace

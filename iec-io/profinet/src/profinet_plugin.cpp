@@ -12,6 +12,7 @@
 #include "plc/profinet/controller/device_params.hpp"
 #include "plc/profinet/device/pn_device.hpp"
 #include "plc/profinet/link/open_link.hpp"
+#include "plc/thread_guard.hpp"
 
 namespace plc::profinet {
 
@@ -146,12 +147,19 @@ void ProfinetPlugin::start(io::ClockMode mode) {
   open();
   mode_ = mode;
   if (mode == io::ClockMode::RealTime && !running_.exchange(true))
-    thread_ = std::thread([this] { run_realtime(); });
+    thread_ = std::thread([this] {
+      // Its devices go to Fault (Plugin::fail); without cyclic frames
+      // their own watchdogs put their outputs to the substitute values.
+      run_guarded(
+          "profinet cyclic thread", [this] { run_realtime(); },
+          [this](std::string_view what) { fail("profinet cyclic thread", what, entries_.size()); });
+    });
 }
 
 void ProfinetPlugin::stop() {
   if (running_.exchange(false) && thread_.joinable()) thread_.join();
-  if (!controller_ || !eth_) return;
+  // A failed cyclic thread: no release either (what broke it may break it).
+  if (!controller_ || !eth_ || failed()) return;
   std::lock_guard<std::mutex> lock(mutex_);
   // Release every AR. The answers are read for a bounded time (they end
   // the device's AR cleanly; nothing depends on them here).

@@ -80,7 +80,8 @@ HiwinE1Config config_from(const io::ModelParams& p) {
 
 HiwinE1Model::HiwinE1Model(const io::ModelParams& p) : HiwinE1Model(config_from(p)) {}
 
-HiwinE1Model::HiwinE1Model(const HiwinE1Config& c) : cfg_(c) {
+HiwinE1Model::HiwinE1Model(const HiwinE1Config& c)
+    : cfg_(c), stop_thr_(std::max(1.0, rpm_to_cu_per_s(cfg_.standstill_rpm, cfg_.cu_per_rev))) {
   build_dictionary();
   enc_ = cfg_.initial_position;
   restart(true);
@@ -188,6 +189,12 @@ void HiwinE1Model::refresh_active() {
   act_.pt53a = p(kPt53A);
   act_.ot_mode = p(kOvertravelStopMode);
   act_.sol_tolerance = p(kPnuSolTolerance);
+  act_.acc534 = accel_of_ms(act_.pt534);
+  act_.acc537 = accel_of_ms(act_.pt537);
+  act_.acc538 = accel_of_ms(act_.pt538);
+  act_.acc30a = accel_of_ms(act_.pt30a);
+  act_.acc_coast = accel_of_ms(cfg_.coast_time_ms);
+  act_.acc_db = accel_of_ms(cfg_.db_time_ms);
 }
 
 double HiwinE1Model::p(std::uint16_t pnu) const {
@@ -537,7 +544,11 @@ bool HiwinE1Model::move_to(double target, double vmax, double a, double d, doubl
 // Position loop: the encoder follows the setpoint as a first-order lag
 // (gain kv), so the following error is v/kv at constant speed.
 void HiwinE1Model::follow(double dt) {
-  const double alpha = 1.0 - std::exp(-cfg_.kv * dt);
+  if (dt != follow_dt_) {  // the step is the same every time in virtual time: one exp()
+    follow_dt_ = dt;
+    follow_alpha_ = 1.0 - std::exp(-cfg_.kv * dt);
+  }
+  const double alpha = follow_alpha_;
   double n = enc_ + (p_set_ - enc_) * alpha;
   if (std::fabs(p_set_ - n) < 1e-6) n = p_set_;
   v_act_ = dt > 0 ? (n - enc_) / dt : 0;
@@ -547,7 +558,7 @@ void HiwinE1Model::follow(double dt) {
 // Pulses off: dynamic brake (Pt001 digit 0 = 0/1) or free run (2).
 void HiwinE1Model::coast(double dt) {
   const unsigned mode = static_cast<unsigned>(act_.pt001) & 0xF;
-  const double dec = accel_of_ms(mode == 2 ? cfg_.coast_time_ms : cfg_.db_time_ms);
+  const double dec = mode == 2 ? act_.acc_coast : act_.acc_db;
   const double v0 = v_act_;
   const double v = sgn(v0) * std::max(0.0, std::fabs(v0) - dec * dt);
   enc_ += 0.5 * (v0 + v) * dt;
@@ -610,7 +621,7 @@ void HiwinE1Model::update_state_machine(bool rise_ack) {
 // -------------------------------------------------------- position mode
 void HiwinE1Model::update_position_mode(double dt, bool rise_task, bool rise_homing,
                                         bool rise_setref) {
-  const double stop_thr = std::max(1.0, rpm_to_cu_per_s(cfg_.standstill_rpm, cfg_.cu_per_rev));
+  const double stop_thr = stop_thr_;
   overtravel_neg_ = enc_ <= cfg_.neg_limit;
   overtravel_pos_ = enc_ >= cfg_.pos_limit;
   if (!has(stw1_, Stw1Pos::kActivateTask)) task_ack_ = false;
@@ -623,10 +634,10 @@ void HiwinE1Model::update_position_mode(double dt, bool rise_task, bool rise_hom
     coast(dt);
     return;
   }
-  const double a_def = accel_of_ms(act_.pt534), d_def = accel_of_ms(act_.pt537);
+  const double a_def = act_.acc534, d_def = act_.acc537;
   if (state_ == State::S5Off1 || state_ == State::S5Off3) {
     task_active_ = jog_active_ = homing_ = task_rejecting_ = false;
-    const double d = state_ == State::S5Off1 ? d_def : accel_of_ms(act_.pt538);
+    const double d = state_ == State::S5Off1 ? d_def : act_.acc538;
     ramp_velocity(0, a_def, d, dt);
     follow(dt);
     if (v_set_ == 0 && std::fabs(v_act_) < stop_thr)
@@ -667,7 +678,7 @@ void HiwinE1Model::update_position_mode(double dt, bool rise_task, bool rise_hom
     task_done_ = false;
   }
   // Overtravel: motion into an active limit stops and drops the task.
-  const double ot_dec = act_.ot_mode == 1 ? d_def : accel_of_ms(act_.pt538);
+  const double ot_dec = act_.ot_mode == 1 ? d_def : act_.acc538;
   const bool into_limit = (overtravel_neg_ && v_set_ < 0) || (overtravel_pos_ && v_set_ > 0);
   if (into_limit) {
     task_active_ = homing_ = false;
@@ -684,7 +695,7 @@ void HiwinE1Model::update_position_mode(double dt, bool rise_task, bool rise_hom
   if (jog_dir != 0) task_done_ = false;
 
   if (task_rejecting_) {
-    ramp_velocity(0, a_def, into_limit ? ot_dec : accel_of_ms(act_.pt538), dt);
+    ramp_velocity(0, a_def, into_limit ? ot_dec : act_.acc538, dt);
     if (v_set_ == 0) task_rejecting_ = false;
   } else if (homing_) {
     if (!homing_found_) {
@@ -741,9 +752,9 @@ void HiwinE1Model::update_speed_mode(double dt) {
     const double vmax = rpm_to_cu_per_s(act_.pt316, cfg_.cu_per_rev);
     vt = std::clamp(nist_b_to_speed(nsoll_b_, ref_speed()), -vmax, vmax);
   } else if (state_ == State::S5Off3) {
-    d = accel_of_ms(act_.pt30a);
+    d = act_.acc30a;
   }
-  ramp_velocity(vt, accel_of_ms(act_.pt534), d, dt);
+  ramp_velocity(vt, act_.acc534, d, dt);
   const double tau = cfg_.speed_tau_ms / 1000.0;
   const double va0 = v_act_;
   v_act_ = tau > 0 ? v_act_ + (v_set_ - v_act_) * (1.0 - std::exp(-dt / tau)) : v_set_;
@@ -891,7 +902,7 @@ void HiwinE1Model::write_inputs(std::span<std::uint8_t> to_plc) {
                              : (overtravel_neg_ || overtravel_pos_) ? kWarnOvertravel
                                                                     : std::uint16_t{0};
   if (warn) z |= Zsw1Pos::kWarning;
-  const double stop_thr = std::max(1.0, rpm_to_cu_per_s(cfg_.standstill_rpm, cfg_.cu_per_rev));
+  const double stop_thr = stop_thr_;
   const bool stopped = std::fabs(v_act_) < stop_thr;
   Zsw2 zsw2;
   zsw2.drive_sign_of_life = sol_;

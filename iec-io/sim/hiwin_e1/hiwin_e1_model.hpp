@@ -188,7 +188,12 @@ class HiwinE1Model : public io::DeviceModel {
   struct Active {
     double pt001 = 0, pt30a = 0, pt316 = 0, pt317 = 0, pt533 = 0, pt534 = 0, pt537 = 0, pt538 = 0,
            pt53a = 0, ot_mode = 0, sol_tolerance = 5;
+    // accel_of_ms() of the ramp times, which depend on Pt317 too.
+    double acc534 = 0, acc537 = 0, acc538 = 0, acc30a = 0, acc_coast = 0, acc_db = 0;
   } act_;
+  const double stop_thr_;  // CU/s: below this |speed| the motor stands (ZSW1.13)
+  // follow(): the lag's factor for the last step length (one exp() per change).
+  double follow_dt_ = -1, follow_alpha_ = 0;
   void refresh_active();
 
   // control word as last accepted (control by PLC), and its previous value

@@ -71,6 +71,8 @@ void NordProfisafeModel::reset_volatile() {
   q_[kQSo1Off].channel = 0;
   q_[kQSo2Off].channel = 1;
   q_[kQSo3Off].channel = 2;
+  active_q_ = 0;
+  refresh_module_fault();
   fatal_code_ = 0;
   p841_ = p842_ = 0;
   code_events_ = 0;
@@ -141,6 +143,7 @@ void NordProfisafeModel::inject_device_fault(std::uint16_t code, bool fatal) {
   e.hold = (code >= err::kOutput1 && code <= err::kInput2Diag) ? TIME(10s) : TIME{};
   e.channel = (code >= err::kOutput1 && code <= err::kOutput3) ? code - err::kOutput1 : -1;
   injected_cause_ = true;
+  refresh_module_fault();  // an active injected error may now count for the module
 }
 
 void NordProfisafeModel::inject_system_error() {
@@ -163,18 +166,24 @@ void NordProfisafeModel::corrupt_responses(int n, std::size_t byte, std::uint8_t
   corrupt_resp_mask_ = mask;
 }
 
-bool NordProfisafeModel::module_fault() const {
+// Kept in module_fault_: it depends only on which q errors are active and
+// their channels, and evaluate() asks several times a step.
+void NordProfisafeModel::refresh_module_fault() {
+  module_fault_ = false;
   for (int i = 0; i < kQCount; ++i) {
     const QError& e = q_[i];
     if (!e.active) continue;
-    if (ip_.p801 == 0) return true;
+    if (ip_.p801 == 0) {
+      module_fault_ = true;
+      return;
+    }
     // Channel passivation (P801 = 1): violations are only reported, SO
     // errors passivate their channel, everything else the module.
     if (i <= kQSos) continue;
     if (e.channel >= 0) continue;
-    return true;
+    module_fault_ = true;
+    return;
   }
-  return false;
 }
 
 bool NordProfisafeModel::device_fault() const { return fatal_code_ != 0 || module_fault(); }
@@ -229,12 +238,41 @@ bool NordProfisafeModel::q_cause(int q) const {
   }
 }
 
+// q_cause() of every q error at once, bit i for error i.
+std::uint32_t NordProfisafeModel::q_causes() const {
+  std::uint32_t m = 0;
+  auto set = [&m](int q, bool on) { m |= static_cast<std::uint32_t>(on) << q; };
+  for (int f = 0; f < NordSafetyFunctions::kCount; ++f) set(kQSls + f, fn_.tripped(f));
+  const std::uint8_t* r = requested_.data();
+  set(kQSlsOff, get(r, nin::kSls) && ip_.p820[0] == 0);
+  set(kQSsrOff, get(r, nin::kSsr) && ip_.p820[1] == 0);
+  set(kQSdiPOff, get(r, nin::kSdiP) && ip_.p820[2] == 0);
+  set(kQSdiNOff, get(r, nin::kSdiN) && ip_.p820[3] == 0);
+  set(kQSosOff, get(r, nin::kSos) && ip_.p820[4] == 0);
+  set(kQSo1Off, get(r, nin::kOssd1) && ip_.p802[2] == 0);
+  set(kQSo2Off, get(r, nin::kOssd2) && ip_.p802[3] == 0);
+  set(kQSo3Off, get(r, nin::kOssd3) && ip_.p802[4] == 0);
+  set(kQSi1Off, si_[0] && ip_.p802[0] == 0);
+  set(kQSi2Off, si_[1] && ip_.p802[1] == 0);
+  for (int in = 0; in < 2; ++in)
+    set(kQSi1Clock + in, ip_.p806[in] != 0 && si_[in] && si_source_[in] != ip_.p806[in]);
+  set(kQDiscrepancy, discrepancy_fault_);
+  set(kQInjected, injected_cause_);
+  return m;
+}
+
 void NordProfisafeModel::update_q(TIME now) {
+  // Nothing can change while no error is active and none has a cause (the
+  // usual step): the loops below would only look.
+  const std::uint32_t causes = q_causes();
+  if (causes == 0 && active_q_ == 0) return;
+  const std::uint32_t active_before = active_q_;
   for (int i = 0; i < kQCount; ++i) {
     QError& e = q_[i];
-    const bool c = q_cause(i);
+    const bool c = (causes >> i) & 1U;
     if (c && !e.active) {
       e.active = true;
+      active_q_ |= 1U << i;
       e.onset = now;
       raise_code(e.code);
       if (ip_.p801 == 1 && e.channel >= 0) chan_passive_[e.channel] = true;
@@ -243,12 +281,14 @@ void NordProfisafeModel::update_q(TIME now) {
       // A channel error stays latched, code and all, until In 3.7 has
       // acknowledged its channel (spec §2.8 channel passivation).
       e.active = false;
+      active_q_ &= ~(1U << i);
       if (p841_ == e.code) {
         p842_ = p841_;
         p841_ = 0;
       }
     }
   }
+  if (active_q_ != active_before) refresh_module_fault();
   // A violation's trip ends when its cause is gone (SDI/SOS: at once); the
   // q error then still holds for its 10 s.
   for (int f = 0; f < NordSafetyFunctions::kCount; ++f) {

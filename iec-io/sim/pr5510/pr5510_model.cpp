@@ -45,8 +45,22 @@ void Pr5510Model::power_cycle() {
   since_cycle_ = 0ns;
 }
 
-void Pr5510Model::step(TIME, TIME dt, std::span<const std::uint8_t> from_plc,
+void Pr5510Model::io_connection_lost() {
+  master_lost_ = true;
+  outputs_ = 0;  // the valves close now, not at the next cycle
+  st_.Out1 = st_.Out2 = st_.Out3 = false;
+}
+
+// A host that calls step() delivers the outputs every cycle (the sim plugin,
+// the PROFINET device once its AR is up again): each step is a new message.
+void Pr5510Model::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
                        std::span<std::uint8_t> to_plc) {
+  step_io(now, dt, from_plc, true, to_plc);
+}
+
+void Pr5510Model::step_io(TIME, TIME dt, std::span<const std::uint8_t> from_plc, bool new_message,
+                          std::span<std::uint8_t> to_plc) {
+  if (new_message) master_lost_ = false;  // a master again: its outputs count
   since_ms_ += dt;
   const double alpha =
       std::min(1.0, 1e-3 / std::chrono::duration<double>(cfg_.filter_time).count());
@@ -74,7 +88,8 @@ void Pr5510Model::device_cycle(std::span<const std::uint8_t> w) {
   update_weight_and_status();
 
   // W[6]: outputs 1-3 are levels; they drive the valves from this cycle on.
-  outputs_ = w[wg::w::kOutputs] & 0x07;
+  // With the master lost they stay off (io_connection_lost).
+  outputs_ = master_lost_ ? 0 : w[wg::w::kOutputs] & 0x07;
   st_.Out1 = outputs_ & 1U;
   st_.Out2 = outputs_ & 2U;
   st_.Out3 = outputs_ & 4U;

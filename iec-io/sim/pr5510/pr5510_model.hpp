@@ -77,6 +77,21 @@ class Pr5510Model final : public io::DeviceModel {
   void step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
             std::span<std::uint8_t> to_plc) override;
   void power_cycle() override;
+  // The host's I/O connection timed out (a DeviceNet slave's expected
+  // packet rate, a PROFINET AR's watchdog): outputs 1-3 off, the valves
+  // closed, until the next I/O message (step_io with new_message, or
+  // step(): a host that calls it delivers the outputs every cycle). The
+  // manual says nothing of a fieldbus loss (spec §2.5, §2.6 show only the
+  // "connection timeout" LED) [INFERRED]: a dosing output left as last
+  // commanded while no master watches it overfills the hopper, and every
+  // later batch then fails with "weight invalid" (16#8204); the card's
+  // outputs go to their defined idle state of 0, as a PROFINET device's do
+  // (IOPS bad: substitute value 0) and as the DeviceNet idle/fault action of
+  // a polled connection that timed out.
+  void io_connection_lost() override;
+  void step_io(TIME now, TIME dt, std::span<const std::uint8_t> from_plc, bool new_message,
+               std::span<std::uint8_t> to_plc) override;
+  [[nodiscard]] bool master_lost() const { return master_lost_; }
 
   // ---- inspection and fault injection (tests) ----
   FillingProcess& process() { return process_; }
@@ -145,6 +160,7 @@ class Pr5510Model final : public io::DeviceModel {
   TIME still_for_{};
   bool adu_error_ = false;
   bool answering_ = true;
+  bool master_lost_ = false;  // io_connection_lost() until the next I/O message
   std::array<bool, 3> inputs_{};
   weighing::StatusBits st_{};
   std::uint8_t last_error_ = 0;

@@ -15,7 +15,9 @@
 // change (issue 13).
 // 3: plc::io::ModelParams carries the config file's folder, which a
 // relative file parameter is taken from (issue 21).
-#define PLC_ABI_VERSION 3
+// 4: plc::io::Plugin records the failure of its thread (fail(), failed(),
+// failure(): issue 21 follow-up).
+#define PLC_ABI_VERSION 4
 
 // The exported symbol's name, for dlsym.
 #define PLC_CELL_ABI_SYMBOL "softplc_cell_abi_version"

@@ -104,12 +104,18 @@ struct RetainMemoryRange {
   Mark mark;
 };
 
+// What a start does when the retain file's copies exist but none is valid
+// (`on_damage:`): `cold` starts with initial values (reported), `stop`
+// refuses to start. Unset: plcrun --warm stops, any other start goes cold.
+enum class RetainOnDamage { Unset, Cold, Stop };
+
 struct RetainConfig {
   bool present = false;
   Item<std::string> file;  // as written; resolved against the config's folder
   std::string path;        // the file to use
   Item<TIME> save_every{kDefaultSaveEvery, {}};
   std::vector<RetainMemoryRange> memory;
+  Item<RetainOnDamage> on_damage{RetainOnDamage::Unset, {}};
   Mark mark;
 };
 

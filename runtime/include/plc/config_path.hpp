@@ -39,4 +39,11 @@ namespace plc {
 // would hold the reader until something writes into it), no permission.
 [[nodiscard]] std::string readable_file_problem(const std::string& path);
 
+// Why a file cannot be written at `path` (an output named on a command
+// line: --stats-json, --trace, --record), "" when it can: an empty path, a
+// folder that does not exist, is not a folder or is not writable, a path
+// that is a folder, an existing file that is not writable. Checked before a
+// run starts, so that its results are not lost at the end.
+[[nodiscard]] std::string writable_file_problem(const std::string& path);
+
 }  // namespace plc

@@ -31,6 +31,7 @@
 
 #include <time.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <functional>
@@ -38,6 +39,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -52,6 +54,7 @@
 namespace plc {
 
 class CellLibrary;   // plc/cell_library.hpp
+class OnlineChange;  // plc/online_change.hpp
 struct ProgramSwap;  // plc/online_change.hpp
 struct TaskThread;   // a real-time task thread's record (runtime/src/task_thread.hpp)
 
@@ -63,7 +66,22 @@ struct DeviceRuntime {
   io::DeviceSizes sizes;
   io::IecAddress in{io::Area::Input, io::AddrSize::Byte, 0, 0};
   io::IecAddress out{io::Area::Output, io::AddrSize::Byte, 0, 0};
-  int task = -1;  // the task that exchanges its data
+  int task = -1;                   // the task that exchanges its data
+  io::DeviceLink* link = nullptr;  // plugin->link(index), the same object for the plugin's life
+};
+
+// A span of one image area, [begin, end) in bytes.
+struct ImageRange {
+  std::uint32_t begin = 0, end = 0;
+};
+// One range of bytes a scan copies or merges, with its pointers resolved
+// at build (the images never move): to `dst` from `src`; for a merge, the
+// task's copy at the latch is `before`.
+struct ImageSpan {
+  std::uint8_t* dst = nullptr;
+  const std::uint8_t* src = nullptr;
+  const std::uint8_t* before = nullptr;
+  std::size_t n = 0;
 };
 
 struct TaskRuntime {
@@ -77,14 +95,26 @@ struct TaskRuntime {
   io::ProcessImage image, before;       // private copy; its %Q/%M at scan start
   std::vector<DeviceRuntime*> devices;  // exchanged by this task
   std::vector<std::uint8_t> owned_q;    // bit mask of the %Q bits this task writes
-  LiveTaskStats stats;                  // recorded by the task's thread; snapshot() from any
+  // The image bytes this task's programs can reach (their located variables
+  // and device ports), per area (io::Area), sorted and coalesced; computed
+  // at build. A scan copies in and merges back only these, unless a hook
+  // may write anywhere in the images (ScanHooks::whole_image).
+  std::array<std::vector<ImageRange>, 3> bound;
+  // bound as the scan uses it: the latch copies global -> image (copy_in),
+  // real time keeps image -> before (keep) and merges into global the bits
+  // changed since (merge_out); virtual time copies image -> global (copy_out).
+  std::vector<ImageSpan> copy_in, keep, copy_out, merge_out;
+  bool whole_image_scan = false;   // this scan copies and merges whole areas (set at its latch)
+  std::uint32_t timing_phase = 0;  // virtual time: which scans are timed (Runtime::scan_latch)
+  bool scan_timed = false;         // the scan under way is timed
+  LiveTaskStats stats;             // recorded by the task's thread; snapshot() from any
   std::atomic<bool> stopped{false};
   // Real time: set from before the task looks at the pause flag until its
   // scan is over, so that once the pause is set and this is seen clear, the
   // task is at its next release and everything its scans wrote is visible
   // (Runtime::wait_until_idle).
   std::atomic<bool> busy{false};
-  std::atomic<std::int64_t> scan_started_ns{-1};  // steady/monotonic ns, -1 = idle
+  std::atomic<std::int64_t> scan_started_ns{-1};  // steady/monotonic ns (0: not timed), -1 = idle
   std::atomic<std::uint64_t> scan_seq{0};         // scans started (watchdog bookkeeping)
   // Virtual time: the watchdog thread asks, the scan thread stops the task
   // when the scan returns (so the image is only ever touched by one thread).
@@ -101,12 +131,32 @@ struct TaskRuntime {
 // debugger, HMI snapshot). Must be quick and must not block.
 using ScanObserver = std::function<void(const TaskRuntime&, const ScanContext&)>;
 
+// Told of every online change of the runtime's programs, by the change
+// itself (OnlineChange::prepare), so that no caller can forget one: what
+// points into the programs (the retain manager's layout) must follow every
+// change, or it reads programs that the change destroys.
+class ChangeObserver {
+ public:
+  virtual ~ChangeObserver() = default;
+  // In prepare(), once the change can be applied, before it is committed
+  // (OnlineChange::follow subscribes to its switch). May throw: the change
+  // is then refused with the reason.
+  virtual void follow(OnlineChange& change) = 0;
+};
+
 // Points inside a scan where the debugger (forcing, writes, freeze points,
 // recording and replay) acts. All run in the scan's thread; the two that get
 // the global image run under the image lock.
 class ScanHooks {
  public:
   virtual ~ScanHooks() = default;
+  // Whether this hook set may write image bytes that no program of the task
+  // is bound to, or reads the task's private image outside them: then the
+  // scans copy and merge the whole %I/%Q/%M areas while it is added (forces
+  // and writes of any address, recording, replay). Every hook set says so
+  // today (retain included); one that neither writes image bytes nor reads a
+  // task's private image outside the bound bytes may return false.
+  [[nodiscard]] virtual bool whole_image() const { return true; }
   // 1b: the task's devices are latched into the global image (forced inputs,
   // recording, replay).
   virtual void after_latch(TaskRuntime&, io::ProcessImage& /*global*/) {}
@@ -142,6 +192,9 @@ class Runtime {
   // 4ms/6ms); 1h and 1h1us would need 3.6e9 device steps per scan, which
   // looks like a hang.
   static constexpr std::int64_t kMaxTicksPerRelease = 1000;
+  // Virtual time times one scan in this many for the statistics (every scan
+  // is counted); real time times every scan.
+  static constexpr std::uint32_t kVirtualTimedEvery = 16;
 
   // Builds the whole cell; throws ConfigError naming file:line:column.
   explicit Runtime(const CellConfig& cfg);
@@ -187,7 +240,10 @@ class Runtime {
 
   // Several hook sets may be active (debugger, recorder, replayer); they run
   // in the order they were added.
-  void add_hooks(ScanHooks* h) { hooks_.push_back(h); }
+  void add_hooks(ScanHooks* h) {
+    hooks_.push_back(h);
+    whole_image_hooks_ += h->whole_image() ? 1 : 0;
+  }
   void remove_hooks(ScanHooks* h);
   // Replay of a recording, which fixes the order and times of the scans
   // itself: one scan of `t` at time `now` outside the virtual schedule, in
@@ -234,6 +290,10 @@ class Runtime {
   [[nodiscard]] const std::string& cell_name() const { return cell_name_; }
 
   void add_scan_observer(ScanObserver o) { observers_.push_back(std::move(o)); }
+  // Every online change of this runtime tells `o` (ChangeObserver); it
+  // must be removed before it goes.
+  void add_change_observer(ChangeObserver* o) { change_observers_.push_back(o); }
+  void remove_change_observer(ChangeObserver* o) { std::erase(change_observers_, o); }
   // Runs f() with the global image locked against the tasks' latch and
   // merge (real time; in virtual time nothing runs concurrently).
   template <class F>
@@ -248,6 +308,9 @@ class Runtime {
   [[nodiscard]] std::string stats_json() const;
   // Wall-clock seconds spent inside run() (for the virtual/real speed ratio).
   [[nodiscard]] double wall_seconds() const { return wall_seconds_; }
+  // Why the runtime stopped the cell itself ("" = it did not): its
+  // watchdog thread failed (plc/thread_guard.hpp). Read after run().
+  [[nodiscard]] const std::string& failure() const { return failure_; }
 
  private:
   void build(const CellConfig& cfg);
@@ -255,6 +318,8 @@ class Runtime {
   // false: the run left this real-time task thread behind inside a program
   // (TaskThread), and it must return without touching the runtime.
   bool scan(TaskRuntime& t, TIME now);
+  void scan_failed(TaskRuntime& t, std::string_view what);
+  void step_plugin(const std::string& name, io::Plugin& p, TIME dt);
   ScanContext scan_latch(TaskRuntime& t, TIME now);          // step 1
   bool scan_finish(TaskRuntime& t, const ScanContext& ctx);  // steps 2-5
   void trip(TaskRuntime& t, const std::string& reason, bool watchdog);
@@ -270,12 +335,18 @@ class Runtime {
   // First, so destroyed last: the programs, plugins and models below run
   // code from these libraries.
   std::vector<std::shared_ptr<CellLibrary>> libraries_;
+  // Builds of an online change that switched only some tasks (a timeout):
+  // those tasks run them until the runtime goes (OnlineChange::finish).
+  std::vector<std::shared_ptr<CellLibrary>> partial_libraries_;
   std::string cell_name_;
   io::ByteOrder order_ = io::ByteOrder::Big;
   io::ProcessImage global_;
   std::vector<std::uint8_t> safe_q_;
   std::vector<std::pair<std::string, std::unique_ptr<io::Plugin>>> plugins_;
   std::vector<std::pair<std::string, std::unique_ptr<Program>>> programs_;
+  // The old programs such a partial change replaced: a reader that followed
+  // the old layout (retain) may still read them; no task runs them.
+  std::vector<std::unique_ptr<Program>> retired_programs_;
   std::map<std::string, std::string> program_types_;  // program name -> type
   // program name -> (field path -> address or device) from the config's bind:
   std::map<std::string, std::map<std::string, std::string>> program_binds_;
@@ -284,7 +355,9 @@ class Runtime {
   std::vector<TaskRuntime*> exec_order_;  // by priority, then config order
   VarRegistry vars_;
   std::vector<ScanObserver> observers_;
+  std::vector<ChangeObserver*> change_observers_;
   std::vector<ScanHooks*> hooks_;
+  std::size_t whole_image_hooks_ = 0;  // hooks_ whose whole_image() is true
   bool plugins_enabled_ = true;
   std::atomic<bool> paused_{false};
   bool tick_open_ = false;
@@ -312,6 +385,7 @@ class Runtime {
   void hand_over_left_behind();
   clockid_t scan_thread_cpu_clock_{};  // virtual time: the thread that calls tick()
   double wall_seconds_ = 0;
+  std::string failure_;  // written by the failing watchdog thread before its stop request
 };
 
 }  // namespace plc

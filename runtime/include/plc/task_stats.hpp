@@ -35,6 +35,7 @@ class LiveTaskStats {
  public:
   // The task's scan thread only.
   void record_scan(std::int64_t scan_ns);
+  void count_scan();  // a scan that was not timed (virtual time times a sample)
   void record_latency(std::int64_t latency_ns);
   void record_overrun(std::uint64_t skipped);
   void record_paused_release();

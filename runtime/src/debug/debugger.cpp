@@ -11,6 +11,7 @@
 #include "plc/debug/one_task.hpp"
 #include "plc/iec_literal.hpp"
 #include "plc/retain/retain_layout.hpp"
+#include "plc/thread_guard.hpp"
 
 namespace plc::debug {
 namespace {
@@ -155,7 +156,16 @@ void Debugger::build(const std::function<void(Runtime&)>& before_start) {
     // before any command can look at them (and a plugin that fails to start
     // is an error of this call, not an exception on another thread).
     rt_->start(io::ClockMode::RealTime);
-    rt_thread_ = std::thread([this] { rt_->run(io::ClockMode::RealTime, opt_.span); });
+    // Should the run itself throw, the cell stops with every output safe.
+    rt_thread_ = std::thread([this] {
+      run_guarded(
+          "real-time run", [this] { rt_->run(io::ClockMode::RealTime, opt_.span); },
+          [this](std::string_view) {
+            rt_->request_stop();
+            run_guarded(
+                "real-time run stop", [this] { rt_->finish(); }, [](std::string_view) {});
+          });
+    });
   }
 }
 

@@ -5,6 +5,8 @@
 #include <cerrno>
 #include <cstring>
 
+#include "plc/thread_guard.hpp"
+
 namespace plc::debug {
 
 RecordingWriter::RecordingWriter(int fd, std::string file, std::string prefix,
@@ -21,7 +23,17 @@ RecordingWriter::RecordingWriter(int fd, std::string file, std::string prefix,
     free_[i] = i;
   }
   free_n_ = blocks;
-  thread_ = std::thread([this] { run(); });
+  // A failed thread fails the recording (FAILED at its close, exit code 1);
+  // the scans' appends are refused from then on, so nothing waits for it.
+  thread_ = std::thread([this] {
+    run_guarded(
+        "recording writer", [this] { run(); },
+        [this](std::string_view what) {
+          fail("the writer thread failed: " + std::string(what));
+          std::lock_guard<std::mutex> lock(mu_);
+          free_cv_.notify_all();  // a scan waiting for a buffer sees the failure
+        });
+  });
 }
 
 RecordingWriter::~RecordingWriter() { finish(); }
@@ -50,7 +62,7 @@ bool RecordingWriter::append(std::span<const std::uint8_t> record, bool wait) {
       cur_ = nullptr;
       work_cv_.notify_one();
     }
-    if (wait) free_cv_.wait(lock, [this] { return free_n_ > 0; });
+    if (wait) free_cv_.wait(lock, [this] { return free_n_ > 0 || failed(); });
     if (free_n_ == 0) {
       lock.unlock();
       fail(

@@ -32,6 +32,7 @@
 #include "plc/config_path.hpp"
 #include "plc/debug/debugger.hpp"
 #include "plc/online_change.hpp"
+#include "plc/retain/retain_manager.hpp"
 
 namespace plc::debug {
 
@@ -103,6 +104,15 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
   OnlineChange change(*rt_);
   const ChangeReport report = change.prepare(lib);
   if (!report.refused.empty()) return report.text();
+  // The retain file's next layout was built by prepare() (the manager
+  // follows every change: retain::Manager::follow); it switches with the
+  // last task.
+  std::string retain_note;
+  if (retain_) {
+    retain_note =
+        "  the retain file is saved in the new layout from the scan where the last task "
+        "concerned switches\n";
+  }
 
   // Re-resolve against the new build, before any task switches.
   auto carry = std::make_shared<Carry>();
@@ -187,15 +197,26 @@ std::string Debugger::cmd_reload(const std::vector<std::string>& a) {
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     if (!change.switched()) {
       settle();
+      // Partial: the tasks that switched keep the new build, and the
+      // runtime keeps it alive for them (OnlineChange::finish).
+      change.finish();
+      if (change.partial())
+        reloaded_ = "the library changed in part at scan " + std::to_string(scan_count());
       return report.text() + dropped +
              "reload: not every task reached a scan boundary in time (a stopped or stuck "
-             "task); the tasks that did run the new code, the others run the old code on\n";
+             "task); the tasks that did run the new code (until the cell stops), the others run "
+             "the old code on" +
+             (retain_ ? "; the retain file keeps the old layout (its values of the tasks that "
+                        "switched stay as their last scan of the old code left them)"
+                      : "") +
+             "\n";
     }
   }
   settle();
   change.finish();
   reloaded_ = "the library changed at scan " + std::to_string(scan_count());
-  return report.text() + dropped + "switched: every task concerned runs the new build\n";
+  return report.text() + retain_note + dropped +
+         "switched: every task concerned runs the new build\n";
 }
 
 }  // namespace plc::debug

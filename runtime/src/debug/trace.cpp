@@ -5,6 +5,7 @@
 
 #include "plc/debug/one_task.hpp"
 #include "plc/iec_literal.hpp"
+#include "plc/thread_guard.hpp"
 
 namespace plc::debug {
 namespace {
@@ -135,7 +136,28 @@ std::string Trace::start(const std::string& file, std::optional<TraceFormat> for
   for (std::size_t i = 0; i < kBlocks; ++i) free_.push_back(new_block());
   cur_ = new_block();
   closing_ = false;
-  writer_ = std::thread([this] { writer_loop(); });
+  error_.clear();
+  // A failed writer fails the trace (error(): plcrun says FAILED, exit code
+  // 1) and drains the blocks unwritten, so a sampler waiting for one
+  // (backpressure) never hangs.
+  writer_ = std::thread([this] {
+    run_guarded(
+        "trace writer", [this] { writer_loop(); },
+        [this](std::string_view what) {
+          std::unique_lock<std::mutex> lock(mu_);
+          error_ = "the writer thread failed: " + std::string(what);
+          for (;;) {
+            for (auto& b : full_) {
+              b->n = 0;
+              free_.push_back(std::move(b));
+            }
+            full_.clear();
+            cv_.notify_all();
+            if (closing_) return;
+            cv_.wait(lock, [this] { return closing_ || !full_.empty(); });
+          }
+        });
+  });
   return {};
 }
 

@@ -98,4 +98,24 @@ std::string Storage::discard() const {
   return {};
 }
 
+std::string Storage::check_folder() const {
+  struct stat st {};
+  if (::stat(dir_.c_str(), &st) != 0)
+    return errno == ENOENT ? "the folder '" + dir_ + "' does not exist"
+                           : sys_error("cannot look at the folder", dir_);
+  if (!S_ISDIR(st.st_mode)) return "'" + dir_ + "' is not a folder";
+  // W for the temporary copy and the renames, X to reach the files.
+  if (::access(dir_.c_str(), W_OK | X_OK) != 0)
+    return "the folder '" + dir_ + "' is not writable (" + std::strerror(errno) + ")";
+  return {};
+}
+
+void check_file(const CellConfig& cfg) {
+  const std::string why = Storage(cfg.retain.path).check_folder();
+  if (!why.empty())
+    throw ConfigError(
+        cfg.file, cfg.retain.file.mark,
+        "key 'file': " + why + " (the retain file '" + cfg.retain.path + "' could never be saved)");
+}
+
 }  // namespace plc::retain

@@ -6,11 +6,11 @@
 #include <cstring>
 
 #include "plc/retain/retain_file.hpp"
+#include "plc/thread_guard.hpp"
 
 namespace plc::retain {
 
-Writer::Writer(const Layout& layout, Storage& storage)
-    : layout_(layout), storage_(storage), pending_(layout.bytes()), last_(layout.bytes()) {}
+Writer::Writer(Storage& storage) : storage_(storage) {}
 
 Writer::~Writer() {
   if (thread_.joinable()) {
@@ -22,15 +22,32 @@ Writer::~Writer() {
 
 void Writer::start(std::uint64_t next_sequence) {
   next_sequence_ = next_sequence;
-  thread_ = std::thread([this] { run(); });
+  thread_ = std::thread([this] {
+    // A failed writer saves nothing more until the stop: counted as a
+    // failed save, its reason the last error, so that the stop (which
+    // writes the final copy itself) says the file FAILED if that fails too,
+    // and the run's exit code is 1 (thread_failures()).
+    run_guarded(
+        "retain writer", [this] { run(); },
+        [this](std::string_view what) {
+          {
+            std::lock_guard<std::mutex> lock(mu_);
+            ++failed_;
+            last_error_ = "the writer thread failed: " + std::string(what);
+          }
+          dead_.store(true, std::memory_order_release);
+        });
+  });
 }
 
-bool Writer::offer(std::span<const std::uint8_t> snapshot) {
-  if (state_.load(std::memory_order_acquire) & (kFull | kStop)) {
+bool Writer::offer(Slot& slot, std::span<const std::uint8_t> snapshot) {
+  if ((state_.load(std::memory_order_acquire) & (kFull | kStop)) ||
+      dead_.load(std::memory_order_acquire)) {
     skipped_.fetch_add(1, std::memory_order_relaxed);
     return false;
   }
-  std::memcpy(pending_.data(), snapshot.data(), pending_.size());
+  std::memcpy(slot.bytes.data(), snapshot.data(), slot.bytes.size());
+  pending_.store(&slot, std::memory_order_relaxed);
   state_.fetch_or(kFull, std::memory_order_release);
   state_.notify_one();
   offered_.fetch_add(1, std::memory_order_relaxed);
@@ -46,13 +63,17 @@ void Writer::run() {
     }
     if (!(s & kFull)) return;  // stopping, nothing pending
     if (before_write_) before_write_();
-    write_one(pending_);
+    const Slot& slot = *pending_.load(std::memory_order_relaxed);
+    write_one(*slot.layout, slot.bytes);
     state_.fetch_and(~kFull, std::memory_order_release);
   }
 }
 
-std::string Writer::write_one(std::span<const std::uint8_t> snapshot) {
-  if (have_last_ && std::memcmp(last_.data(), snapshot.data(), last_.size()) == 0) {
+std::string Writer::write_one(const Layout& layout, std::span<const std::uint8_t> snapshot) {
+  // Unchanged only in the same file layout: after an online change the new
+  // layout is written at once, even with the same values.
+  if (have_last_ && last_hash_ == layout.hash() && last_.size() == snapshot.size() &&
+      std::memcmp(last_.data(), snapshot.data(), last_.size()) == 0) {
     std::lock_guard<std::mutex> lock(mu_);
     ++unchanged_;
     return {};
@@ -65,7 +86,7 @@ std::string Writer::write_one(std::span<const std::uint8_t> snapshot) {
   const std::int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
                                std::chrono::system_clock::now().time_since_epoch())
                                .count();
-  encode(layout_, snapshot, seq, now, encoded_);
+  encode(layout, snapshot, seq, now, encoded_);
   const auto t0 = std::chrono::steady_clock::now();
   const std::string err = storage_.write(encoded_, seq);
   const std::int64_t took = (std::chrono::steady_clock::now() - t0).count();
@@ -73,7 +94,8 @@ std::string Writer::write_one(std::span<const std::uint8_t> snapshot) {
   write_lead_ns_.store(std::max(took, lead - lead / 8), std::memory_order_relaxed);
   std::lock_guard<std::mutex> lock(mu_);
   if (err.empty()) {
-    std::memcpy(last_.data(), snapshot.data(), last_.size());
+    last_.assign(snapshot.begin(), snapshot.end());  // the writer's thread: may allocate
+    last_hash_ = layout.hash();
     have_last_ = true;
     ++written_;
     sequence_ = seq;
@@ -93,13 +115,17 @@ std::string Writer::write_one(std::span<const std::uint8_t> snapshot) {
   return err;
 }
 
-std::string Writer::stop(std::span<const std::uint8_t> final_snapshot) {
+std::string Writer::stop(const Layout& layout, std::span<const std::uint8_t> final_snapshot) {
   if (thread_.joinable()) {
     state_.fetch_or(kStop, std::memory_order_release);
     state_.notify_all();
     thread_.join();
   }
-  return write_one(final_snapshot);
+  const std::string err = write_one(layout, final_snapshot);
+  if (!err.empty() || !dead_.load(std::memory_order_acquire)) return err;
+  // The final copy is saved, but the saves of the run stopped when the
+  // thread failed: reported as a failure all the same.
+  return "the writer thread failed during the run (the final copy was saved)";
 }
 
 WriterStats Writer::stats() const {

@@ -217,7 +217,11 @@ def main():
         c.check(d["state"] == "online" and d["losses"] == 2 and d["allocations"] == 3,
                 f"{name}: on line at the end, 2 losses, 3 allocations",
                 f"{d['state']}, {d['losses']} losses, {d['allocations']} allocations")
-        c.check(d["responses"] > 500, f"{name}: polled I/O over vcan0",
+        # How many polls fit depends on how fast the emulated VM runs the
+        # scenario (448 in 31 s on an idle host, over 1,000 on a loaded one
+        # that stretches it): at least 200, and most of them answered.
+        c.check(d["responses"] > 200 and d["responses"] * 10 >= d["polls"] * 7,
+                f"{name}: polled I/O over vcan0",
                 f"{d['polls']} polls, {d['responses']} responses")
     c.check(conv["wrong_size"] == 1 and conv["bad_frames"] == 0,
             "conveyor: the 1-byte poll response counted as wrong size, dropped",
@@ -357,13 +361,15 @@ def main():
 
     # The trace (rows where a traced value changed). The frames were injected
     # from 3 s after both devices came on line until the slaves were
-    # silenced, the first time the conveyor's Valid drops; a container takes
-    # about 4 s (index 0.8 s, fill, settle), so 3 by then means the cell
-    # filled on while the frames arrived. After the last recovery the cell
-    # resets the drive (fault 18) and indexes again (step 2). Containers
-    # are not asked for after that: the simulated PR5510 keeps the feed
-    # valves as last commanded while its master is away, and a loss in the
-    # middle of a fill overfills it (16#8204 on every later batch).
+    # silenced, the first time the conveyor's Valid drops: 6 s on an idle
+    # host, more on a loaded one that stretches the VM's scenario. The first
+    # container is done about 3.3 s after the devices came on line, inside
+    # that window, so at least 1 by then means the cell filled on while the
+    # frames arrived. Valid's first rise is the start-up, not a return:
+    # returns are counted after the first drop.
+    # After the last recovery the cell resets the drive (fault 18) and
+    # indexes again (step 2); the simulated PR5510 closes its feed valves
+    # while its master is away, so the cell also fills on afterwards.
     rows = [r.split(",") for r in s.get("trace-changes", "").splitlines()]
     if len(rows) > 2:
         col = {n: i for i, n in enumerate(rows[0])}
@@ -372,13 +378,13 @@ def main():
         for prev, r in zip(rows[1:], rows[2:]):
             if prev[valid] == "TRUE" and r[valid] == "FALSE":
                 drops.append(r)
-            if prev[valid] == "FALSE" and r[valid] == "TRUE":
+            if drops and prev[valid] == "FALSE" and r[valid] == "TRUE":
                 backs.append(r)
         c.check(len(drops) == 2 and len(backs) == 2,
                 "trace: the conveyor's Valid dropped twice and came back twice",
                 f"{len(drops)} drops, {len(backs)} returns")
         if drops:
-            c.check(int(drops[0][cont]) >= 3, "trace: containers filled while the frames were injected",
+            c.check(int(drops[0][cont]) >= 1, "trace: containers filled while the frames were injected",
                     f"{drops[0][cont]} containers when the slaves were silenced")
         if backs:
             after = [r for r in rows[1:] if int(r[0]) > int(backs[-1][0])]

@@ -62,6 +62,11 @@ class Host {
   // (ConfigError for one that matches no variable), writes the cell layout
   // into the shared memory and adds the scan observers.
   void attach(Runtime& rt);
+  // An alarm that holds for the whole run (kind `retain_cold_start`: a warm
+  // start that fell back to a cold one), listed as active in every
+  // diagnostics_t the bridge publishes. Noted before the attach() that
+  // should carry it (plcrun: in the first build, before the first scan).
+  void add_start_alarm(const std::string& kind, const std::string& source, const std::string& text);
   // Commands are served through this debugger (none: refused, NoDebugger).
   void set_debugger(debug::Debugger* d) { dbg_ = d; }
 
@@ -117,6 +122,7 @@ class Host {
   mutable std::mutex layout_mu_;    // attach() against the host's thread
   std::shared_ptr<Layout> layout_;  // the scan observers keep theirs alive
   std::function<void()> new_regions_;
+  std::vector<ipc::CellLayout::Alarm> start_alarms_;  // attach()'s thread
   int doorbell_ = -1;
   std::unique_ptr<Supervisor> supervisor_;
   std::atomic<bool> restart_bridge_{false};  // new regions: plchmi starts again on them

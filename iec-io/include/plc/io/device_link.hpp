@@ -81,6 +81,10 @@ class DeviceLink {
     bool torn = false;  // the writer was mid-update at every try: only count is known
   };
   [[nodiscard]] StateChange last_change() const;
+  // Whether any request is tracked (deferred links): a latch with nothing
+  // to deliver skips deliver_answered() and its lock. A request submitted
+  // on another thread at this moment cannot have an answer parked yet.
+  [[nodiscard]] bool tracking() const { return tracking_.load(std::memory_order_acquire); }
   // At a latch of task `owner`: make the parked answers of its requests
   // visible, calling f(request) for each (recording), in submission order.
   // Requests finished without parking (refusals, replay) are forgotten.
@@ -100,6 +104,7 @@ class DeviceLink {
       tracked_[keep++] = r;
     }
     tracked_n_ = keep;
+    tracking_.store(keep != 0, std::memory_order_release);
     unlock();
   }
 
@@ -154,6 +159,7 @@ class DeviceLink {
   // is refused with QueueFull rather than lose track of one.
   std::array<RecordRequest*, 4 * kQueueDepth> tracked_{};
   std::size_t tracked_n_ = 0;
+  std::atomic<bool> tracking_{false};  // tracked_n_ != 0, readable without the lock
   mutable std::atomic_flag lock_ = ATOMIC_FLAG_INIT;
   std::atomic<DeviceState> state_{DeviceState::Offline};
   std::atomic<DeviceState> latched_state_{DeviceState::Offline};

@@ -2,6 +2,10 @@
 // cell config. Kept free of YAML so models do not depend on the config
 // parser; the loader turns a ParamError into `file:line:column: message`
 // pointing at the offending key.
+//
+// Values are text. A nested mapping in the config arrives flattened into
+// dotted keys (`u1: {type: INT}` is the key "u1.type"), a YAML list as its
+// flow text ("[1, 2]", "[[1, 0], [0, 1]]"), which get_list/get_matrix read.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +15,7 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "plc/types.hpp"
 
@@ -50,6 +55,17 @@ class ModelParams {
   // a copy of some of the parameters keeps it (set_folder(other.folder())).
   void set_folder(std::string folder) { folder_ = std::move(folder); }
   [[nodiscard]] const std::string& folder() const { return folder_; }
+  // A list of finite numbers, "[1, 2.5, -3]", or a single number (a list of
+  // one); nullopt when absent. Throws ParamError naming the key and the
+  // position of an entry that is not a number.
+  std::optional<std::vector<double>> get_list(const std::string& key) const;
+  // A matrix as a list of rows, "[[1, 0], [0, 1]]"; a flat list is one row,
+  // a single number is 1x1. Rows may differ in length here: the model says
+  // what sizes it needs.
+  std::optional<std::vector<std::vector<double>>> get_matrix(const std::string& key) const;
+  // Whether `prefix` itself or any key below it ("prefix.x") is given. Marks
+  // nothing as used.
+  [[nodiscard]] bool has_group(const std::string& prefix) const;
 
   // Throws ParamError naming the first key no getter asked for: a typo in a
   // config must not pass silently. Models call this at the end of their

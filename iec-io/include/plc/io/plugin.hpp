@@ -12,6 +12,7 @@
 // thread(s) from start() to stop().
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -19,6 +20,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "plc/io/device_link.hpp"
@@ -66,6 +68,23 @@ class Plugin {
 
   // Human-readable state of a device for `stats` and logs.
   [[nodiscard]] virtual std::string diagnostics(std::size_t device) const;
+
+  // ---- a plugin whose thread failed ----
+  // Its thread (or, in virtual time, its step(), which the runtime guards)
+  // ended by an exception: reported on stderr ("plcrun: <thread>: <what>",
+  // plc/thread_guard.hpp), and from then on the plugin serves no device.
+  // Its `devices` devices go to Fault, so that their FBs report an error
+  // and put their outputs to the safe state at their next scan; the real
+  // devices, no longer served, time out into theirs. Only the first call
+  // counts. Never throws.
+  void fail(std::string_view thread, std::string_view what, std::size_t devices) noexcept;
+  [[nodiscard]] bool failed() const { return failed_.load(std::memory_order_acquire); }
+  // Why ("" while it has not failed); summaries put it before diagnostics().
+  [[nodiscard]] std::string failure() const;
+
+ private:
+  std::atomic<bool> failing_{false}, failed_{false};
+  std::string failure_;  // written once, before failed_
 };
 
 using PluginFactory = std::function<std::unique_ptr<Plugin>()>;

@@ -25,8 +25,14 @@ class ProcessImage {
   explicit ProcessImage(const ImageSizes& s) { resize(s); }
   void resize(const ImageSizes& s);
 
-  std::span<std::uint8_t> area(Area a);
-  [[nodiscard]] std::span<const std::uint8_t> area(Area a) const;
+  std::span<std::uint8_t> area(Area a) {
+    return a == Area::Input    ? std::span<std::uint8_t>(i_)
+           : a == Area::Output ? std::span<std::uint8_t>(q_)
+                               : std::span<std::uint8_t>(m_);
+  }
+  [[nodiscard]] std::span<const std::uint8_t> area(Area a) const {
+    return const_cast<ProcessImage*>(this)->area(a);
+  }
   [[nodiscard]] ImageSizes sizes() const { return {i_.size(), q_.size(), m_.size()}; }
   // Whether an address (of its width) lies inside the image.
   [[nodiscard]] bool contains(const IecAddress& a) const;

@@ -29,16 +29,32 @@ class SimDevice {
   // Bind an FB's port straight to this device's buffers (tests).
   void bind(DevicePort& port) { port.bind(inputs_, outputs_, &link_); }
 
+  // Fault switch (device params link_down_at / link_down_for, docs/config.md):
+  // from `at` for `duration` the link is cut both ways, as a pulled cable
+  // or a dead switch port: the model keeps the last outputs it received and
+  // its answers are lost (the PLC keeps the last valid inputs and sees the
+  // device Offline; records fail NotReachable). A negative `at` = never.
+  void set_link_down(TIME at, TIME duration) {
+    down_at_ = at;
+    down_for_ = duration;
+  }
+  [[nodiscard]] bool link_down(TIME now) const {
+    return down_at_.count() >= 0 && now >= down_at_ && now - down_at_ < down_for_;
+  }
+
   DeviceModel& model() { return *model_; }
   DeviceLink& link() { return link_; }
   std::span<std::uint8_t> inputs() { return inputs_; }    // device -> PLC
   std::span<std::uint8_t> outputs() { return outputs_; }  // PLC -> device
 
  private:
-  void serve_records();
+  void serve_records(bool reachable);
 
   std::unique_ptr<DeviceModel> model_;
   std::vector<std::uint8_t> inputs_, outputs_, silent_sink_;
+  std::vector<std::uint8_t> outputs_at_cut_;  // what the model keeps seeing while the link is down
+  TIME down_at_{-1}, down_for_{0};
+  bool was_down_ = false;
   DeviceLink link_;
 };
 

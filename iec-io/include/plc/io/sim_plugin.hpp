@@ -1,9 +1,13 @@
 // The `sim` plugin: hosts device models in-process.
 //
-// Virtual time: step() advances every model in lockstep (config order).
+// Virtual time: step() advances every model in lockstep (config order). A
+// model that couples to other devices (plc/io/device_peers.hpp: the `plant`
+// model) sees only the devices listed before it, so within a step it reads
+// what they delivered in that step.
 // Real time: a thread steps the models every `step` (default 1 ms) against
 // CLOCK_MONOTONIC absolute deadlines; latch/publish copy under a mutex held
 // for a memcpy, so a scan never waits for a model step longer than one step.
+// Virtual time has one thread (the scan's, which also steps): no mutex.
 #pragma once
 
 #include <atomic>
@@ -41,6 +45,7 @@ class SimPlugin final : public Plugin {
   std::vector<std::string> names_;
   std::vector<std::unique_ptr<SimDevice>> devices_;
   std::mutex mutex_;
+  bool locking_ = true;  // real time, or not started (tests drive a plugin from threads)
   std::thread thread_;
   std::atomic<bool> running_{false};
 };

@@ -36,6 +36,10 @@
 #include "plc/debug/trace.hpp"
 #include "plc/runtime.hpp"
 
+namespace plc::retain {
+class Manager;  // plc/retain/retain_manager.hpp
+}
+
 namespace plc::debug {
 
 class Debugger final : public ScanHooks {
@@ -169,6 +173,10 @@ class Debugger final : public ScanHooks {
 
   Runtime& runtime() { return *rt_; }
   [[nodiscard]] std::uint64_t scan_count() const { return last_scan().scans; }
+  // The retain manager of the running cell (plcrun, a session that loads
+  // and saves retain data: one that never rebuilds its runtime), or null:
+  // `reload` switches its file layout with the programs.
+  void set_retain(retain::Manager* m) { retain_ = m; }
 
   // ScanHooks. A recording started with `record` gets them from here, after
   // the debugger's own work (so it sees the writes and forces it records),
@@ -338,6 +346,7 @@ class Debugger final : public ScanHooks {
   bool quit_ = false;
   bool in_freeze_ = false;
   std::string reloaded_;  // an online change was made in this session (reload.cpp)
+  retain::Manager* retain_ = nullptr;
   // What the debugger holds that points into programs a reload replaces,
   // re-resolved against the new build; each task takes its part at its
   // switch point (after_latch, under mu_). reload.cpp.

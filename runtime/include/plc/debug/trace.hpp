@@ -60,6 +60,12 @@ class Trace {
   std::string start(const std::string& file, std::optional<TraceFormat> format = std::nullopt);
   // Writes what is buffered and closes the file.
   void stop();
+  // Why the file is incomplete ("" = it is not): its writer thread failed
+  // (plc/thread_guard.hpp). Valid after stop().
+  [[nodiscard]] std::string error() const {
+    std::lock_guard<std::mutex> lock(mu_);
+    return error_;
+  }
 
   // The task whose scans are sampled: the owner of the first variable, or
   // `fallback` (the fastest task) when no variable belongs to a task. With
@@ -123,10 +129,11 @@ class Trace {
   std::unique_ptr<Block> cur_;
   std::vector<std::unique_ptr<Block>> free_;
   std::deque<std::unique_ptr<Block>> full_;
-  std::mutex mu_;
+  mutable std::mutex mu_;
   std::condition_variable cv_;
   std::thread writer_;
   bool closing_ = false;
+  std::string error_;  // under mu_: why the writer thread failed
   bool backpressure_ = true;
   bool one_task_ = false;
   std::vector<std::string> one_task_names_;

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "plc/cell_config.hpp"
 #include "plc/retain/retain_file.hpp"
 
 namespace plc::retain {
@@ -38,6 +39,10 @@ class Storage {
   // Removes both copies (plcrun --reset-retain). "" or why not.
   std::string discard() const;
 
+  // Whether the copies can be written at all: their folder exists, is a
+  // folder and is writable (for this process). "" or why not.
+  [[nodiscard]] std::string check_folder() const;
+
   [[nodiscard]] std::string copy_path(std::uint64_t sequence) const;
   [[nodiscard]] const std::string& path() const { return path_; }
 
@@ -52,5 +57,11 @@ class Storage {
   std::string path_, dir_;
   WriteFn write_fn_;
 };
+
+// Before the cell starts: a retain file whose folder is missing or not
+// writable would only show when the first save fails, with the cell
+// running and nothing retained. Throws ConfigError at the `file:` value of
+// the config's retain: section (which must be present).
+void check_file(const CellConfig& cfg);
 
 }  // namespace plc::retain

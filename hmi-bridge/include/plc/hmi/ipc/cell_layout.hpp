@@ -51,6 +51,14 @@ struct CellLayout {
     friend bool operator==(const Slot&, const Slot&) = default;
   };
 
+  // An alarm that holds for the whole run, noted by plcrun at start-up
+  // (kind `retain_cold_start`: a warm start that fell back to a cold one).
+  struct Alarm {
+    std::string kind, source, text;
+    std::int64_t utime = 0;  // CLOCK_REALTIME, microseconds
+    friend bool operator==(const Alarm&, const Alarm&) = default;
+  };
+
   std::string cell;
   std::uint64_t layout_hash = 0;                                      // Runtime::layout_hash()
   std::uint32_t image_input = 0, image_output = 0, image_memory = 0;  // bytes
@@ -58,6 +66,7 @@ struct CellLayout {
   std::vector<Device> devices;
   std::vector<Var> vars;
   std::vector<Slot> slots;
+  std::vector<Alarm> start_alarms;
 
   [[nodiscard]] std::vector<unsigned char> encode() const;
   // Checks every count and string, the types and address enums, the

@@ -74,6 +74,9 @@ struct DeviceCounters {
   std::uint64_t polls = 0, responses = 0, losses = 0, allocations = 0, allocation_errors = 0,
                 bad_frames = 0, wrong_size = 0, explicit_ok = 0, explicit_errors = 0,
                 explicit_timeouts = 0;
+  // Frames to or for this device that the interface did not take (down,
+  // its queue full): such a message never reached the wire.
+  std::uint64_t send_failures = 0;
 };
 
 class Scanner {
@@ -152,6 +155,8 @@ class Scanner {
   void changed(const Device& d);
   void fail_record(Device& d, io::RecordError e, std::uint16_t code = 0);
   void send_poll(Device& d);
+  // Sends a frame of device d's traffic; counts a failure (send_failures).
+  bool send(Device& d, const can::Frame& f);
   void allocate(Device& d, TIME now);
 
   ScannerConfig cfg_;

@@ -184,8 +184,10 @@ class NordProfisafeModel : public io::DeviceModel {
   void raise_code(std::uint16_t code);
   void build_response();
   bool passivated() const;
-  bool module_fault() const;
+  bool module_fault() const { return module_fault_; }
+  void refresh_module_fault();
   bool q_cause(int q) const;
+  std::uint32_t q_causes() const;
 
   NordIParams ip_;
   NordSafetyFunctions fn_;
@@ -217,6 +219,8 @@ class NordProfisafeModel : public io::DeviceModel {
 
   // Errors
   std::array<QError, kQCount> q_{};
+  std::uint32_t active_q_ = 0;  // bit i: q_[i].active
+  bool module_fault_ = false;   // an active q error passivates the module (refresh_module_fault)
   std::uint16_t fatal_code_ = 0;
   std::uint16_t p841_ = 0, p842_ = 0, p848_ = 0;
   std::uint16_t code_events_ = 0;  // codes raised since power-on (diagnosis record)

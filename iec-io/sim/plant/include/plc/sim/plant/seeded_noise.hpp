@@ -1,0 +1,48 @@
+// Measurement noise from a seed: xorshift64* with Box-Muller, portable, so
+// the same seed gives the same numbers with any standard library (the
+// <random> distributions do not promise that).
+//
+// The same generator as the PR5510's filling process
+// (iec-io/sim/pr5510/filling_process.hpp, SeededNoise), number for number
+// (tests/plant checks it), so that process can move onto this header
+// without changing a single weight of its recorded traces.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+namespace plc::plant {
+
+class SeededNoise {
+ public:
+  explicit SeededNoise(std::uint64_t seed) : s_(seed ? seed : 0x9E3779B97F4A7C15ULL) {}
+  std::uint64_t next_u64() {
+    s_ ^= s_ >> 12;
+    s_ ^= s_ << 25;
+    s_ ^= s_ >> 27;
+    return s_ * 0x2545F4914F6CDD1DULL;
+  }
+  double uniform() { return static_cast<double>(next_u64() >> 11) * (1.0 / 9007199254740992.0); }
+  double uniform_pm1() { return 2.0 * uniform() - 1.0; }
+  // Standard normal (mean 0, sigma 1), two per pair of uniforms.
+  double gaussian() {
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
+    double u = uniform();
+    if (u < 1e-300) u = 1e-300;
+    const double v = uniform();
+    const double r = std::sqrt(-2.0 * std::log(u));
+    spare_ = r * std::sin(6.283185307179586 * v);
+    has_spare_ = true;
+    return r * std::cos(6.283185307179586 * v);
+  }
+
+ private:
+  std::uint64_t s_;
+  bool has_spare_ = false;
+  double spare_ = 0.0;
+};
+
+}  // namespace plc::plant
