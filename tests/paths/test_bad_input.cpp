@@ -158,5 +158,23 @@ TEST(PndevsimBadInput, AConfigThatIsNoReadableFileIsExitTwo) {
                   });
 }
 
+// The simulator hosts' command line (plc/io/sim_host.hpp): `TOOL
+// CONFIG.yaml [--for DURATION]`, anything else a message and exit code 2
+// before the config is read. A `--for` without its duration was ignored by
+// dnslave and dpslavesim (the run went on without an end).
+TEST(SimHostBadInput, CommandLinesOtherThanConfigAndForAreExitTwo) {
+  NotAFile f("sim_host_args");
+  const std::string cfg = quoted(f.missing());
+  for (const char* tool : {"dnslave", "dpslavesim", "pndevsim"}) {
+    const std::string t = tool;
+    expect_exit_two(tool, {
+                              {"", "usage: " + t + " CONFIG.yaml [--for DURATION]"},
+                              {cfg + " --for", t + ": --for: needs a duration (e.g. 10s)"},
+                              {cfg + " --for soon", t + ": --for: bad duration 'soon'"},
+                              {cfg + " --forever 1", t + ": unknown option '--forever'"},
+                          });
+  }
+}
+
 }  // namespace
 }  // namespace pathtest

@@ -41,52 +41,20 @@
 #include "plc/fb/acdrive/assemblies.hpp"
 #include "plc/iec_literal.hpp"
 #include "plc/io/device_model.hpp"
+#include "plc/io/sim_host.hpp"
 
 namespace dn = plc::devicenet;
 namespace io = plc::io;
 
 namespace {
 
-std::atomic<bool> g_stop{false};
-std::atomic<int> g_toggle_silent{0};
-
-std::int64_t mono_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-struct ConfigError : std::runtime_error {
-  ConfigError(const YAML::Node& n, const std::string& msg)
-      : std::runtime_error(n.Mark().line >= 0 ? std::to_string(n.Mark().line + 1) + ":" +
-                                                    std::to_string(n.Mark().column + 1) + ": " + msg
-                                              : msg) {}
-};
-
-template <class T>
-T get(const YAML::Node& map, const char* key, T def, T min, T max) {
-  const YAML::Node n = map[key];
-  if (!n) return def;
-  T v{};
-  try {
-    v = n.as<T>();
-  } catch (const YAML::Exception&) {
-    throw ConfigError(n, std::string("key '") + key + "': not a number");
-  }
-  if (v < min || v > max)
-    throw ConfigError(n, std::string("key '") + key + "': out of range [" + std::to_string(min) +
-                             ", " + std::to_string(max) + "]");
-  return v;
-}
-
-void reject_unknown(const YAML::Node& map, std::initializer_list<const char*> known) {
-  for (const auto& kv : map) {
-    const std::string k = kv.first.as<std::string>();
-    bool ok = false;
-    for (const char* q : known) ok = ok || k == q;
-    if (!ok) throw ConfigError(kv.first, "unknown key '" + k + "'");
-  }
-}
+namespace sim_host = plc::io::sim_host;
+using sim_host::ConfigError;
+using sim_host::g_stop;
+using sim_host::g_toggle_silent;
+using sim_host::get_number;
+using sim_host::mono_ns;
+using sim_host::reject_unknown;
 
 struct Hosted {
   std::string name;
@@ -95,25 +63,10 @@ struct Hosted {
 };
 
 int run(int argc, char** argv) {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: dnslave CONFIG.yaml [--for DURATION]\n");
-    return 2;
-  }
-  const std::string file = argv[1];
-  std::int64_t run_ns = -1;
-  for (int i = 2; i + 1 < argc; i += 2) {
-    if (std::string(argv[i]) == "--for") {
-      const auto t = plc::parse_iec_time(argv[i + 1]);
-      if (!t) {
-        std::fprintf(stderr, "dnslave: --for: bad duration '%s'\n", argv[i + 1]);
-        return 2;
-      }
-      run_ns = t->count();
-    } else {
-      std::fprintf(stderr, "dnslave: unknown option '%s'\n", argv[i]);
-      return 2;
-    }
-  }
+  const auto args = sim_host::parse_args("dnslave", argc, argv);
+  if (!args) return 2;
+  const std::string& file = args->config;
+  const std::int64_t run_ns = args->run_ns;
 
   std::unique_ptr<plc::can::UdpHub> hub;
   std::unique_ptr<plc::can::Bus> bus;
@@ -165,19 +118,19 @@ int run(int argc, char** argv) {
         if (s["params"]["j10"])
           cfg.input_assembly = plc::acdrive::input_instance(s["params"]["j10"].as<unsigned>());
       }
-      cfg.input_assembly =
-          static_cast<std::uint8_t>(get<int>(s, "input_assembly", cfg.input_assembly, 1, 255));
-      cfg.output_assembly =
-          static_cast<std::uint8_t>(get<int>(s, "output_assembly", cfg.output_assembly, 1, 255));
-      cfg.mac = static_cast<std::uint8_t>(get<int>(s, "mac", 0, 0, 63));
+      cfg.input_assembly = static_cast<std::uint8_t>(
+          get_number<int>(s, "input_assembly", cfg.input_assembly, 1, 255));
+      cfg.output_assembly = static_cast<std::uint8_t>(
+          get_number<int>(s, "output_assembly", cfg.output_assembly, 1, 255));
+      cfg.mac = static_cast<std::uint8_t>(get_number<int>(s, "mac", 0, 0, 63));
       auto& id = cfg.identity;
-      id.vendor = static_cast<std::uint16_t>(get<int>(s, "vendor", id.vendor, 0, 65535));
+      id.vendor = static_cast<std::uint16_t>(get_number<int>(s, "vendor", id.vendor, 0, 65535));
       id.device_type =
-          static_cast<std::uint16_t>(get<int>(s, "device_type", id.device_type, 0, 65535));
+          static_cast<std::uint16_t>(get_number<int>(s, "device_type", id.device_type, 0, 65535));
       id.product_code =
-          static_cast<std::uint16_t>(get<int>(s, "product_code", id.product_code, 0, 65535));
+          static_cast<std::uint16_t>(get_number<int>(s, "product_code", id.product_code, 0, 65535));
       id.serial = static_cast<std::uint32_t>(
-          get<long long>(s, "serial", 0x1000 + cfg.mac, 0, 0xFFFFFFFFLL));
+          get_number<long long>(s, "serial", 0x1000 + cfg.mac, 0, 0xFFFFFFFFLL));
       if (s["product_name"]) id.product_name = s["product_name"].as<std::string>();
       if (s["revision"]) {
         unsigned maj = 0, min = 0;
@@ -206,7 +159,7 @@ int run(int argc, char** argv) {
       if (const YAML::Node fl = s["faults"]) {
         reject_unknown(fl, {"silent", "size_error", "refuse_allocation"});
         h.slave->faults().silent = fl["silent"] && fl["silent"].as<bool>();
-        h.slave->faults().size_error = get<int>(fl, "size_error", 0, -8, 8);
+        h.slave->faults().size_error = get_number<int>(fl, "size_error", 0, -8, 8);
         h.slave->faults().refuse_allocation =
             fl["refuse_allocation"] && fl["refuse_allocation"].as<bool>();
       }
@@ -225,9 +178,7 @@ int run(int argc, char** argv) {
     return 2;
   }
 
-  std::signal(SIGTERM, [](int) { g_stop = true; });
-  std::signal(SIGINT, [](int) { g_stop = true; });
-  std::signal(SIGUSR1, [](int) { g_toggle_silent.fetch_add(1); });
+  sim_host::install_signals();
 
   const std::int64_t t0 = mono_ns();
   int toggles_seen = 0;

@@ -34,6 +34,7 @@
 #include "plc/config_path.hpp"
 #include "plc/iec_literal.hpp"
 #include "plc/io/device_model.hpp"
+#include "plc/io/sim_host.hpp"
 #include "plc/profibus/dp/describe.hpp"
 #include "plc/profibus/fdl/timing.hpp"
 #include "plc/profibus/link/capture.hpp"
@@ -46,46 +47,13 @@ namespace io = plc::io;
 
 namespace {
 
-std::atomic<bool> g_stop{false};
-std::atomic<int> g_toggle_silent{0};
-
-std::int64_t mono_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-struct ConfigError : std::runtime_error {
-  ConfigError(const YAML::Node& n, const std::string& msg)
-      : std::runtime_error(n.Mark().line >= 0 ? std::to_string(n.Mark().line + 1) + ":" +
-                                                    std::to_string(n.Mark().column + 1) + ": " + msg
-                                              : msg) {}
-};
-
-template <class T>
-T get(const YAML::Node& map, const char* key, T def, T min, T max) {
-  const YAML::Node n = map[key];
-  if (!n) return def;
-  T v{};
-  try {
-    v = n.as<T>();
-  } catch (const YAML::Exception&) {
-    throw ConfigError(n, std::string("key '") + key + "': not a number");
-  }
-  if (v < min || v > max)
-    throw ConfigError(n, std::string("key '") + key + "': out of range [" + std::to_string(min) +
-                             ", " + std::to_string(max) + "]");
-  return v;
-}
-
-void reject_unknown(const YAML::Node& map, std::initializer_list<const char*> known) {
-  for (const auto& kv : map) {
-    const std::string k = kv.first.as<std::string>();
-    bool ok = false;
-    for (const char* q : known) ok = ok || k == q;
-    if (!ok) throw ConfigError(kv.first, "unknown key '" + k + "'");
-  }
-}
+namespace sim_host = plc::io::sim_host;
+using sim_host::ConfigError;
+using sim_host::g_stop;
+using sim_host::g_toggle_silent;
+using sim_host::get_number;
+using sim_host::mono_ns;
+using sim_host::reject_unknown;
 
 std::vector<std::uint8_t> hex_bytes(const YAML::Node& n) {
   std::vector<std::uint8_t> out;
@@ -168,25 +136,10 @@ class SharedLine final : public pb::link::Line {
 };
 
 int run(int argc, char** argv) {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: dpslavesim CONFIG.yaml [--for DURATION]\n");
-    return 2;
-  }
-  const std::string file = argv[1];
-  std::int64_t run_ns = -1;
-  for (int i = 2; i + 1 < argc; i += 2) {
-    if (std::string(argv[i]) == "--for") {
-      const auto t = plc::parse_iec_time(argv[i + 1]);
-      if (!t) {
-        std::fprintf(stderr, "dpslavesim: --for: bad duration '%s'\n", argv[i + 1]);
-        return 2;
-      }
-      run_ns = t->count();
-    } else {
-      std::fprintf(stderr, "dpslavesim: unknown option '%s'\n", argv[i]);
-      return 2;
-    }
-  }
+  const auto args = sim_host::parse_args("dpslavesim", argc, argv);
+  if (!args) return 2;
+  const std::string& file = args->config;
+  const std::int64_t run_ns = args->run_ns;
 
   std::unique_ptr<pb::link::Line> line;
   std::unique_ptr<SharedLine> shared;
@@ -208,7 +161,7 @@ int run(int argc, char** argv) {
     for (const char* kind : {"serial:", "pty:"})
       if (transport.rfind(kind, 0) == 0 && transport.size() > std::strlen(kind))
         transport = kind + plc::config_relative_path(file, transport.substr(std::strlen(kind)));
-    const auto baud = get<std::uint32_t>(root, "baud", 1500000, 9600, 12000000);
+    const auto baud = get_number<std::uint32_t>(root, "baud", 1500000, 9600, 12000000);
     if (!pb::fdl::baud_profile(baud)) throw ConfigError(root["baud"], "not a PROFIBUS baud rate");
     if (!root["slaves"] || !root["slaves"].IsSequence() || root["slaves"].size() == 0)
       throw ConfigError(root, "key 'slaves': a list of at least one slave");
@@ -220,8 +173,8 @@ int run(int argc, char** argv) {
       if (!s["address"]) throw ConfigError(s, "key 'address' missing");
       if (!s["gsd"]) throw ConfigError(s, "key 'gsd' missing");
       const std::string model = s["model"].as<std::string>();
-      const auto address = get<int>(s, "address", 0, 0, 125);
-      const auto io_bytes = get<int>(s, "io_bytes", 8, 1, 244);
+      const auto address = get_number<int>(s, "address", 0, 0, 125);
+      const auto io_bytes = get_number<int>(s, "io_bytes", 8, 1, 244);
       pb::gsd::Gsd g;
       try {
         g = pb::gsd::load_gsd(plc::config_relative_path(file, s["gsd"].as<std::string>()));
@@ -288,9 +241,7 @@ int run(int argc, char** argv) {
     return 2;
   }
 
-  std::signal(SIGTERM, [](int) { g_stop = true; });
-  std::signal(SIGINT, [](int) { g_stop = true; });
-  std::signal(SIGUSR1, [](int) { g_toggle_silent.fetch_add(1); });
+  sim_host::install_signals();
 
   const std::int64_t t0 = mono_ns();
   shared->set_capture(capture.get(), t0);

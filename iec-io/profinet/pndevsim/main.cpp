@@ -49,6 +49,7 @@
 #include "plc/config_path.hpp"
 #include "plc/iec_literal.hpp"
 #include "plc/io/device_model.hpp"
+#include "plc/io/sim_host.hpp"
 #include "plc/profinet/description/builtin_descriptions.hpp"
 #include "plc/profinet/device/pn_device.hpp"
 #include "plc/profinet/link/raw_ethernet_port.hpp"
@@ -61,40 +62,13 @@ using std::chrono::nanoseconds;
 
 namespace {
 
-std::atomic<bool> g_stop{false};
-std::atomic<int> g_toggle_silent{0};
-
-std::int64_t mono_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-struct ConfigError : std::runtime_error {
-  ConfigError(const YAML::Node& n, const std::string& msg)
-      : std::runtime_error(n.Mark().line >= 0 ? std::to_string(n.Mark().line + 1) + ":" +
-                                                    std::to_string(n.Mark().column + 1) + ": " + msg
-                                              : msg) {}
-};
-
-void reject_unknown(const YAML::Node& map, std::initializer_list<const char*> known) {
-  if (!map.IsMap()) throw ConfigError(map, "expected a map");
-  for (const auto& kv : map) {
-    const std::string k = kv.first.as<std::string>();
-    bool ok = false;
-    for (const char* q : known) ok = ok || k == q;
-    if (!ok) throw ConfigError(kv.first, "unknown key '" + k + "'");
-  }
-}
-
-nanoseconds get_time(const YAML::Node& n, const char* key, nanoseconds def) {
-  const YAML::Node v = n[key];
-  if (!v) return def;
-  const auto t = plc::parse_iec_time(v.as<std::string>());
-  if (!t || t->count() < 0)
-    throw ConfigError(v, std::string("key '") + key + "': not a duration (e.g. 2ms, T#1s)");
-  return *t;
-}
+namespace sim_host = plc::io::sim_host;
+using sim_host::ConfigError;
+using sim_host::g_stop;
+using sim_host::g_toggle_silent;
+using sim_host::get_time;
+using sim_host::mono_ns;
+using sim_host::reject_unknown;
 
 std::optional<pn::PnioStatus> parse_status(const std::string& s) {
   if (s.size() != 8 && !(s.size() == 10 && (s.rfind("0x", 0) == 0 || s.rfind("0X", 0) == 0)))
@@ -254,25 +228,10 @@ void realtime_thread(pn::EthernetPort& eth, std::vector<Hosted>& hosted, Mailbox
 }
 
 int run(int argc, char** argv) {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: pndevsim CONFIG.yaml [--for DURATION]\n");
-    return 2;
-  }
-  const std::string file = argv[1];
-  std::int64_t run_ns = -1;
-  for (int i = 2; i < argc; i += 2) {
-    if (std::string(argv[i]) == "--for" && i + 1 < argc) {
-      const auto t = plc::parse_iec_time(argv[i + 1]);
-      if (!t) {
-        std::fprintf(stderr, "pndevsim: --for: bad duration '%s'\n", argv[i + 1]);
-        return 2;
-      }
-      run_ns = t->count();
-    } else {
-      std::fprintf(stderr, "pndevsim: unknown option '%s'\n", argv[i]);
-      return 2;
-    }
-  }
+  const auto args = sim_host::parse_args("pndevsim", argc, argv);
+  if (!args) return 2;
+  const std::string& file = args->config;
+  const std::int64_t run_ns = args->run_ns;
 
   std::unique_ptr<pn::RawEthernetPort> eth;
   std::vector<Hosted> hosted;
@@ -420,9 +379,7 @@ int run(int argc, char** argv) {
     });
   }
 
-  std::signal(SIGTERM, [](int) { g_stop = true; });
-  std::signal(SIGINT, [](int) { g_stop = true; });
-  std::signal(SIGUSR1, [](int) { g_toggle_silent.fetch_add(1); });
+  sim_host::install_signals();
   std::signal(SIGPIPE, SIG_IGN);
 
   int control_fd = -1;
