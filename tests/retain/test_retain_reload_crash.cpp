@@ -173,7 +173,7 @@ TEST(RetainReloadCrash, KilledAroundAnOnlineChangeOfTheRetainLayoutRestartsConsi
   // copy in the new layout is written, and after.
   std::uniform_int_distribution<int> kill_early_ms(0, 250), kill_late_ms(0, 30);
   std::bernoulli_distribution early(0.25);
-  int before = 0, during = 0, after = 0, new_layout = 0, old_layout = 0;
+  int before = 0, during = 0, after = 0, new_layout = 0, old_layout = 0, no_copy_yet = 0;
   std::string prev_copy;  // "FILE (sequence N)": the copy the last kill left
   std::map<std::string, std::int64_t> prev_counts{{"P", 0}, {"Q", 0}};  // its counts
   for (int i = 0; i < runs; ++i) {
@@ -223,7 +223,7 @@ TEST(RetainReloadCrash, KilledAroundAnOnlineChangeOfTheRetainLayoutRestartsConsi
       ++after;
     // This life's start: from the previous life's newest copy, checked below.
     EXPECT_EQ(out.find("damaged"), std::string::npos) << "run " << i << ":\n" << out;
-    if (i == 0) {
+    if (prev_copy.empty()) {
       EXPECT_NE(out.find("no retain file yet"), std::string::npos) << out;
     } else {
       EXPECT_NE(out.find("plcrun: retain: warm start from " + prev_copy + ": "), std::string::npos)
@@ -237,6 +237,13 @@ TEST(RetainReloadCrash, KilledAroundAnOnlineChangeOfTheRetainLayoutRestartsConsi
     // What the kill left: a whole copy of one layout, of scans that happened.
     const plc::retain::Storage::Loaded l = plc::retain::Storage(dir + "/probe.retain").load();
     EXPECT_TRUE(l.problems.empty()) << "run " << i << ": " << l.problems.front();
+    if (!l.image && prev_copy.empty() && l.problems.empty()) {
+      // Killed before the first save of the first life ended (a loaded
+      // machine can hold the writer back that long): no file, as if this
+      // life never ran; the next one starts cold again.
+      ++no_copy_yet;
+      continue;
+    }
     ASSERT_TRUE(l.image) << "run " << i << ":\n" << out;
     int layout = 0;
     const auto counts =
@@ -256,8 +263,8 @@ TEST(RetainReloadCrash, KilledAroundAnOnlineChangeOfTheRetainLayoutRestartsConsi
   }
   std::printf(
       "retain reload kill test: %d runs, kills before the reload %d, during it %d, after it %d; "
-      "newest copy in the old layout %d times, in the new %d; 0 damaged copies\n",
-      runs, before, during, after, old_layout, new_layout);
+      "newest copy in the old layout %d times, in the new %d, none yet %d; 0 damaged copies\n",
+      runs, before, during, after, old_layout, new_layout, no_copy_yet);
   // The campaign covered what it is for (not just kills before the reload).
   if (runs >= 10 && !::testing::Test::HasFailure()) {
     EXPECT_GT(after, 0);
