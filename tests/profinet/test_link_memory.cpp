@@ -107,6 +107,38 @@ TEST(LinkMemoryEthernet, LinkDownSendsNothingAndReceivesNothing) {
   EXPECT_FALSE(take(*b).empty());
 }
 
+// A port that is not promiscuous (open_ethernet's default, as a raw socket
+// without PACKET_MR_PROMISC): frames to its own MAC and to group addresses
+// only; a promiscuous port on the same hub still sees everything.
+TEST(LinkMemoryEthernet, NonPromiscuousPortTakesItsOwnAndGroupFramesOnly) {
+  pn::MemoryEthernet hub;
+  auto a = hub.port();
+  auto b = hub.port(pn::Mac{}, /*promiscuous=*/false);
+  auto c = hub.port(pn::Mac{}, /*promiscuous=*/false);
+  auto tap = hub.port();
+  const auto to_b = frame(b->mac(), a->mac(), 1);
+  ASSERT_TRUE(a->send(to_b));
+  EXPECT_EQ(take(*b), to_b);
+  EXPECT_TRUE(take(*c).empty());
+  EXPECT_EQ(take(*tap), to_b);
+  const auto identify = frame(pn::kDcpIdentifyMulticast, a->mac(), 2);
+  ASSERT_TRUE(a->send(identify));
+  EXPECT_EQ(take(*b), identify);
+  EXPECT_EQ(take(*c), identify);
+  const auto broadcast = frame(pn::Mac{0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF}, a->mac(), 3);
+  ASSERT_TRUE(a->send(broadcast));
+  EXPECT_EQ(take(*c), broadcast);
+  EXPECT_EQ(c->counters().received.load(), 2u);
+  pn::forget_memory_link("t0");
+  auto d = pn::open_ethernet("mem:t0");
+  auto e = pn::open_ethernet("mem:t0");
+  auto f = pn::open_ethernet("mem:t0");
+  ASSERT_TRUE(d->send(frame(e->mac(), d->mac(), 4)));
+  EXPECT_FALSE(take(*e).empty());
+  EXPECT_TRUE(take(*f).empty()) << "open_ethernet without promiscuous: only its own frames";
+  pn::forget_memory_link("t0");
+}
+
 TEST(LinkMemoryEthernet, NamedHubsAndDuplicateMac) {
   pn::forget_memory_link("t1");
   auto a = pn::open_ethernet("mem:t1");

@@ -1,5 +1,7 @@
 #include "plc/profinet/link/memory_ethernet.hpp"
 
+#include <algorithm>
+
 #include "memory_segment.hpp"
 
 namespace plc::profinet {
@@ -17,6 +19,7 @@ struct NoExtra {};
 }  // namespace
 
 struct MemoryEthernet::Impl : detail::MemorySegment<Mac, NoExtra> {
+  Impl() : MemorySegment(kMaxFrameLength) {}
   std::uint64_t next_mac = 1;
 };
 
@@ -24,18 +27,17 @@ namespace {
 
 class MemoryEthernetPort final : public EthernetPort {
  public:
-  MemoryEthernetPort(std::shared_ptr<MemoryEthernet::Impl> hub, Mac mac)
+  MemoryEthernetPort(std::shared_ptr<MemoryEthernet::Impl> hub, Mac mac, bool promiscuous)
       : hub_(std::move(hub)), mac_(mac), key_(key_of(mac)) {
     std::lock_guard lock(hub_->mutex);
     if (hub_->endpoints.count(key_) != 0)
       throw LinkError("memory hub: MAC " + to_string(mac) + " is already on the hub");
-    auto& ep = hub_->endpoints[key_];
-    ep.address = mac;
-    ep.counters = &counters_;
+    ep_ = &hub_->add(key_, mac, &counters_);
+    ep_->own_only = !promiscuous;
   }
   ~MemoryEthernetPort() override {
     std::lock_guard lock(hub_->mutex);
-    hub_->endpoints.erase(key_);
+    hub_->remove(key_);
   }
   Mac mac() const override { return mac_; }
   bool send(std::span<const std::uint8_t> frame) override {
@@ -43,18 +45,20 @@ class MemoryEthernetPort final : public EthernetPort {
       counters_.send_failed.fetch_add(1, std::memory_order_relaxed);
       return false;
     }
-    Seg::Message m;
-    m.bytes.assign(frame.begin(), frame.end());
     // Every port takes only PROFINET frames (as the raw port's binding
     // does): others are carried but reach nobody.
     const bool deliver = is_profinet(frame);
-    const bool ok =
-        hub_->send(mac_, key_, std::move(m), [&](std::uint64_t, auto&) { return deliver; });
+    const bool group = (frame[0] & 0x01) != 0;  // multicast or broadcast
+    const auto to = [&](std::uint64_t, const Seg::Endpoint& ep) {
+      return deliver && (!ep.own_only || group ||
+                         std::equal(ep.address.begin(), ep.address.end(), frame.begin()));
+    };
+    const bool ok = hub_->send(mac_, key_, frame, NoExtra{}, to);
     (ok ? counters_.sent : counters_.send_failed).fetch_add(1, std::memory_order_relaxed);
     return ok;
   }
   std::size_t receive(std::span<std::uint8_t> buf, std::chrono::nanoseconds timeout) override {
-    return hub_->take(key_, buf, timeout, nullptr);
+    return hub_->take(*ep_, buf, timeout, nullptr);
   }
 
  private:
@@ -67,13 +71,14 @@ class MemoryEthernetPort final : public EthernetPort {
   std::shared_ptr<MemoryEthernet::Impl> hub_;
   Mac mac_;
   std::uint64_t key_;
+  Seg::Endpoint* ep_ = nullptr;  // ours in the hub, while we live
 };
 
 }  // namespace
 
 MemoryEthernet::MemoryEthernet() : impl_(std::make_shared<Impl>()) {}
 
-std::unique_ptr<EthernetPort> MemoryEthernet::port(Mac mac) {
+std::unique_ptr<EthernetPort> MemoryEthernet::port(Mac mac, bool promiscuous) {
   if (mac == Mac{}) {
     std::lock_guard lock(impl_->mutex);
     do {
@@ -83,7 +88,7 @@ std::unique_ptr<EthernetPort> MemoryEthernet::port(Mac mac) {
           std::uint8_t(n)};
     } while (impl_->endpoints.count(key_of(mac)) != 0);
   }
-  return std::make_unique<MemoryEthernetPort>(impl_, mac);
+  return std::make_unique<MemoryEthernetPort>(impl_, mac, promiscuous);
 }
 
 void MemoryEthernet::drop_next(const Mac& from, int n) { impl_->drop_next(from, n); }
