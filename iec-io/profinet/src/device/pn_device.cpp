@@ -747,12 +747,15 @@ void PnDevice::send_cyclic(nanoseconds now) {
   const std::size_t length = ar.in_layout.c_sdu_length;
   const std::span<std::uint8_t> c_sdu = cyclic_c_sdu(tx_, length, cfg_.vlan_tag);
   std::fill(c_sdu.begin(), c_sdu.end(), std::uint8_t{0});
+  // Each data object: the model's inputs in its own (the rest, and every
+  // other one, stay zero), then its IOPS.
   for (std::size_t i = 0; i < ar.in_layout.data.size(); ++i) {
     const IoDataObject& o = ar.in_layout.data[i];
-    if (static_cast<int>(i) == ar.model_in)
-      put_io_data(c_sdu, o, to_plc_, ar.in_iops[i]);
-    else
-      put_io_data(c_sdu, o, {}, ar.in_iops[i]);
+    if (std::size_t{o.offset} + o.length + 1 > c_sdu.size()) continue;
+    if (static_cast<int>(i) == ar.model_in && !to_plc_.empty())
+      std::memcpy(c_sdu.data() + o.offset, to_plc_.data(),
+                  std::min<std::size_t>(to_plc_.size(), o.length));
+    c_sdu[o.iops_offset()] = ar.in_iops[i];
   }
   for (std::size_t i = 0; i < ar.in_layout.iocs.size() && !c_sdu.empty(); ++i)
     c_sdu[ar.in_layout.iocs[i].offset] = ar.in_iocs[i];

@@ -1,6 +1,6 @@
 #include "plc/profinet/link/memory_ethernet.hpp"
 
-#include <algorithm>
+#include <cstring>
 
 #include "memory_segment.hpp"
 
@@ -15,6 +15,18 @@ std::uint64_t key_of(const Mac& m) {
 }
 
 struct NoExtra {};
+
+// Whether the frame's destination is `mac` (two loads, not a memcmp call:
+// every frame is checked against every port).
+bool addressed_to(std::span<const std::uint8_t> frame, const Mac& mac) {  // frame.size() >= 6
+  std::uint32_t f4 = 0, m4 = 0;
+  std::uint16_t f2 = 0, m2 = 0;
+  std::memcpy(&f4, frame.data(), 4);
+  std::memcpy(&f2, frame.data() + 4, 2);
+  std::memcpy(&m4, mac.data(), 4);
+  std::memcpy(&m2, mac.data() + 4, 2);
+  return f4 == m4 && f2 == m2;
+}
 
 }  // namespace
 
@@ -50,8 +62,7 @@ class MemoryEthernetPort final : public EthernetPort {
     const bool deliver = is_profinet(frame);
     const bool group = (frame[0] & 0x01) != 0;  // multicast or broadcast
     const auto to = [&](std::uint64_t, const Seg::Endpoint& ep) {
-      return deliver && (!ep.own_only || group ||
-                         std::equal(ep.address.begin(), ep.address.end(), frame.begin()));
+      return deliver && (!ep.own_only || group || addressed_to(frame, ep.address));
     };
     const bool ok = hub_->send(mac_, key_, frame, NoExtra{}, to);
     (ok ? counters_.sent : counters_.send_failed).fetch_add(1, std::memory_order_relaxed);

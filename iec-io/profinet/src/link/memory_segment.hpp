@@ -129,7 +129,7 @@ class MemorySegment {
           enqueue(*ep, buffer);
       }
       pool.release(buffer);
-      release_due();
+      if (!delayed.empty()) release_due();
       wake = waiting > 0;
     }
     if (wake) arrived.notify_all();
