@@ -1,16 +1,22 @@
 // PROFINET codec costs on the cyclic path (iec-io/profinet/wire/cyclic.hpp):
 // encoding one RT_CLASS_1 frame (the E1's telegram-111 output CR: DAP IOCS
 // + 24 bytes data + IOPS, padded to 40) into a caller buffer, and decoding
-// it plus reading its data and IOPS, without allocation.
+// it plus reading its data and IOPS, without allocation; and one such frame
+// through the in-memory hub (link/memory_ethernet.hpp) of the PROFINET
+// filling cell's three ports (controller, conveyor, safety module): sent by
+// the controller, received by both others (a hub shows every port every
+// frame), as each cyclic frame of `simulate: true` goes.
 // Prints `name: value unit` lines.
 #include <benchmark/benchmark.h>
 
 #include <array>
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <map>
 #include <vector>
 
+#include "plc/profinet/link/memory_ethernet.hpp"
 #include "plc/profinet/wire/cyclic.hpp"
 #include "plc_bench/collector.hpp"
 
@@ -73,6 +79,26 @@ void BM_DecodeCyclicFrame(benchmark::State& state) {
 }
 BENCHMARK(BM_DecodeCyclicFrame)->MinTime(0.2);
 
+void BM_HubCyclicFrame(benchmark::State& state) {
+  Fixture f;
+  const std::size_t n = f.encode();
+  pn::MemoryEthernet hub;
+  const auto ctrl = hub.port(f.h.src);
+  const auto conveyor = hub.port(f.h.dst);
+  const auto safety = hub.port();
+  std::array<std::uint8_t, pn::kMaxFrameLength> rx{};
+  const auto frame = std::span<const std::uint8_t>(f.frame).first(n);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(ctrl->send(frame));
+    benchmark::DoNotOptimize(conveyor->receive(rx, std::chrono::nanoseconds(0)));
+    benchmark::DoNotOptimize(safety->receive(rx, std::chrono::nanoseconds(0)));
+  }
+  if (conveyor->counters().received != safety->counters().received ||
+      conveyor->counters().received != ctrl->counters().sent)
+    state.SkipWithError("a frame did not reach every port");
+}
+BENCHMARK(BM_HubCyclicFrame)->MinTime(0.2);
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -80,5 +106,6 @@ int main(int argc, char** argv) {
   if (!plc::bench::run_benchmarks(argc, argv, c)) return 1;
   std::printf("pn_cyclic_frame_encode: %.0f ns\n", c.cpu("BM_EncodeCyclicFrame"));
   std::printf("pn_cyclic_frame_decode: %.0f ns\n", c.cpu("BM_DecodeCyclicFrame"));
+  std::printf("pn_hub_cyclic_frame: %.0f ns\n", c.cpu("BM_HubCyclicFrame"));
   return 0;
 }

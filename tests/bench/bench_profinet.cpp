@@ -5,10 +5,11 @@
 //    devices' N input frames of the cycle (cycle counters advanced) and
 //    takes its N output frames without copying them anywhere. The figure is
 //    the thread CPU time of Controller::poll() alone (manual time): neither
-//    the simulated devices nor the hub are in it. (The hub copies every
-//    frame to every port and looks each one up in a map, so with the hub in
-//    the loop the figure grew as N^2: 0.78 / 3.7 / 15.6 us per device at
-//    1 / 16 / 64 devices, almost all of it the hub's.)
+//    the simulated devices nor the hub are in it. (The hub shows every
+//    port every frame, so with the hub in the loop the figure grew as N^2:
+//    0.78 / 3.7 / 15.6 us per device at 1 / 16 / 64 devices when it still
+//    copied each frame into a new vector per port, almost all of it the
+//    hub's; bench_pn_wire's pn_hub_cyclic_frame is the hub's own cost.)
 //  * how many devices one core sustains at 1 ms: 1 ms over that cost, and a
 //    real-time run of the plugin's cyclic thread with 16 simulated devices
 //    on the same core's thread (controller + devices) counting late output

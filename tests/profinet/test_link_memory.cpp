@@ -49,6 +49,40 @@ TEST(LinkMemoryEthernet, FrameIsAtOnceAtEveryOtherPortNotTheSender) {
   EXPECT_EQ(b->counters().received.load(), 1u);
 }
 
+// The queues are rings of pooled buffers that grow while frames are in
+// flight: the order holds across a ring that wraps and then grows, frames
+// shared by two receivers stay intact until both took them, and the
+// per-port limit (kMemoryQueueLimit) still drops and counts the excess.
+TEST(LinkMemoryEthernet, QueuesKeepTheOrderAcrossGrowthAndDropPastTheLimit) {
+  pn::MemoryEthernet hub;
+  auto a = hub.port(), b = hub.port(), c = hub.port();
+  std::uint8_t next_sent = 0, next_b = 0;
+  auto send = [&](int n) {
+    for (int i = 0; i < n; ++i) ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), next_sent++)));
+  };
+  auto take_b = [&](int n) {
+    for (int i = 0; i < n; ++i) {
+      const auto f = take(*b);
+      ASSERT_EQ(f.size(), 60u);
+      EXPECT_EQ(f[16], next_b++);
+    }
+  };
+  send(20);
+  take_b(10);
+  send(40);  // b's ring: wrapped, then grown with 10 still queued
+  take_b(50);
+  EXPECT_TRUE(take(*b).empty());
+  for (std::uint8_t k = 0; k < 60; ++k) EXPECT_EQ(take(*c)[16], k) << "c's copy of frame " << +k;
+  EXPECT_TRUE(take(*c).empty());
+  const std::size_t limit = pn::kMemoryQueueLimit;
+  for (std::size_t i = 0; i < limit + 3; ++i)
+    ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), static_cast<std::uint8_t>(i))));
+  EXPECT_EQ(b->counters().rx_dropped.load(), 3u);
+  std::size_t taken = 0;
+  for (std::size_t i = 0; i < limit + 3 && !take(*b).empty(); ++i) ++taken;
+  EXPECT_EQ(taken, limit);
+}
+
 // fieldbus-masters.md §1 item 6: 0x8892 with and without a VLAN tag.
 TEST(LinkMemoryEthernet, DeliversProfinetTaggedAndUntaggedOnly) {
   pn::MemoryEthernet hub;
@@ -105,6 +139,38 @@ TEST(LinkMemoryEthernet, LinkDownSendsNothingAndReceivesNothing) {
   EXPECT_TRUE(take(*b).empty());  // what came while down is lost
   ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 3)));
   EXPECT_FALSE(take(*b).empty());
+}
+
+// A port that is not promiscuous (open_ethernet's default, as a raw socket
+// without PACKET_MR_PROMISC): frames to its own MAC and to group addresses
+// only; a promiscuous port on the same hub still sees everything.
+TEST(LinkMemoryEthernet, NonPromiscuousPortTakesItsOwnAndGroupFramesOnly) {
+  pn::MemoryEthernet hub;
+  auto a = hub.port();
+  auto b = hub.port(pn::Mac{}, /*promiscuous=*/false);
+  auto c = hub.port(pn::Mac{}, /*promiscuous=*/false);
+  auto tap = hub.port();
+  const auto to_b = frame(b->mac(), a->mac(), 1);
+  ASSERT_TRUE(a->send(to_b));
+  EXPECT_EQ(take(*b), to_b);
+  EXPECT_TRUE(take(*c).empty());
+  EXPECT_EQ(take(*tap), to_b);
+  const auto identify = frame(pn::kDcpIdentifyMulticast, a->mac(), 2);
+  ASSERT_TRUE(a->send(identify));
+  EXPECT_EQ(take(*b), identify);
+  EXPECT_EQ(take(*c), identify);
+  const auto broadcast = frame(pn::Mac{0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF}, a->mac(), 3);
+  ASSERT_TRUE(a->send(broadcast));
+  EXPECT_EQ(take(*c), broadcast);
+  EXPECT_EQ(c->counters().received.load(), 2u);
+  pn::forget_memory_link("t0");
+  auto d = pn::open_ethernet("mem:t0");
+  auto e = pn::open_ethernet("mem:t0");
+  auto f = pn::open_ethernet("mem:t0");
+  ASSERT_TRUE(d->send(frame(e->mac(), d->mac(), 4)));
+  EXPECT_FALSE(take(*e).empty());
+  EXPECT_TRUE(take(*f).empty()) << "open_ethernet without promiscuous: only its own frames";
+  pn::forget_memory_link("t0");
 }
 
 TEST(LinkMemoryEthernet, NamedHubsAndDuplicateMac) {

@@ -229,16 +229,21 @@ void ProfinetPlugin::run_realtime() {
   }
 }
 
+// Virtual time: the scan's thread also runs the controller (step()), and
+// diagnostics() from other threads reads neither staging buffer, so the
+// copies need no mutex (as the sim plugin's).
 void ProfinetPlugin::latch_inputs(std::size_t device, std::span<std::uint8_t> dst) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::unique_lock<std::mutex> lock(mutex_, std::defer_lock);
+  if (mode_ == io::ClockMode::RealTime) lock.lock();
   const auto src = controller_->inputs(device);
-  std::memcpy(dst.data(), src.data(), std::min(src.size(), dst.size()));
+  std::copy_n(src.data(), std::min(src.size(), dst.size()), dst.data());
 }
 
 void ProfinetPlugin::publish_outputs(std::size_t device, std::span<const std::uint8_t> src) {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::unique_lock<std::mutex> lock(mutex_, std::defer_lock);
+  if (mode_ == io::ClockMode::RealTime) lock.lock();
   auto dst = controller_->outputs(device);
-  std::memcpy(dst.data(), src.data(), std::min(src.size(), dst.size()));
+  std::copy_n(src.data(), std::min(src.size(), dst.size()), dst.data());
 }
 
 PnDevice* ProfinetPlugin::simulated(std::size_t device) {

@@ -170,7 +170,7 @@ void Controller::on_ethernet(std::span<const std::uint8_t> frame, TIME now) {
       if (!d.cyclic || d.input_frame_id != v.frame_id) continue;
       if (v.src != d.mac) return bad(d.counters, BadFrame::SourceMac);
       CyclicView c;
-      if (const WireStatus st = decode_cyclic(frame, d.plan.layout.input.c_sdu_length, c); !st)
+      if (const WireStatus st = decode_cyclic(v, d.plan.layout.input.c_sdu_length, c); !st)
         return bad(d.counters, st.error == WireError::Truncated || st.error == WireError::BadLength
                                    ? BadFrame::Length
                                    : BadFrame::Decode);
@@ -741,12 +741,17 @@ void Controller::start_cyclic(Device& d, TIME now) {
   d.connected_at = now;
   d.next_send = now;
   d.cycle_counter = 0;
-  d.c_sdu.assign(d.plan.layout.output.c_sdu_length, 0);
-  d.tx.assign(cyclic_frame_length(d.c_sdu.size(), true), 0);
-  // IOCS of every input-CR submodule: good, from the first frame on.
-  for (const IocsSlot& s : d.plan.layout.output.iocs) d.c_sdu[s.offset] = iocr::kIoxsGood;
-  for (const IoDataObject& o : d.plan.layout.output.data)
-    d.c_sdu[o.iops_offset()] = iocr::kIoxsGood;
+  const std::size_t length = d.plan.layout.output.c_sdu_length;
+  d.tx.assign(cyclic_frame_length(length, true), 0);
+  // The C_SDU lives in the frame: each send writes the outputs into it and
+  // the header around it. IOCS of every input-CR submodule: good, from the
+  // first frame on (a layout is at most 1440 bytes: the span is there).
+  const std::span<std::uint8_t> c_sdu = cyclic_c_sdu(d.tx, length, true);
+  if (!c_sdu.empty()) {
+    for (const IocsSlot& s : d.plan.layout.output.iocs) c_sdu[s.offset] = iocr::kIoxsGood;
+    for (const IoDataObject& o : d.plan.layout.output.data)
+      c_sdu[o.iops_offset()] = iocr::kIoxsGood;
+  }
   send_cyclic(d, now);
 }
 
@@ -761,8 +766,10 @@ void Controller::send_cyclic(Device& d, TIME now) {
     d.next_send += d.interval * missed;
     d.cycle_counter = static_cast<std::uint16_t>(d.cycle_counter + missed * d.counter_step);
   }
+  const std::size_t length = d.plan.layout.output.c_sdu_length;
+  const std::span<std::uint8_t> c_sdu = cyclic_c_sdu(d.tx, length, true);
   for (const auto& u : d.plan.outputs)
-    put_io_data(d.c_sdu, u.object,
+    put_io_data(c_sdu, u.object,
                 std::span<const std::uint8_t>(d.out).subspan(u.user_offset, u.object.length),
                 iocr::kIoxsGood);
   CyclicHeader h;
@@ -773,7 +780,7 @@ void Controller::send_cyclic(Device& d, TIME now) {
   h.cycle_counter = d.cycle_counter;
   h.data_status = data_status::kGood;
   h.transfer_status = 0;
-  const std::size_t n = encode_cyclic(d.tx, h, d.c_sdu);
+  const std::size_t n = finish_cyclic(d.tx, h, length);
   if (n > 0 && eth_->send(std::span<const std::uint8_t>(d.tx).first(n))) ++d.counters.frames_out;
   d.cycle_counter = static_cast<std::uint16_t>(d.cycle_counter + d.counter_step);
   d.next_send += d.interval;

@@ -47,8 +47,7 @@ struct Controller::Device {
   bool app_ready = false;
   TIME next_send{0};
   std::uint16_t cycle_counter = 0;
-  std::vector<std::uint8_t> tx;     // one output frame
-  std::vector<std::uint8_t> c_sdu;  // its C_SDU
+  std::vector<std::uint8_t> tx;  // one output frame, its C_SDU kept in place between sends
   bool rx_seen = false;
   TIME last_input{0};
   std::uint16_t last_rx_counter = 0;

@@ -1,5 +1,7 @@
 #include "plc/profinet/device/output_acceptance.hpp"
 
+#include <cstring>
+
 namespace plc::profinet {
 
 const char* to_string(OutputReject r) {
@@ -24,9 +26,22 @@ void OutputAcceptance::start(const Mac& controller, std::size_t frame_length) {
   have_counter_ = false;
 }
 
+namespace {
+// Two loads, not a memcmp call (once per output frame).
+bool same_mac(const Mac& a, const Mac& b) {
+  std::uint32_t a4 = 0, b4 = 0;
+  std::uint16_t a2 = 0, b2 = 0;
+  std::memcpy(&a4, a.data(), 4);
+  std::memcpy(&a2, a.data() + 4, 2);
+  std::memcpy(&b4, b.data(), 4);
+  std::memcpy(&b2, b.data() + 4, 2);
+  return a4 == b4 && a2 == b2;
+}
+}  // namespace
+
 std::optional<OutputReject> OutputAcceptance::check(const OutputFrameFacts& f) {
   std::optional<OutputReject> r;
-  if (f.source != controller_)
+  if (!same_mac(f.source, controller_))
     r = OutputReject::WrongSource;
   else if (f.length_without_vlan != length_)
     r = OutputReject::WrongLength;

@@ -707,7 +707,7 @@ void PnDevice::on_cyclic(std::span<const std::uint8_t> frame, const PnFrameView&
   f.source = v.src;
   f.length_without_vlan = frame.size() - (v.vlan_tci ? kVlanTagLength : 0);
   CyclicView cv;
-  const bool decoded = static_cast<bool>(decode_cyclic(frame, ar.out_layout.c_sdu_length, cv));
+  const bool decoded = static_cast<bool>(decode_cyclic(v, ar.out_layout.c_sdu_length, cv));
   if (decoded) {
     f.cycle_counter = cv.header.cycle_counter;
     f.data_status = cv.header.data_status;
@@ -743,16 +743,21 @@ void PnDevice::send_cyclic(nanoseconds now) {
   Ar& ar = *ar_;
   if (now < ar.next_send) return;
   step_model(now);
-  c_sdu_.fill(0);
-  const std::span<std::uint8_t> c_sdu(c_sdu_.data(), ar.in_layout.c_sdu_length);
+  // Built in place in the frame: zeros, then each data object and IOCS.
+  const std::size_t length = ar.in_layout.c_sdu_length;
+  const std::span<std::uint8_t> c_sdu = cyclic_c_sdu(tx_, length, cfg_.vlan_tag);
+  std::fill(c_sdu.begin(), c_sdu.end(), std::uint8_t{0});
+  // Each data object: the model's inputs in its own (the rest, and every
+  // other one, stay zero), then its IOPS.
   for (std::size_t i = 0; i < ar.in_layout.data.size(); ++i) {
     const IoDataObject& o = ar.in_layout.data[i];
-    if (static_cast<int>(i) == ar.model_in)
-      put_io_data(c_sdu, o, to_plc_, ar.in_iops[i]);
-    else
-      put_io_data(c_sdu, o, {}, ar.in_iops[i]);
+    if (std::size_t{o.offset} + o.length + 1 > c_sdu.size()) continue;
+    if (static_cast<int>(i) == ar.model_in && !to_plc_.empty())
+      std::memcpy(c_sdu.data() + o.offset, to_plc_.data(),
+                  std::min<std::size_t>(to_plc_.size(), o.length));
+    c_sdu[o.iops_offset()] = ar.in_iops[i];
   }
-  for (std::size_t i = 0; i < ar.in_layout.iocs.size(); ++i)
+  for (std::size_t i = 0; i < ar.in_layout.iocs.size() && !c_sdu.empty(); ++i)
     c_sdu[ar.in_layout.iocs[i].offset] = ar.in_iocs[i];
   CyclicHeader h;
   h.dst = ar.controller_mac;
@@ -762,7 +767,7 @@ void PnDevice::send_cyclic(nanoseconds now) {
   ar.cycle_counter = static_cast<std::uint16_t>(ar.cycle_counter + ar.counter_step);
   h.cycle_counter = ar.cycle_counter;
   h.data_status = data_status::kGood;
-  const std::size_t n = encode_cyclic(tx_, h, c_sdu);
+  const std::size_t n = finish_cyclic(tx_, h, length);
   // Never burst: a late poll sends one frame and resumes the grid.
   ar.next_send += ar.interval;
   if (ar.next_send <= now) ar.next_send = now + ar.interval;

@@ -1,5 +1,7 @@
 #include "plc/profinet/link/memory_ethernet.hpp"
 
+#include <cstring>
+
 #include "memory_segment.hpp"
 
 namespace plc::profinet {
@@ -14,9 +16,22 @@ std::uint64_t key_of(const Mac& m) {
 
 struct NoExtra {};
 
+// Whether the frame's destination is `mac` (two loads, not a memcmp call:
+// every frame is checked against every port).
+bool addressed_to(std::span<const std::uint8_t> frame, const Mac& mac) {  // frame.size() >= 6
+  std::uint32_t f4 = 0, m4 = 0;
+  std::uint16_t f2 = 0, m2 = 0;
+  std::memcpy(&f4, frame.data(), 4);
+  std::memcpy(&f2, frame.data() + 4, 2);
+  std::memcpy(&m4, mac.data(), 4);
+  std::memcpy(&m2, mac.data() + 4, 2);
+  return f4 == m4 && f2 == m2;
+}
+
 }  // namespace
 
 struct MemoryEthernet::Impl : detail::MemorySegment<Mac, NoExtra> {
+  Impl() : MemorySegment(kMaxFrameLength) {}
   std::uint64_t next_mac = 1;
 };
 
@@ -24,18 +39,17 @@ namespace {
 
 class MemoryEthernetPort final : public EthernetPort {
  public:
-  MemoryEthernetPort(std::shared_ptr<MemoryEthernet::Impl> hub, Mac mac)
+  MemoryEthernetPort(std::shared_ptr<MemoryEthernet::Impl> hub, Mac mac, bool promiscuous)
       : hub_(std::move(hub)), mac_(mac), key_(key_of(mac)) {
     std::lock_guard lock(hub_->mutex);
     if (hub_->endpoints.count(key_) != 0)
       throw LinkError("memory hub: MAC " + to_string(mac) + " is already on the hub");
-    auto& ep = hub_->endpoints[key_];
-    ep.address = mac;
-    ep.counters = &counters_;
+    ep_ = &hub_->add(key_, mac, &counters_);
+    ep_->own_only = !promiscuous;
   }
   ~MemoryEthernetPort() override {
     std::lock_guard lock(hub_->mutex);
-    hub_->endpoints.erase(key_);
+    hub_->remove(key_);
   }
   Mac mac() const override { return mac_; }
   bool send(std::span<const std::uint8_t> frame) override {
@@ -43,18 +57,19 @@ class MemoryEthernetPort final : public EthernetPort {
       counters_.send_failed.fetch_add(1, std::memory_order_relaxed);
       return false;
     }
-    Seg::Message m;
-    m.bytes.assign(frame.begin(), frame.end());
     // Every port takes only PROFINET frames (as the raw port's binding
     // does): others are carried but reach nobody.
     const bool deliver = is_profinet(frame);
-    const bool ok =
-        hub_->send(mac_, key_, std::move(m), [&](std::uint64_t, auto&) { return deliver; });
+    const bool group = (frame[0] & 0x01) != 0;  // multicast or broadcast
+    const auto to = [&](std::uint64_t, const Seg::Endpoint& ep) {
+      return deliver && (!ep.own_only || group || addressed_to(frame, ep.address));
+    };
+    const bool ok = hub_->send(mac_, key_, frame, NoExtra{}, to);
     (ok ? counters_.sent : counters_.send_failed).fetch_add(1, std::memory_order_relaxed);
     return ok;
   }
   std::size_t receive(std::span<std::uint8_t> buf, std::chrono::nanoseconds timeout) override {
-    return hub_->take(key_, buf, timeout, nullptr);
+    return hub_->take(*ep_, buf, timeout, nullptr);
   }
 
  private:
@@ -67,13 +82,14 @@ class MemoryEthernetPort final : public EthernetPort {
   std::shared_ptr<MemoryEthernet::Impl> hub_;
   Mac mac_;
   std::uint64_t key_;
+  Seg::Endpoint* ep_ = nullptr;  // ours in the hub, while we live
 };
 
 }  // namespace
 
 MemoryEthernet::MemoryEthernet() : impl_(std::make_shared<Impl>()) {}
 
-std::unique_ptr<EthernetPort> MemoryEthernet::port(Mac mac) {
+std::unique_ptr<EthernetPort> MemoryEthernet::port(Mac mac, bool promiscuous) {
   if (mac == Mac{}) {
     std::lock_guard lock(impl_->mutex);
     do {
@@ -83,7 +99,7 @@ std::unique_ptr<EthernetPort> MemoryEthernet::port(Mac mac) {
           std::uint8_t(n)};
     } while (impl_->endpoints.count(key_of(mac)) != 0);
   }
-  return std::make_unique<MemoryEthernetPort>(impl_, mac);
+  return std::make_unique<MemoryEthernetPort>(impl_, mac, promiscuous);
 }
 
 void MemoryEthernet::drop_next(const Mac& from, int n) { impl_->drop_next(from, n); }

@@ -1,16 +1,28 @@
 // The shared core of MemoryEthernet and MemoryUdp: a segment of endpoints
-// keyed by address, queues of whole messages, and the fault hooks (drop or
-// delay the next n messages from a sender, link down). Private to src/link.
+// keyed by address, a queue of messages for each, and the fault hooks (drop
+// or delay the next n messages from a sender, link down). Private to
+// src/link.
+//
+// A message is copied once into a pooled buffer (message_pool.hpp) that
+// every receiver's queue refers to, and copied out by each receiver's
+// take(); the queues are rings of buffer numbers (message_ring.hpp). Pool
+// and rings only grow past the most messages ever in flight at once, so a
+// steady exchange of frames allocates nothing.
 #pragma once
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <map>
 #include <mutex>
+#include <span>
+#include <utility>
 #include <vector>
 
+#include "message_pool.hpp"
+#include "message_ring.hpp"
 #include "plc/profinet/link/ethernet_port.hpp"
 #include "plc/profinet/link/memory_ethernet.hpp"
 
@@ -19,15 +31,22 @@ namespace plc::profinet::detail {
 template <class Sender, class Extra, class Less = std::less<Sender>>
 class MemorySegment {
  public:
-  struct Message {
-    std::vector<std::uint8_t> bytes;
-    Extra extra{};  // the UDP source; nothing for Ethernet
-    std::chrono::nanoseconds due{0};
-  };
+  // `max_message`: the longest message a port may send (one Ethernet frame,
+  // one UDP datagram); the buffers are that long.
+  explicit MemorySegment(std::size_t max_message) : pool(max_message) {}
+
   struct Endpoint {
     Sender address{};
-    std::deque<Message> queue;
+    MessageRing<std::uint32_t> queue;  // buffer numbers, oldest first
+    // queue.size(), written under the mutex: a receiver that only looks
+    // (timeout 0) at an empty queue returns without taking the mutex, as
+    // most polls find nothing. A message queued meanwhile is taken by the
+    // next look, as from a socket.
+    std::atomic<std::size_t> queued{0};
     LinkCounters* counters = nullptr;
+    // Takes only messages to its own address or to a group (an Ethernet
+    // port that is not promiscuous); the sender's `to` decides by it.
+    bool own_only = false;
   };
   struct Faults {
     int drop = 0;
@@ -35,22 +54,33 @@ class MemorySegment {
     std::chrono::nanoseconds delay_by{0};
     bool down = false;
   };
+  struct Delayed {
+    std::uint64_t receiver = 0;  // endpoint key
+    std::uint32_t buffer = 0;
+    std::chrono::nanoseconds due{0};
+  };
 
   std::mutex mutex;
   std::condition_variable arrived;
-  std::map<std::uint64_t, Endpoint> endpoints;            // by endpoint key
-  std::map<Sender, Faults, Less> faults;                  // by sender address
-  std::deque<std::pair<std::uint64_t, Message>> delayed;  // (receiver key, message)
+  std::map<std::uint64_t, Endpoint> endpoints;  // by endpoint key; nodes stay where they are
+  // The same in key order, for send() to go through without walking the tree.
+  std::vector<std::pair<std::uint64_t, Endpoint*>> receivers;
+  std::map<Sender, Faults, Less> faults;  // by sender address
+  MessagePool<Extra> pool;
+  MessageRing<Delayed> delayed;  // in send order
   std::chrono::nanoseconds now{0};
   std::uint64_t carried = 0;
+  int waiting = 0;  // receivers waiting in take(): send() wakes them
 
   // The helpers below expect the mutex held.
   bool link_down(const Sender& s) {
+    if (faults.empty()) return false;
     auto it = faults.find(s);
     return it != faults.end() && it->second.down;
   }
   // Returns: 0 deliver, 1 dropped, 2 delayed (with `due` set).
   int take_fault(const Sender& s, std::chrono::nanoseconds& due) {
+    if (faults.empty()) return 0;
     auto it = faults.find(s);
     if (it == faults.end()) return 0;
     if (it->second.drop > 0) {
@@ -64,19 +94,23 @@ class MemorySegment {
     }
     return 0;
   }
-  void enqueue(std::uint64_t key, Message m) {
-    auto it = endpoints.find(key);
-    if (it == endpoints.end() || link_down(it->second.address)) return;  // lost
-    if (it->second.queue.size() >= kMemoryQueueLimit) {
-      it->second.counters->rx_dropped.fetch_add(1, std::memory_order_relaxed);
-      return;
+  // Queues one reference to `buffer` for `ep`; gives it back if the
+  // endpoint's link is down or its queue full.
+  void enqueue(Endpoint& ep, std::uint32_t buffer) {
+    if (link_down(ep.address)) return pool.release(buffer);  // lost
+    if (ep.queue.size() >= kMemoryQueueLimit) {
+      ep.counters->rx_dropped.fetch_add(1, std::memory_order_relaxed);
+      return pool.release(buffer);
     }
-    it->second.queue.push_back(std::move(m));
+    ep.queue.push_back(buffer);
+    ep.queued.store(ep.queue.size(), std::memory_order_relaxed);
   }
-  // Sends `m` from `from` to each receiver key that `to` accepts; false if
-  // the sender's link is down.
+  // Sends `bytes` (with `extra`) from `from` to each receiver key that `to`
+  // accepts; false if the sender's link is down.
   template <class Accept>
-  bool send(const Sender& from, std::uint64_t self, Message m, Accept to) {
+  bool send(const Sender& from, std::uint64_t self, std::span<const std::uint8_t> bytes,
+            const Extra& extra, Accept to) {
+    bool wake = false;
     {
       std::lock_guard lock(mutex);
       if (link_down(from)) return false;
@@ -84,21 +118,21 @@ class MemorySegment {
       std::chrono::nanoseconds due{0};
       const int fault = take_fault(from, due);
       if (fault == 1) return true;  // lost on the way, as a real link loses frames
-      std::vector<std::uint64_t> keys;
-      for (auto& [k, ep] : endpoints)
-        if (k != self && to(k, ep)) keys.push_back(k);
-      for (std::size_t i = 0; i < keys.size(); ++i) {
-        Message copy = i + 1 < keys.size() ? m : std::move(m);
-        if (fault == 2) {
-          copy.due = due;
-          delayed.emplace_back(keys[i], std::move(copy));
-        } else {
-          enqueue(keys[i], std::move(copy));
-        }
+      // The sender's reference keeps the buffer while it is handed out.
+      const std::uint32_t buffer = pool.put(bytes, extra);
+      for (const auto& [k, ep] : receivers) {
+        if (k == self || !to(k, *ep)) continue;
+        pool.add_ref(buffer);
+        if (fault == 2)
+          delayed.push_back({k, buffer, due});
+        else
+          enqueue(*ep, buffer);
       }
-      release_due();
+      pool.release(buffer);
+      if (!delayed.empty()) release_due();
+      wake = waiting > 0;
     }
-    arrived.notify_all();
+    if (wake) arrived.notify_all();
     return true;
   }
   void drop_next(const Sender& s, int n) {
@@ -126,11 +160,17 @@ class MemorySegment {
     arrived.notify_all();
   }
 
-  // Releases delayed messages that are due, in send order.
+  // Releases delayed messages that are due, in send order; one for a
+  // receiver that has gone is lost.
   void release_due() {
-    while (!delayed.empty() && delayed.front().second.due <= now) {
-      enqueue(delayed.front().first, std::move(delayed.front().second));
+    while (!delayed.empty() && delayed.front().due <= now) {
+      const Delayed d = delayed.front();
       delayed.pop_front();
+      auto it = endpoints.find(d.receiver);
+      if (it == endpoints.end())
+        pool.release(d.buffer);
+      else
+        enqueue(it->second, d.buffer);
     }
   }
   void set_time(std::chrono::nanoseconds t) {
@@ -142,27 +182,60 @@ class MemorySegment {
     arrived.notify_all();
   }
 
-  // Takes the next message for `key` into buf, waiting up to `timeout`.
-  // Returns its length or 0; a message too long for buf is dropped.
-  std::size_t take(std::uint64_t key, std::span<std::uint8_t> buf, std::chrono::nanoseconds timeout,
-                   Extra* extra) {
-    std::unique_lock lock(mutex);
-    auto& ep = endpoints.at(key);
-    auto ready = [&] { return !ep.queue.empty(); };
-    if (!ready() && timeout.count() > 0 && !link_down(ep.address))
-      arrived.wait_for(lock, timeout, ready);
-    if (link_down(ep.address)) ep.queue.clear();
+  // Adds an endpoint under `key` (not yet there: the caller checked).
+  Endpoint& add(std::uint64_t key, const Sender& address, LinkCounters* counters) {
+    Endpoint& ep = endpoints[key];
+    ep.address = address;
+    ep.counters = counters;
+    receivers.emplace(std::lower_bound(receivers.begin(), receivers.end(),
+                                       std::pair<std::uint64_t, Endpoint*>{key, nullptr}),
+                      key, &ep);
+    return ep;
+  }
+  // Removes it, giving back the messages still queued for it.
+  void remove(std::uint64_t key) {
+    auto it = endpoints.find(key);
+    if (it == endpoints.end()) return;
+    drain(it->second);
+    std::erase_if(receivers, [&](const auto& r) { return r.first == key; });
+    endpoints.erase(it);
+  }
+  void drain(Endpoint& ep) {
     while (!ep.queue.empty()) {
-      Message m = std::move(ep.queue.front());
+      pool.release(ep.queue.front());
       ep.queue.pop_front();
-      if (m.bytes.size() > buf.size()) {
+    }
+    ep.queued.store(0, std::memory_order_relaxed);
+  }
+
+  // Takes the next message for `ep` into buf, waiting up to `timeout`.
+  // Returns its length or 0; a message too long for buf is dropped.
+  std::size_t take(Endpoint& ep, std::span<std::uint8_t> buf, std::chrono::nanoseconds timeout,
+                   Extra* extra) {
+    if (timeout.count() <= 0 && ep.queued.load(std::memory_order_relaxed) == 0) return 0;
+    std::unique_lock lock(mutex);
+    auto ready = [&] { return !ep.queue.empty(); };
+    if (!ready() && timeout.count() > 0 && !link_down(ep.address)) {
+      ++waiting;
+      arrived.wait_for(lock, timeout, ready);
+      --waiting;
+    }
+    if (link_down(ep.address)) drain(ep);
+    while (!ep.queue.empty()) {
+      const std::uint32_t buffer = ep.queue.front();
+      ep.queue.pop_front();
+      ep.queued.store(ep.queue.size(), std::memory_order_relaxed);
+      const auto bytes = pool.bytes(buffer);
+      if (bytes.size() > buf.size()) {
         ep.counters->rx_dropped.fetch_add(1, std::memory_order_relaxed);
+        pool.release(buffer);
         continue;
       }
-      std::copy(m.bytes.begin(), m.bytes.end(), buf.begin());
-      if (extra) *extra = m.extra;
+      std::copy(bytes.begin(), bytes.end(), buf.begin());
+      if (extra) *extra = pool.extra(buffer);
+      pool.release(buffer);
       ep.counters->received.fetch_add(1, std::memory_order_relaxed);
-      return m.bytes.size();
+      return bytes.size();
     }
     return 0;
   }

@@ -21,7 +21,9 @@ struct IpLess {
 
 }  // namespace
 
-struct MemoryUdp::Impl : detail::MemorySegment<Ipv4, Source, IpLess> {};
+struct MemoryUdp::Impl : detail::MemorySegment<Ipv4, Source, IpLess> {
+  Impl() : MemorySegment(kMaxDatagram) {}
+};
 
 namespace {
 
@@ -33,13 +35,11 @@ class MemoryUdpPort final : public UdpPort {
     if (net_->endpoints.count(key_) != 0)
       throw LinkError("memory UDP network: " + to_string(ip) + ":" + std::to_string(port) +
                       " is already bound");
-    auto& ep = net_->endpoints[key_];
-    ep.address = ip;
-    ep.counters = &counters_;
+    ep_ = &net_->add(key_, ip, &counters_);
   }
   ~MemoryUdpPort() override {
     std::lock_guard lock(net_->mutex);
-    net_->endpoints.erase(key_);
+    net_->remove(key_);
   }
   Ipv4 local_ip() const override { return ip_; }
   std::uint16_t local_port() const override { return port_; }
@@ -48,9 +48,6 @@ class MemoryUdpPort final : public UdpPort {
       counters_.send_failed.fetch_add(1, std::memory_order_relaxed);
       return false;
     }
-    Seg::Message m;
-    m.bytes.assign(data.begin(), data.end());
-    m.extra = Source{ip_, port_};
     // The port bound to ip:port, else one bound to 0.0.0.0:port.
     const std::uint64_t exact = key_of(ip, port), any = key_of(Ipv4{}, port);
     bool has_exact = false;
@@ -59,15 +56,15 @@ class MemoryUdpPort final : public UdpPort {
       has_exact = net_->endpoints.count(exact) != 0;
     }
     const std::uint64_t target = has_exact ? exact : any;
-    const bool ok =
-        net_->send(ip_, key_, std::move(m), [&](std::uint64_t k, auto&) { return k == target; });
+    const bool ok = net_->send(ip_, key_, data, Source{ip_, port_},
+                               [&](std::uint64_t k, auto&) { return k == target; });
     (ok ? counters_.sent : counters_.send_failed).fetch_add(1, std::memory_order_relaxed);
     return ok;
   }
   std::size_t receive_from(std::span<std::uint8_t> buf, Ipv4& ip, std::uint16_t& port,
                            std::chrono::nanoseconds timeout) override {
     Source src;
-    const std::size_t n = net_->take(key_, buf, timeout, &src);
+    const std::size_t n = net_->take(*ep_, buf, timeout, &src);
     if (n > 0) {
       ip = src.ip;
       port = src.port;
@@ -81,6 +78,7 @@ class MemoryUdpPort final : public UdpPort {
   Ipv4 ip_;
   std::uint16_t port_;
   std::uint64_t key_;
+  Seg::Endpoint* ep_ = nullptr;  // ours on the network, while we live
 };
 
 }  // namespace

@@ -52,7 +52,8 @@ void forget_memory_link(const std::string& name) {
 std::unique_ptr<EthernetPort> open_ethernet(const std::string& spec, Mac mac,
                                             RawEthernetOptions options) {
   if (spec.empty()) throw LinkError("no interface given (an interface name or mem:NAME)");
-  if (is_memory_link(spec)) return memory_ethernet(memory_name(spec)).port(mac);
+  if (is_memory_link(spec))
+    return memory_ethernet(memory_name(spec)).port(mac, options.promiscuous);
   return std::make_unique<RawEthernetPort>(spec, options);
 }
 

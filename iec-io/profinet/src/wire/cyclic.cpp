@@ -202,6 +202,10 @@ WireStatus decode_cyclic(std::span<const std::uint8_t> frame, std::size_t c_sdu_
                          CyclicView& out) {
   PnFrameView v;
   if (auto st = decode_pn_frame(frame, v); !st) return st;
+  return decode_cyclic(v, c_sdu_length, out);
+}
+
+WireStatus decode_cyclic(const PnFrameView& v, std::size_t c_sdu_length, CyclicView& out) {
   if (!is_cyclic(v.frame_id)) return wire_fail(WireError::BadFrameId, "not a cyclic RT FrameID");
   std::size_t n = c_sdu_length;
   if (n == 0) {

@@ -4,37 +4,54 @@
 
 namespace plc::profinet {
 
+namespace {
+std::uint16_t be16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] << 8 | p[1]); }
+void put_be16(std::uint8_t* p, std::uint16_t v) {
+  p[0] = static_cast<std::uint8_t>(v >> 8);
+  p[1] = static_cast<std::uint8_t>(v);
+}
+}  // namespace
+
+// Every received frame goes through here (a hub shows each port all the
+// traffic): read in place, no byte-reader bookkeeping.
 WireStatus decode_pn_frame(std::span<const std::uint8_t> frame, PnFrameView& out) {
-  ByteReader r(frame);
-  const auto dst = r.bytes(6);
-  const auto src = r.bytes(6);
-  std::uint16_t type = r.u16();
   out.vlan_tci.reset();
-  if (!r.failed() && type == kEtherTypeVlan) {
-    out.vlan_tci = r.u16();
-    type = r.u16();
+  if (frame.size() < kEthernetHeaderLength + 2)
+    return wire_fail(WireError::Truncated, "frame shorter than its header");
+  const std::uint8_t* p = frame.data();
+  std::uint16_t type = be16(p + 12);
+  std::size_t at = kEthernetHeaderLength;
+  if (type == kEtherTypeVlan) {
+    if (frame.size() < kEthernetHeaderLength + kVlanTagLength + 2)
+      return wire_fail(WireError::Truncated, "frame shorter than its header");
+    out.vlan_tci = be16(p + 14);
+    type = be16(p + 16);
+    at += kVlanTagLength;
   }
-  out.frame_id = r.u16();
-  if (r.failed()) return wire_fail(WireError::Truncated, "frame shorter than its header");
+  out.frame_id = be16(p + at);
   if (type != kEtherTypeProfinet) return wire_fail(WireError::BadEtherType, "not EtherType 0x8892");
-  std::copy(dst.begin(), dst.end(), out.dst.begin());
-  std::copy(src.begin(), src.end(), out.src.begin());
-  out.pdu = r.rest();
+  std::copy_n(p, 6, out.dst.begin());
+  std::copy_n(p + 6, 6, out.src.begin());
+  out.pdu = frame.subspan(at + 2);
   return kWireOk;
 }
 
 std::size_t encode_pn_header(std::span<std::uint8_t> out, const Mac& dst, const Mac& src,
                              std::uint16_t frame_id, std::optional<std::uint16_t> vlan_tci) {
-  ByteWriter w(out);
-  w.bytes(dst);
-  w.bytes(src);
+  const std::size_t n = kEthernetHeaderLength + (vlan_tci ? kVlanTagLength : 0) + 2;
+  if (out.size() < n) return 0;
+  std::uint8_t* p = out.data();
+  std::copy(dst.begin(), dst.end(), p);
+  std::copy(src.begin(), src.end(), p + 6);
+  std::size_t at = 12;
   if (vlan_tci) {
-    w.u16(kEtherTypeVlan);
-    w.u16(*vlan_tci);
+    put_be16(p + at, kEtherTypeVlan);
+    put_be16(p + at + 2, *vlan_tci);
+    at += kVlanTagLength;
   }
-  w.u16(kEtherTypeProfinet);
-  w.u16(frame_id);
-  return w.failed() ? 0 : w.pos();
+  put_be16(p + at, kEtherTypeProfinet);
+  put_be16(p + at + 2, frame_id);
+  return n;
 }
 
 std::size_t pad_frame(std::span<std::uint8_t> out, std::size_t length) {

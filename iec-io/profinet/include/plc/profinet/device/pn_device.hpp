@@ -243,8 +243,7 @@ class PnDevice {
   std::vector<PendingDcp> dcp_out_;
   std::vector<std::uint8_t> from_plc_, to_plc_;
   std::array<std::uint8_t, kMaxFrameLength> rx_{};
-  std::array<std::uint8_t, kMaxFrameLength> tx_{};
-  std::array<std::uint8_t, iocr::kMaxCSduLength> c_sdu_{};
+  std::array<std::uint8_t, kMaxFrameLength> tx_{};  // our cyclic frame, its C_SDU built in place
   std::vector<Delayed> delayed_;
   std::size_t delayed_head_ = 0, delayed_tail_ = 0;
   std::vector<std::uint8_t> udp_rx_;

@@ -11,6 +11,13 @@
 // link down (the port sends nothing, counted in send_failed, and receives
 // nothing; frames queued for it are lost).
 //
+// A port opened with `promiscuous` false sees, as an interface's raw socket
+// without promiscuous mode, only the frames to its own MAC and to group
+// addresses (multicast, broadcast): the profinet plugin's controller and
+// simulated devices take nothing else, and a frame of theirs then costs
+// no copy and no look at the other ports. Ports are promiscuous by default
+// (a tap sees everything).
+//
 // MemoryEthernet is a handle: copies share one hub, and a port keeps its hub
 // alive.
 #pragma once
@@ -28,7 +35,7 @@ class MemoryEthernet {
 
   // A new port. A zero MAC takes the next locally administered one
   // (02:00:00:00:00:01, :02, ...). Throws LinkError if the MAC is taken.
-  std::unique_ptr<EthernetPort> port(Mac mac = {});
+  std::unique_ptr<EthernetPort> port(Mac mac = {}, bool promiscuous = true);
 
   void drop_next(const Mac& from, int n);
   void delay_next(const Mac& from, int n, std::chrono::nanoseconds d);

@@ -18,7 +18,9 @@ namespace plc::profinet {
 [[nodiscard]] bool is_memory_link(const std::string& spec);
 
 // Throws LinkError. `mac` is used by memory ports only (zero: the hub picks
-// one); a real interface has its own.
+// one); a real interface has its own. `options.promiscuous` holds for both:
+// without it a memory port, as the raw socket, sees only the frames to its
+// own MAC and to group addresses.
 std::unique_ptr<EthernetPort> open_ethernet(const std::string& spec, Mac mac = {},
                                             RawEthernetOptions options = {});
 // The UDP side that goes with `spec`: a SocketUdpPort bound to ip:port for

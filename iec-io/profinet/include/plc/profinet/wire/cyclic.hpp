@@ -122,6 +122,9 @@ struct CyclicView {
 // the last 4 bytes.
 WireStatus decode_cyclic(std::span<const std::uint8_t> frame, std::size_t c_sdu_length,
                          CyclicView& out);
+// The same for a frame whose Ethernet header is already parsed (the
+// receivers look at the FrameID first): the header is not read twice.
+WireStatus decode_cyclic(const PnFrameView& v, std::size_t c_sdu_length, CyclicView& out);
 
 // Cycle counter rule of p-net/IEC 61158-6-10: a new frame's counter is
 // ahead of the previous one by 1..61440 (mod 65536); equal = duplicate.
