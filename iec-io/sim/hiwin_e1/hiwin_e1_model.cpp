@@ -921,7 +921,8 @@ void HiwinE1Model::write_inputs(std::span<std::uint8_t> to_plc) {
     g.parking_active = has(g1_stw_, G1Stw::kActivateParking);
     g.error_ack_in_process = g1_ack_in_progress_;
     t.g1_zsw = g;
-    t.g1_xist1 = static_cast<std::uint32_t>(static_cast<std::int64_t>(std::llround(enc_)));
+    t.g1_xist1 =
+        static_cast<std::uint32_t>(static_cast<std::int64_t>(drive::detail::llround_inline(enc_)));
     t.g1_xist2 = 0;
     t.encode(to_plc);
     return;
@@ -934,8 +935,8 @@ void HiwinE1Model::write_inputs(std::span<std::uint8_t> to_plc) {
   if (homed_) z |= Zsw1Pos::kHomePositionSet;
   if (task_ack_) z |= Zsw1Pos::kTaskAck;
   if (stopped) z |= Zsw1Pos::kMotorStopped;
-  const auto xist = static_cast<std::int32_t>(
-      static_cast<std::uint32_t>(static_cast<std::int64_t>(std::llround(enc_ + offset_))));
+  const auto xist = static_cast<std::int32_t>(static_cast<std::uint32_t>(
+      static_cast<std::int64_t>(drive::detail::llround_inline(enc_ + offset_))));
   if (cfg_.telegram == TelegramType::Standard9) {
     Telegram9In t;
     t.zsw1 = Zsw1Pos::from(z);
