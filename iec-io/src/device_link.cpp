@@ -41,6 +41,7 @@ bool DeviceLink::submit(RecordRequest& r) {
   r.mark_queued();
   ring_[(head_ + count_) % kQueueDepth] = &r;
   ++count_;
+  queued_.store(true, std::memory_order_release);
   if (deferred_) {
     tracked_[tracked_n_++] = &r;  // room checked above
     tracking_.store(true, std::memory_order_release);
@@ -56,6 +57,7 @@ RecordRequest* DeviceLink::pop() {
     r = ring_[head_];
     head_ = (head_ + 1) % kQueueDepth;
     --count_;
+    queued_.store(count_ != 0, std::memory_order_release);
   }
   unlock();
   return r;

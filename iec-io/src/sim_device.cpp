@@ -14,6 +14,7 @@ SimDevice::SimDevice(std::unique_ptr<DeviceModel> model)
 }
 
 void SimDevice::serve_records(bool reachable) {
+  if (!link_.maybe_queued()) return;  // the usual step: nothing asked
   while (RecordRequest* r = link_.pop()) {
     if (!reachable || !model_->answering()) {
       r->fail(RecordError::NotReachable);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -259,6 +260,48 @@ TEST(Table3_1_1, SetpointOutsideItsFieldIsRefused) {
   EXPECT_FALSE(to_nsoll_b(nan, 3000));
   EXPECT_FALSE(to_nsoll_b(1500, nan));
   EXPECT_FALSE(to_nsoll_b(1500, inf));
+}
+
+// The actual values (NIST_B, XIST_A) are rounded half away from zero as
+// std::llround does (Table 3.1.1 gives no rounding; the drive model and the
+// golden traces rest on llround): the inline rounding must agree for every
+// double, halves, their neighbours, the 2^52 edge and beyond.
+TEST(Table3_1_1, InlineRoundingIsLlround) {
+  std::vector<double> v = {0.0,
+                           -0.0,
+                           0.5,
+                           -0.5,
+                           1.5,
+                           -1.5,
+                           2.5,
+                           -2.5,
+                           1e-300,
+                           0.49999999999999994,
+                           -0.49999999999999994,
+                           4503599627370495.5,
+                           -4503599627370495.5,
+                           4503599627370496.0,
+                           9007199254740993.0,
+                           -9007199254740993.0,
+                           2147483647.5,
+                           -2147483648.5,
+                           1e18,
+                           -1e18};
+  for (double x : {0.5, 1.5, 2.5, 1234.5, -1234.5, 4503599627370495.5}) {
+    v.push_back(std::nextafter(x, 0.0));
+    v.push_back(std::nextafter(x, 1e300));
+  }
+  std::uint64_t s = 0x9E3779B97F4A7C15ULL;
+  for (int i = 0; i < 100000; ++i) {
+    s ^= s << 13;
+    s ^= s >> 7;
+    s ^= s << 17;
+    const double m = static_cast<double>(s >> 11) / 9007199254740992.0;  // [0, 1)
+    const int e = static_cast<int>(s % 64) - 8;
+    v.push_back(std::ldexp(m, e) * ((s >> 10) & 1 ? -1 : 1));
+    v.push_back(std::ldexp(std::floor(std::ldexp(m, 20)) + 0.5, e - 20));  // a half
+  }
+  for (double x : v) ASSERT_EQ(detail::llround_inline(x), std::llround(x)) << x;
 }
 
 TEST(SignOfLife, CountsOneToFifteenSkippingZero) {

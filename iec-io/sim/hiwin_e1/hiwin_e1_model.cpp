@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "plc/fb/drive/scaling.hpp"
@@ -825,7 +826,7 @@ void HiwinE1Model::step(TIME /*now*/, TIME dt_ns, std::span<const std::uint8_t> 
       break;
     }
     case TelegramType::Hiwin111: {
-      const auto t = Telegram111Out::decode(from_plc);
+      const Telegram111Out& t = decode_111(from_plc);
       stw1 = t.stw1.word();
       sol_in = t.stw2.controller_sign_of_life;
       pos_stw2 = t.pos_stw2.word();
@@ -863,6 +864,30 @@ void HiwinE1Model::step(TIME /*now*/, TIME dt_ns, std::span<const std::uint8_t> 
   }
   prev_stw1_ = stw1_;
   write_inputs(to_plc);
+}
+
+// Telegram111Out::decode once per change of the PLC's words: they stand
+// still between commands but for the sign-of-life in STW2, which is taken
+// from its word every step. A pure function of the bytes, so the cache
+// cannot go stale (restart and power cycle need not touch it).
+const Telegram111Out& HiwinE1Model::decode_111(std::span<const std::uint8_t> b) {
+  using T = Telegram111Out;
+  if (b.size() < T::kBytes) {
+    decoded_valid_ = false;
+    decoded_ = T::decode(b);
+    return decoded_;
+  }
+  const std::uint8_t* p = b.data();
+  if (!decoded_valid_ || std::memcmp(p, decoded_bytes_.data(), T::kStw2) != 0 ||
+      std::memcmp(p + T::kStw2 + 2, decoded_bytes_.data() + T::kStw2 + 2,
+                  T::kBytes - T::kStw2 - 2) != 0) {
+    decoded_ = T::decode(b);
+    std::memcpy(decoded_bytes_.data(), p, T::kBytes);
+    decoded_valid_ = true;
+  } else {
+    decoded_.stw2 = Stw2::from(wire::u16(b, T::kStw2));
+  }
+  return decoded_;
 }
 
 void HiwinE1Model::write_inputs(std::span<std::uint8_t> to_plc) {
@@ -921,7 +946,8 @@ void HiwinE1Model::write_inputs(std::span<std::uint8_t> to_plc) {
     g.parking_active = has(g1_stw_, G1Stw::kActivateParking);
     g.error_ack_in_process = g1_ack_in_progress_;
     t.g1_zsw = g;
-    t.g1_xist1 = static_cast<std::uint32_t>(static_cast<std::int64_t>(std::llround(enc_)));
+    t.g1_xist1 =
+        static_cast<std::uint32_t>(static_cast<std::int64_t>(drive::detail::llround_inline(enc_)));
     t.g1_xist2 = 0;
     t.encode(to_plc);
     return;
@@ -934,8 +960,8 @@ void HiwinE1Model::write_inputs(std::span<std::uint8_t> to_plc) {
   if (homed_) z |= Zsw1Pos::kHomePositionSet;
   if (task_ack_) z |= Zsw1Pos::kTaskAck;
   if (stopped) z |= Zsw1Pos::kMotorStopped;
-  const auto xist = static_cast<std::int32_t>(
-      static_cast<std::uint32_t>(static_cast<std::int64_t>(std::llround(enc_ + offset_))));
+  const auto xist = static_cast<std::int32_t>(static_cast<std::uint32_t>(
+      static_cast<std::int64_t>(drive::detail::llround_inline(enc_ + offset_))));
   if (cfg_.telegram == TelegramType::Standard9) {
     Telegram9In t;
     t.zsw1 = Zsw1Pos::from(z);

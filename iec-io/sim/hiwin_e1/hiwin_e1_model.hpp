@@ -199,6 +199,11 @@ class HiwinE1Model : public io::DeviceModel {
   // control word as last accepted (control by PLC), and its previous value
   std::uint16_t stw1_ = 0, prev_stw1_ = 0, pos_stw2_prev_ = 0;
   drive::Telegram111Out cmd_;  // setpoints (tgm 9 mapped onto the 111 fields)
+  // The last telegram 111 decoded, and its bytes (decode_111).
+  const drive::Telegram111Out& decode_111(std::span<const std::uint8_t> b);
+  drive::Telegram111Out decoded_;
+  std::array<std::uint8_t, drive::Telegram111Out::kBytes> decoded_bytes_{};
+  bool decoded_valid_ = false;
   bool mdi_selected_ = false;
   std::int32_t nsoll_b_ = 0;
   std::uint16_t g1_stw_ = 0;

@@ -186,13 +186,6 @@ void NordProfisafeModel::refresh_module_fault() {
   }
 }
 
-bool NordProfisafeModel::device_fault() const { return fatal_code_ != 0 || module_fault(); }
-
-bool NordProfisafeModel::passivated() const {
-  return !fpar_ok_ || fatal_code_ != 0 || fault_fv_ || host_fv_ || ce_crc_ || wd_timeout_ ||
-         module_fault();
-}
-
 bool NordProfisafeModel::fail_safe_active() const { return passivated(); }
 
 bool NordProfisafeModel::q_cause(int q) const {

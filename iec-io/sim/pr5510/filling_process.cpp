@@ -23,9 +23,13 @@ FillingProcess::FillingProcess(const FillingConfig& c)
     : cfg_(c),
       noise_(c.seed),
       flight_(static_cast<std::size_t>(std::max(0.0, c.fall_time_s) * 1000.0 + 0.5) + 1, 0.0),
-      load_(c.initial_load) {}
+      load_(c.initial_load),
+      valve_step_(c.valve_time_s > 0.0 ? std::min(1.0, 0.001 / c.valve_time_s) : 1.0) {}
 
 void FillingProcess::drive(Valve& v, bool cmd) {
+  // A closed valve that stays closed: nothing moves (most steps, for most
+  // valves), and no noise is drawn.
+  if (!cmd && !v.cmd && v.open == 0.0) return;
   if (cmd && !v.cmd) v.factor = 1.0 + cfg_.flow_variation * noise_.uniform_pm1();
   v.cmd = cmd;
   if (cmd) v.factor *= 1.0 + cfg_.flow_wander * 0.0316227766 * noise_.uniform_pm1();
@@ -33,7 +37,7 @@ void FillingProcess::drive(Valve& v, bool cmd) {
   if (cfg_.valve_time_s <= 0.0) {
     v.open = target;
   } else {
-    v.open += (target - v.open) * std::min(1.0, 0.001 / cfg_.valve_time_s);
+    v.open += (target - v.open) * valve_step_;
     if (!cmd && v.open < 1e-4) v.open = 0.0;
   }
 }
@@ -49,7 +53,7 @@ void FillingProcess::step_1ms(bool coarse, bool fine, bool discharge) {
   // oldest entry lands now.
   const double landing = flight_[head_];
   flight_[head_] = leaving;
-  head_ = (head_ + 1) % flight_.size();
+  if (++head_ == flight_.size()) head_ = 0;
   load_ += landing;
   landing_rate_ = landing * 1000.0;
   if (discharge_.open > 0.0)

@@ -84,6 +84,7 @@ class FillingProcess {
   double load_ = 0.0;
   double landing_rate_ = 0.0;  // kg/s
   double flow_factor_ = 1.0;
+  double valve_step_;  // share of the way a valve moves in 1 ms (valve_time_s > 0)
 };
 
 }  // namespace plc::sim

@@ -15,6 +15,7 @@ constexpr TIME kCycle = std::chrono::milliseconds(wg::kDeviceCycleMs);
 Pr5510Model::Pr5510Model(const Pr5510Config& c) : cfg_(c), process_(c.filling) {
   digits_per_kg_ = std::pow(10.0, cfg_.decimals);
   filtered_kg_ = cfg_.filling.initial_load;
+  filter_alpha_ = std::min(1.0, 1e-3 / std::chrono::duration<double>(cfg_.filter_time).count());
   power_cycle();
 }
 
@@ -62,8 +63,7 @@ void Pr5510Model::step_io(TIME, TIME dt, std::span<const std::uint8_t> from_plc,
                           std::span<std::uint8_t> to_plc) {
   if (new_message) master_lost_ = false;  // a master again: its outputs count
   since_ms_ += dt;
-  const double alpha =
-      std::min(1.0, 1e-3 / std::chrono::duration<double>(cfg_.filter_time).count());
+  const double alpha = filter_alpha_;
   while (since_ms_ >= 1ms) {
     since_ms_ -= 1ms;
     process_.step_1ms(outputs_ & 1U, outputs_ & 2U, outputs_ & 4U);

@@ -150,6 +150,7 @@ class Pr5510Model final : public io::DeviceModel {
 
   // weighing state
   double filtered_kg_ = 0.0;
+  double filter_alpha_ = 1.0;  // the filter's share of a new 1 ms sample (from filter_time)
   double zero_offset_kg_ = 0.0;
   double span_gain_ = 1.0;  // from a span calibration
   bool calibrating_ = false;

@@ -114,6 +114,10 @@ class DeviceLink {
 
   // Plugin side: take the oldest queued request, or nullptr.
   RecordRequest* pop();
+  // Whether pop() may find a request, without the lock: a device steps
+  // every millisecond and is asked something now and then. A submit that
+  // races with this read is found at the device's next step.
+  [[nodiscard]] bool maybe_queued() const { return queued_.load(std::memory_order_acquire); }
   // Replay: `r` was answered directly (not parked); stop tracking it. An
   // answer the program saw and reset before the next latch would otherwise
   // stay tracked, and resubmitting the same request fills the table.
@@ -160,6 +164,7 @@ class DeviceLink {
   std::array<RecordRequest*, 4 * kQueueDepth> tracked_{};
   std::size_t tracked_n_ = 0;
   std::atomic<bool> tracking_{false};  // tracked_n_ != 0, readable without the lock
+  std::atomic<bool> queued_{false};    // count_ != 0, readable without the lock
   mutable std::atomic_flag lock_ = ATOMIC_FLAG_INIT;
   std::atomic<DeviceState> state_{DeviceState::Offline};
   std::atomic<DeviceState> latched_state_{DeviceState::Offline};

@@ -27,11 +27,22 @@ inline constexpr double kPercent14 = 16384.0;       // 0x4000 (MDI_ACC/DEC, OVER
 namespace detail {
 inline constexpr double kInt32Min = -2147483648.0;
 inline constexpr double kInt32Max = 2147483647.0;
+// std::llround (half away from zero) without the libm call: the simulated
+// drive rounds its position and speed every step, and the call costs more
+// than the rest of the rounding. The same value for every double: below
+// 2^52 in magnitude v - trunc(v) is exact; from 2^52 on (and NaN, the
+// infinities) v is integral or out of range, and std::llround decides.
+inline std::int64_t llround_inline(double v) {
+  if (!(std::fabs(v) < 4503599627370496.0)) return std::llround(v);
+  const auto t = static_cast<std::int64_t>(v);  // toward zero
+  const double f = v - static_cast<double>(t);
+  return t + static_cast<std::int64_t>(f >= 0.5) - static_cast<std::int64_t>(f <= -0.5);
+}
 inline std::int64_t round_sat(double v, double lo, double hi) {
   if (std::isnan(v)) return 0;
   if (v < lo) v = lo;
   if (v > hi) v = hi;
-  return static_cast<std::int64_t>(std::llround(v));
+  return llround_inline(v);
 }
 // Rounds to the nearest wire value of type T; std::nullopt if `v` is not
 // finite or the rounded value is outside [lo, hi].

@@ -125,7 +125,7 @@ class NordProfisafeModel : public io::DeviceModel {
   // ---- observation ----
   [[nodiscard]] bool ossd(int i) const { return ossd_[i]; }  // 0..2 = SO1..SO3
   [[nodiscard]] bool fail_safe_active() const;
-  [[nodiscard]] bool device_fault() const;
+  [[nodiscard]] bool device_fault() const { return fatal_code_ != 0 || module_fault(); }
   [[nodiscard]] bool fatal() const { return fatal_code_ != 0; }
   [[nodiscard]] bool fparams_ok() const { return fpar_ok_; }
   [[nodiscard]] std::uint16_t f_address() const { return f_address_; }
@@ -183,7 +183,11 @@ class NordProfisafeModel : public io::DeviceModel {
   void update_q(TIME now);
   void raise_code(std::uint16_t code);
   void build_response();
-  bool passivated() const;
+  // Inline: a step asks three times.
+  bool passivated() const {
+    return !fpar_ok_ || fatal_code_ != 0 || fault_fv_ || host_fv_ || ce_crc_ || wd_timeout_ ||
+           module_fault();
+  }
   bool module_fault() const { return module_fault_; }
   void refresh_module_fault();
   bool q_cause(int q) const;
