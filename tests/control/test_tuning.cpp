@@ -9,7 +9,7 @@
 #include "loop_harness.hpp"
 #include "plc/fb/control/pid_step_tune.hpp"
 #include "plc/fb/control/tuning_rules.hpp"
-#include "plc/sim/plant/seeded_noise.hpp"
+#include "plc/sim/seeded_noise.hpp"
 
 namespace pc = plc::control;
 using namespace control_test;
@@ -23,7 +23,7 @@ namespace {
 std::vector<double> noisy_step(double K, double T, TIME L, double du, TIME ts, int n, double sigma,
                                std::uint64_t seed) {
   auto plant = fopdt(K, T, L, ts);
-  plc::plant::SeededNoise noise(seed);
+  plc::sim::SeededNoise noise(seed);
   std::vector<double> y;
   const double u[1] = {du};
   for (int j = 0; j < n; ++j) {
@@ -135,7 +135,7 @@ struct TuneRun {
   // At rest at 10 %: 40 degC.
   Loop loop{fopdt(2.0, 60.0, 5s, 10ms, 10.0), 100ms};
   pc::PID_StepTune tune;
-  plc::plant::SeededNoise noise{7};
+  plc::sim::SeededNoise noise{7};
   double sigma = 0.05;
 
   TuneRun() {

@@ -24,7 +24,7 @@
 #include "plant/plant_channel.hpp"
 #include "plc/io/device_model.hpp"
 #include "plc/sim/plant/linear_plant.hpp"
-#include "plc/sim/plant/seeded_noise.hpp"
+#include "plc/sim/seeded_noise.hpp"
 
 namespace plc::plant {
 
@@ -68,7 +68,7 @@ class PlantModel final : public io::DeviceModel, public io::PeerCoupledModel {
   std::size_t in_size_ = 0, out_size_ = 0;
   TIME h_{};
   TIME pending_{};  // time passed that has not made a whole sample yet
-  SeededNoise noise_;
+  sim::SeededNoise noise_;
   bool diverged_ = false;
   bool measured_ = false;
 };

@@ -5,20 +5,6 @@
 
 namespace plc::sim {
 
-double SeededNoise::gaussian() {
-  if (has_spare_) {
-    has_spare_ = false;
-    return spare_;
-  }
-  double u = uniform();
-  if (u < 1e-300) u = 1e-300;
-  const double v = uniform();
-  const double r = std::sqrt(-2.0 * std::log(u));
-  spare_ = r * std::sin(6.283185307179586 * v);
-  has_spare_ = true;
-  return r * std::cos(6.283185307179586 * v);
-}
-
 FillingProcess::FillingProcess(const FillingConfig& c)
     : cfg_(c),
       noise_(c.seed),

@@ -12,28 +12,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "plc/sim/seeded_noise.hpp"
+
 namespace plc::sim {
-
-// xorshift64* with Box-Muller: portable, so the same seed gives the same
-// numbers with any standard library.
-class SeededNoise {
- public:
-  explicit SeededNoise(std::uint64_t seed) : s_(seed ? seed : 0x9E3779B97F4A7C15ULL) {}
-  std::uint64_t next_u64() {
-    s_ ^= s_ >> 12;
-    s_ ^= s_ << 25;
-    s_ ^= s_ >> 27;
-    return s_ * 0x2545F4914F6CDD1DULL;
-  }
-  double uniform() { return static_cast<double>(next_u64() >> 11) * (1.0 / 9007199254740992.0); }
-  double uniform_pm1() { return 2.0 * uniform() - 1.0; }
-  double gaussian();
-
- private:
-  std::uint64_t s_;
-  bool has_spare_ = false;
-  double spare_ = 0.0;
-};
 
 struct FillingConfig {
   double coarse_rate = 5.0;      // kg/s through the coarse valve

@@ -1,17 +1,14 @@
-// Measurement noise from a seed: xorshift64* with Box-Muller, portable, so
-// the same seed gives the same numbers with any standard library (the
-// <random> distributions do not promise that).
-//
-// The same generator as the PR5510's filling process
-// (iec-io/sim/pr5510/filling_process.hpp, SeededNoise), number for number
-// (tests/plant checks it), so that process can move onto this header
-// without changing a single weight of its recorded traces.
+// Noise from a seed for the device models (the PR5510's filling process,
+// the plant core's measurement noise): xorshift64* with Box-Muller,
+// portable, so the same seed gives the same numbers with any standard
+// library (the <random> distributions do not promise that), and a recorded
+// trace stays bit for bit what it was. tests/plant pins its first numbers.
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 
-namespace plc::plant {
+namespace plc::sim {
 
 class SeededNoise {
  public:
@@ -45,4 +42,4 @@ class SeededNoise {
   double spare_ = 0.0;
 };
 
-}  // namespace plc::plant
+}  // namespace plc::sim
