@@ -26,6 +26,10 @@ std::string json_refusal(const std::string& why) {
 HttpSession::HttpSession(WebServer::Impl* server, tcp::socket socket)
     : server_(server), stream_(std::move(socket)), reply_timer_(*server->io) {
   server_->connections.insert(this);
+  // What the kernel holds for a page that does not read is bounded too: its
+  // queue (WsSession) fills after this much and it is dropped.
+  beast::error_code ignored;
+  stream_.socket().set_option(asio::socket_base::send_buffer_size(64 * 1024), ignored);
 }
 
 HttpSession::~HttpSession() { server_->connections.erase(this); }
