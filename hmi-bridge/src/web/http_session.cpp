@@ -30,6 +30,9 @@ HttpSession::HttpSession(WebServer::Impl* server, tcp::socket socket)
   // queue (WsSession) fills after this much and it is dropped.
   beast::error_code ignored;
   stream_.socket().set_option(asio::socket_base::send_buffer_size(64 * 1024), ignored);
+  // A message goes out whole at once: without this Nagle's algorithm holds
+  // its last segment for the page's delayed ACK (40 ms).
+  stream_.socket().set_option(tcp::no_delay(true), ignored);
 }
 
 HttpSession::~HttpSession() { server_->connections.erase(this); }
