@@ -16,6 +16,9 @@ WebServer::Impl::Impl(Bridge& b, WebOptions o) : bridge(b), opt(std::move(o)) {
 }
 
 WebServer::Impl::~Impl() {
+  // Sessions hold sockets of `io`: they go first, then what the queue holds.
+  pages.clear();
+  waiting.clear();
   acceptor.reset();
   io.reset();
 }
