@@ -1,6 +1,7 @@
 // YAML cell-config loader. Every error names file:line:column and the key.
 #include "plc/cell_config.hpp"
 
+#include <arpa/inet.h>
 #include <yaml-cpp/yaml.h>
 
 #include <fstream>
@@ -312,7 +313,7 @@ class Loader {
     expect_map(n, "hmi");
     check_keys(n,
                {"url", "prefix", "rate", "publish", "writable", "forceable", "stop_commands",
-                "key_file", "user", "netns"},
+                "key_file", "user", "netns", "web"},
                "hmi");
     h.url.mark = h.prefix.mark = h.rate.mark = h.stop_commands.mark = h.mark;
     if (n["url"]) {
@@ -373,7 +374,84 @@ class Loader {
         fail(n["netns"],
              "key 'netns': '" + ns + "' is neither a name of `ip netns list` nor an absolute path");
     }
+    if (n["web"]) h.web = web(n["web"], h);
     return h;
+  }
+
+  // hmi: web: the browser HMI (docs/config.md). The address and the login
+  // are checked here, where their line is known.
+  WebConfig web(const YAML::Node& n, const HmiConfig& h) const {
+    WebConfig w;
+    w.present = true;
+    w.mark = mark_of(n);
+    expect_map(n, "web");
+    check_keys(n, {"address", "port", "read_only", "login"}, "web");
+    w.address.mark = w.port.mark = w.read_only.mark = w.login.mark = w.mark;
+    if (n["address"]) {
+      w.address = scalar(n["address"], "address");
+      if (!ip_address(w.address.value))
+        fail(n["address"],
+             "key 'address': '" + w.address.value + "' is not an IPv4 or IPv6 address");
+    }
+    if (n["port"]) {
+      auto p = integer(n["port"], "port", 1, 65535);
+      w.port = {int(p.value), p.mark};
+    }
+    if (const auto b = n["read_only"]) {
+      auto s = scalar(b, "read_only");
+      if (s.value != "true" && s.value != "false")
+        fail(b, "key 'read_only': '" + s.value + "' is not true or false");
+      w.read_only = {s.value == "true", s.mark};
+    }
+    const YAML::Node l = require(n, "login", "web");
+    w.login = scalar(l, "login");
+    const std::string& login = w.login.value;
+    if (login == "none") {
+      if (!is_loopback(w.address.value))
+        fail(l, "key 'login': none is allowed on a loopback address only (the address is " +
+                    w.address.value + ")");
+    } else if (login == "key") {
+      if (h.key_path.empty())
+        fail(l, "key 'login': key needs the hmi: key_file (its 64 hex digits are the password)");
+    } else if (!valid_password_hash(login)) {
+      fail(l,
+           "key 'login': not none, key or a password hash "
+           "pbkdf2-sha256$ITERATIONS$SALT_HEX$HASH_HEX (make one with plchmi --hash-password)");
+    }
+    return w;
+  }
+
+  static bool ip_address(const std::string& a) {
+    unsigned char buf[sizeof(in6_addr)];
+    return inet_pton(AF_INET, a.c_str(), buf) == 1 || inet_pton(AF_INET6, a.c_str(), buf) == 1;
+  }
+  static bool is_loopback(const std::string& a) {
+    unsigned char buf[sizeof(in6_addr)];
+    if (inet_pton(AF_INET, a.c_str(), buf) == 1) return buf[0] == 127;
+    return a == "::1";
+  }
+
+  // pbkdf2-sha256$ITERATIONS$SALT_HEX$HASH_HEX: the shape only (plchmi
+  // checks a password against it).
+  static bool valid_password_hash(const std::string& s) {
+    std::vector<std::string> parts;
+    std::size_t from = 0;
+    for (;;) {
+      const auto d = s.find('$', from);
+      parts.push_back(s.substr(from, d - from));
+      if (d == std::string::npos) break;
+      from = d + 1;
+    }
+    auto hex = [](const std::string& x, std::size_t min, std::size_t max) {
+      return x.size() >= min && x.size() <= max && x.size() % 2 == 0 &&
+             x.find_first_not_of("0123456789abcdefABCDEF") == std::string::npos;
+    };
+    if (parts.size() != 4 || parts[0] != "pbkdf2-sha256") return false;
+    const std::string& it = parts[1];
+    if (it.empty() || it.size() > 8 || it.find_first_not_of("0123456789") != std::string::npos)
+      return false;
+    const long n = std::stol(it);
+    return n >= 1000 && n <= 10'000'000 && hex(parts[2], 16, 128) && hex(parts[3], 32, 64);
   }
 
   // "%MW10" (its bytes) or "%MB0..%MB15" (inclusive), inside the %M image.

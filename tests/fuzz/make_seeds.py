@@ -249,6 +249,32 @@ def profibus_seeds():
         "Ext_Module_Prm_Data_Len = 1\nExt_User_Prm_Data_Ref(0) = 3\nEndModule\n").encode())
 
 
+def web_request_seeds():
+    """fuzz_web_request: requests as the web HMI's page sends them (0), command
+    bodies (1), passwords against the target's key (2)."""
+    clear("web_request")
+    key = bytes((i * 37) % 256 for i in range(32)).hex()
+    cookie = "plc_session=" + "ab" * 32
+    for i, body in enumerate(["write\nCell.target_kg\n0.625", "force\nCell.run\nTRUE\n",
+                              "read\nCell.run\r\nCell.step", "ack\nall", "pause"]):
+        req = ("POST /api/command HTTP/1.1\r\nHost: 127.0.0.1:8080\r\n"
+               "Origin: http://127.0.0.1:8080\r\nCookie: a=1; %s\r\nX-CSRF-Token: %s\r\n"
+               "Content-Type: text/plain\r\nContent-Length: %d\r\n\r\n%s"
+               % (cookie, "cd" * 32, len(body), body))
+        put("web_request", f"request{i}.bin", b"\x00" + req.encode())
+        put("web_request", f"body{i}.bin", b"\x01" + body.encode())
+    put("web_request", "upgrade.bin", b"\x00" + (
+        "GET /api/ws HTTP/1.1\r\nHost: localhost:8080\r\nConnection: Upgrade\r\n"
+        "Upgrade: websocket\r\nSec-WebSocket-Version: 13\r\n"
+        "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nCookie: %s\r\n\r\n" % cookie).encode())
+    put("web_request", "chunked.bin", b"\x00" + (
+        "POST /api/login HTTP/1.1\r\nHost: 127.0.0.1:8080\r\nTransfer-Encoding: chunked\r\n"
+        "\r\n5\r\nhello\r\n0\r\n\r\n").encode())
+    put("web_request", "key.bin", b"\x02" + key.encode())
+    put("web_request", "key_upper.bin", b"\x02" + key.upper().encode() + b"\n")
+    put("web_request", "password.bin", b"\x02hunter2")
+
+
 def recordings(plcrun, out, tmp):
     """A recording from scan 0 and one started mid-session (with a snapshot)."""
     out.mkdir(parents=True, exist_ok=True)
@@ -302,6 +328,7 @@ def main():
         hmi_commands()
         lcm_udpm_seeds()
         profibus_seeds()
+        web_request_seeds()
 
         rows = trace_bytes(plcrun, tmp, 1500)
         # drive: selector = part * 3 + telegram (2 = telegram 111)

@@ -173,6 +173,7 @@ void Bridge::publish_description() {
   d.utime = utime_now();
   if (key_) sign(d, *key_, tag_context(ch_.desc));
   transport_->publish(ch_.desc, &d);
+  if (tap_) tap_->on_description(d);
 }
 
 // ---------------------------------------------------------------- values
@@ -212,6 +213,7 @@ int Bridge::publish_slot(std::size_t s) {
   if (m.n == 0) return 0;
   transport_->publish(ch_.values, &m);
   transport_->publish(ch_.trace, &tr);
+  if (tap_) tap_->on_values(m, tr);
   if (full) st.last_full = now;
   return 1;
 }
@@ -261,6 +263,7 @@ int Bridge::service(int wait_ms) {
     flush_replies();
     if (n <= 0) break;
   }
+  serve_local();
   sync();
   drain_replies();
   check_generation();
@@ -294,6 +297,7 @@ void Bridge::run(const std::atomic<bool>& stop) {
   while (!stop.load()) {
     const auto now = Clock::now();
     check_generation();
+    serve_local();
     drain_replies();
     poll_fills();
     expire_pending(now);
@@ -320,7 +324,9 @@ void Bridge::run(const std::atomic<bool>& stop) {
       continue;
     }
     const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(next - now).count();
-    transport_->handle_timeout(int(std::clamp<std::int64_t>(ms, 1, 100)));
+    // With a tap (the web server) commands also come from submit(): look at
+    // them every 10 ms rather than 100.
+    transport_->handle_timeout(int(std::clamp<std::int64_t>(ms, 1, tap_ ? 10 : 100)));
     flush_replies();
   }
 }

@@ -61,16 +61,37 @@ void Bridge::publish_reply(softplc_hmi::reply_t r) {
     if (replies_.size() < 1000) replies_.push_back(std::move(r));
   } else {
     transport_->publish(ch_.reply, &r);
+    if (tap_) tap_->on_reply(r);
   }
 }
 
 void Bridge::flush_replies() {
   std::vector<softplc_hmi::reply_t> out;
   out.swap(replies_);
-  for (const auto& r : out) transport_->publish(ch_.reply, &r);
+  for (const auto& r : out) {
+    transport_->publish(ch_.reply, &r);
+    if (tap_) tap_->on_reply(r);
+  }
 }
 
-std::optional<softplc_hmi::reply_t> Bridge::handle(const softplc_hmi::command_t& c) {
+bool Bridge::submit(softplc_hmi::command_t c) {
+  std::lock_guard<std::mutex> lock(local_mu_);
+  if (local_.size() >= kLocalInbox) return false;
+  local_.push_back(std::move(c));
+  return true;
+}
+
+void Bridge::serve_local() {
+  std::vector<softplc_hmi::command_t> in;
+  {
+    std::lock_guard<std::mutex> lock(local_mu_);
+    in.swap(local_);
+  }
+  for (const auto& c : in)
+    if (auto r = handle(c, true)) publish_reply(std::move(*r));
+}
+
+std::optional<softplc_hmi::reply_t> Bridge::handle(const softplc_hmi::command_t& c, bool local) {
   softplc_hmi::reply_t r;
   r.request_id = c.request_id;
   r.client = c.client;
@@ -83,7 +104,7 @@ std::optional<softplc_hmi::reply_t> Bridge::handle(const softplc_hmi::command_t&
   // describe changes nothing and is how a client learns the epoch it must
   // sign for: it needs no tag (what it publishes is signed). authenticate()
   // counts its refusals itself.
-  if (c.verb != "describe") {
+  if (c.verb != "describe" && !local) {
     std::string why = authenticate(c);
     if (!why.empty()) {
       r.ok = false;

@@ -122,6 +122,7 @@ void Bridge::publish_stats() {
   }
   m.n_transport = int(m.transport_count.size());
   transport_->publish(ch_.stats, &m);
+  if (tap_) tap_->on_stats(m);
 }
 
 void Bridge::publish_diagnostics() {
@@ -195,6 +196,7 @@ void Bridge::publish_diagnostics() {
   m.n_devices = int(m.devices.size());
   m.n_alarms = int(m.alarms.size());
   transport_->publish(ch_.diag, &m);
+  if (tap_) tap_->on_diagnostics(m);
 }
 
 int Bridge::publish_device_alarms() {
@@ -244,7 +246,10 @@ int Bridge::publish_device_alarms() {
     }
     announced.store(upto, std::memory_order_relaxed);
   }
-  for (const auto& a : out) transport_->publish(ch_.alarm, &a);
+  for (const auto& a : out) {
+    transport_->publish(ch_.alarm, &a);
+    if (tap_) tap_->on_alarm(a);
+  }
   return int(out.size());
 }
 

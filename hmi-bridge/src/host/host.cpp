@@ -87,6 +87,18 @@ Host::Host(const HmiConfig& cfg, std::string cell_file, Options options)
     settings_.has_key = 1;
     std::memcpy(settings_.key, key->data(), key->size());
   }
+  if (cfg_.web.present) {
+    const WebConfig& w = cfg_.web;
+    settings_.web_port = std::uint16_t(w.port.value);
+    settings_.web_read_only = w.read_only.value ? 1 : 0;
+    copy_text(settings_.web_address, sizeof settings_.web_address, w.address.value);
+    const std::string& login = w.login.value;
+    settings_.web_login = std::uint8_t(login == "none"  ? ipc::WebLogin::None
+                                       : login == "key" ? ipc::WebLogin::Key
+                                                        : ipc::WebLogin::Hash);
+    if (settings_.web_login == std::uint8_t(ipc::WebLogin::Hash))
+      copy_text(settings_.web_password_hash, sizeof settings_.web_password_hash, login);
+  }
   boot_epoch_ = boot_epoch();
   if (opt_.mode != Mode::Lockstep) {
     doorbell_ = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);

@@ -124,6 +124,20 @@ struct RetainConfig {
 inline constexpr const char* kDefaultHmiUrl = "udpm://239.255.76.67:7667?ttl=0";
 inline constexpr int kMaxHmiRate = 1000;  // snapshots per second
 
+// The browser HMI served by plchmi (hmi-bridge/README.md "Web HMI"): where
+// it listens, who may log in, and whether it may change anything.
+struct WebConfig {
+  bool present = false;
+  Item<std::string> address{"127.0.0.1", {}};  // IPv4 or IPv6 literal
+  Item<int> port{8080, {}};
+  Item<bool> read_only{false, {}};  // values only: every write, force and stop refused
+  // login: "none" (loopback addresses only), "key" (the HMI key_file's 64
+  // hex digits are the password), or a password hash
+  // "pbkdf2-sha256$ITERATIONS$SALT_HEX$HASH_HEX" (plchmi --hash-password).
+  Item<std::string> login;
+  Mark mark;
+};
+
 struct HmiConfig {
   bool present = false;
   Item<std::string> url{kDefaultHmiUrl, {}};
@@ -139,6 +153,7 @@ struct HmiConfig {
   // "" = plcrun's own).
   Item<std::string> user;
   Item<std::string> netns;
+  WebConfig web;
   Mark mark;
 };
 

@@ -35,7 +35,11 @@
 #include "softplc_hmi/alarm_t.hpp"
 #include "softplc_hmi/cell_description_t.hpp"
 #include "softplc_hmi/command_t.hpp"
+#include "softplc_hmi/diagnostics_t.hpp"
 #include "softplc_hmi/reply_t.hpp"
+#include "softplc_hmi/stats_t.hpp"
+#include "softplc_hmi/trace_sample_t.hpp"
+#include "softplc_hmi/values_t.hpp"
 
 namespace plc::hmi {
 
@@ -50,8 +54,26 @@ struct BridgeCounters {
   std::uint64_t malformed = 0;  // did not decode as a command_t
 };
 
+// Sees every message the bridge publishes, as it publishes it, on the
+// bridge's thread (the web server, web/web_server.hpp). It must return
+// quickly: it copies what it needs and hands it to its own thread.
+class BridgeTap {
+ public:
+  virtual ~BridgeTap() = default;
+  virtual void on_description(const softplc_hmi::cell_description_t&) {}
+  virtual void on_values(const softplc_hmi::values_t&, const softplc_hmi::trace_sample_t&) {}
+  virtual void on_stats(const softplc_hmi::stats_t&) {}
+  virtual void on_diagnostics(const softplc_hmi::diagnostics_t&) {}
+  virtual void on_alarm(const softplc_hmi::alarm_t&) {}
+  virtual void on_reply(const softplc_hmi::reply_t&) {}
+};
+
 class Bridge {
  public:
+  // Commands that another thread of this process hands in (submit()),
+  // waiting for the bridge's next round.
+  static constexpr std::size_t kLocalInbox = 64;
+
   // `regions`: plcrun's shared memory as this process maps it; `doorbell`:
   // the eventfd to ring after queueing commands (-1: none, lockstep).
   // Throws std::runtime_error (file:line:col: ...) when LCM cannot open the
@@ -102,6 +124,15 @@ class Bridge {
   // the subscriptions that see what the bridge publishes.
   [[nodiscard]] Transport& transport() { return *transport_; }
 
+  // The tap (nullptr: none); set before start()/run().
+  void set_tap(BridgeTap* tap) { tap_ = tap; }
+  // A command from this process (the web server, which authenticated its
+  // session itself): served at the bridge's next round exactly as an LCM
+  // command (the same patterns, stop_commands, plcrun's checks) except for
+  // the shared key's tag, and answered through the tap's on_reply (and on
+  // PREFIX_REPLY). Any thread. False when kLocalInbox commands are waiting.
+  bool submit(softplc_hmi::command_t c);
+
   // Decodes and serves one command message (the handler; the fuzz target
   // feeds it raw bytes). Never throws.
   void on_command_bytes(const void* data, std::size_t size);
@@ -122,7 +153,9 @@ class Bridge {
   void publish_reply(softplc_hmi::reply_t r);
   // The command (decoded, authenticated): a reply now, or nullopt when it
   // went to plcrun and its reply comes through the ring.
-  std::optional<softplc_hmi::reply_t> handle(const softplc_hmi::command_t& c);
+  // `local`: from submit(), authenticated by its caller.
+  std::optional<softplc_hmi::reply_t> handle(const softplc_hmi::command_t& c, bool local = false);
+  void serve_local();
   std::optional<softplc_hmi::reply_t> queue(ipc::CommandRecord& rec, Pending p);
   void count(std::uint64_t BridgeCounters::*counter, std::uint64_t n = 1);
   [[nodiscard]] bool fast_poll(Clock::time_point now) const;
@@ -152,6 +185,9 @@ class Bridge {
   std::unique_ptr<ipc::ReplyRecord> reply_;    // reused
   bool in_handler_ = false;                    // inside the transport's dispatch
   std::vector<softplc_hmi::reply_t> replies_;  // to publish after it
+  BridgeTap* tap_ = nullptr;
+  std::mutex local_mu_;
+  std::vector<softplc_hmi::command_t> local_;  // submit()'s inbox
   std::thread thread_;
   std::atomic<bool> stop_{false};
   mutable std::mutex counters_mu_;

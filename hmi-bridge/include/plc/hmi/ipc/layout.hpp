@@ -29,7 +29,7 @@ namespace plc::hmi::ipc {
 
 inline constexpr std::uint32_t kStateMagic = 0x53484c50;    // "PLHS"
 inline constexpr std::uint32_t kControlMagic = 0x43484c50;  // "PLHC"
-inline constexpr std::uint32_t kVersion = 2;
+inline constexpr std::uint32_t kVersion = 3;
 inline constexpr std::size_t kMaxSlots = 64;  // tasks with published variables
 inline constexpr std::uint32_t kCommandCapacity = 32;
 inline constexpr std::uint32_t kReplyCapacity = 16;
@@ -80,7 +80,15 @@ struct Settings {
   std::uint8_t has_key = 0;
   std::uint8_t pad[2] = {};
   std::uint8_t key[32] = {};
+  // hmi: web: (cell_config.hpp WebConfig); web_port 0: no web server.
+  std::uint16_t web_port = 0;
+  std::uint8_t web_read_only = 0;
+  std::uint8_t web_login = 0;  // WebLogin
+  char web_address[64] = {};
+  char web_password_hash[256] = {};  // web_login == Hash
 };
+
+enum class WebLogin : std::uint8_t { None = 0, Key = 1, Hash = 2 };
 
 struct SlotHeader {
   std::atomic<std::uint64_t> filled{0};  // the request these values answer
