@@ -1,8 +1,9 @@
 """Instructions per simulated ms of the example cells, counted by callgrind.
 
 plcrun runs a cell in virtual time, so the instructions it executes repeat
-from run to run (to within 0.1 %: the runtime's helper threads, e.g. the
-watchdog's, add a little that varies): unlike a time, the count shows what
+from run to run to within about 1 % (the runtime's helper threads, e.g.
+the watchdog's, add a few instructions that vary: 0.1 % of the filling
+cells' thousands per ms, 1 % of the conveyor's 48): unlike a time, the count shows what
 a change costs on a shared, loaded machine. Per cell: (instructions of `plcrun CELL
 --virtual --for 3s -q` - those of `--for 1s`) / 2,000, so that start-up
 and shut-down cancel out. scripts/bench prints these figures,
