@@ -15,6 +15,7 @@ import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 import cell_instructions  # noqa: E402  (scripts/cell_instructions.py)
 
 TOLERANCE = 0.10
