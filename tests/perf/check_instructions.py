@@ -45,7 +45,7 @@ def main():
     if shutil.which("valgrind") is None:
         sys.exit("FAIL: valgrind is not installed (scripts/setup installs it)")
     baseline, commit = read_baseline(a.baseline)
-    missing = [name for name, _ in cell_instructions.CG_CELLS if name not in baseline]
+    missing = [name for name, _, _ in cell_instructions.CG_CELLS if name not in baseline]
     if missing:
         sys.exit(f"FAIL: {a.baseline} lacks {', '.join(missing)}: scripts/perf-baseline")
     try:
@@ -55,7 +55,7 @@ def main():
     print(f"instructions per simulated ms, baseline from commit {commit} ({a.baseline})")
     print(f"{'cell':<36} {'baseline':>10} {'measured':>10} {'change':>8}")
     dearer, cheaper = [], []
-    for name, config in cell_instructions.CG_CELLS:
+    for name, config, _ in cell_instructions.CG_CELLS:
         base, now = baseline[name], measured[name]
         change = now / base - 1
         print(f"{name:<36} {base:>10.0f} {now:>10.0f} {change:>+8.1%}  {config}")
