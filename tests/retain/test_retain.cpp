@@ -190,6 +190,30 @@ TEST_F(Retain, WarmStartRestoresRetainAndPersistent) {
   r.stop();
 }
 
+// The manager reads only the global image (ScanHooks::whole_image false):
+// a cell with retain copies and merges only its bound bytes, and the
+// retained values, bound (P.mem on %MD) and unbound (%MB20..%MB23, written
+// from outside), still come back whole.
+TEST_F(Retain, ScansCopyOnlyBoundBytesAndKeepEveryRetainedValue) {
+  {
+    CellRun r(file_, StartMode::Auto);
+    r.scans(3);
+    EXPECT_FALSE(r.rt->tasks()[0]->whole_image_scan);
+    r.rt->image().area(io::Area::Memory)[22] = 0xA5;  // no program is bound to it
+    r.scans(3);
+    EXPECT_EQ(r.mem(22), 0xA5);
+    ASSERT_EQ(r.stop(), "");
+  }
+  CellRun r(file_, StartMode::Warm);
+  EXPECT_EQ(r.value("counter"), "6");
+  EXPECT_EQ(r.value("mem"), "6");
+  EXPECT_EQ(r.mem(22), 0xA5);
+  r.scans(1);
+  EXPECT_FALSE(r.rt->tasks()[0]->whole_image_scan);
+  EXPECT_EQ(r.value("mem"), "7");  // the restored %M reached the task's copy
+  r.stop();
+}
+
 TEST_F(Retain, DefaultIsWarmWhenAValidFileExists) {
   first_life();
   CellRun r(file_, StartMode::Auto);

@@ -153,9 +153,10 @@ class ScanHooks {
   // Whether this hook set may write image bytes that no program of the task
   // is bound to, or reads the task's private image outside them: then the
   // scans copy and merge the whole %I/%Q/%M areas while it is added (forces
-  // and writes of any address, recording, replay). Every hook set says so
-  // today (retain included); one that neither writes image bytes nor reads a
-  // task's private image outside the bound bytes may return false.
+  // and writes of any address, recording, replay). One that neither writes
+  // image bytes nor reads a task's private image outside the bound bytes
+  // may return false: the retain manager does (it reads the global image
+  // only, after the merge).
   [[nodiscard]] virtual bool whole_image() const { return true; }
   // 1b: the task's devices are latched into the global image (forced inputs,
   // recording, replay).

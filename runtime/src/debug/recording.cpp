@@ -12,6 +12,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "image_mirror.hpp"
 #include "plc/cell_library.hpp"
 #include "plc/io/device_link.hpp"
 #include "recording_writer.hpp"
@@ -56,9 +57,14 @@ Recorder::Recorder(Runtime& rt, const std::string& file, Attach attach)
   const std::size_t shared = 64 + 14 * rt.tasks().size() + inputs + ndev + ndev * kAnswerBytes +
                              kEventBytes + snapshot_bytes() + kMaxPathBytes;
   shared_.reserve_fixed(shared);
-  writer_ = std::make_unique<RecordingWriter>(fd, file, std::string(kMagic, sizeof kMagic),
-                                              std::max(kMinBlockBytes, shared + kEventBytes + 64),
-                                              kBlocks);
+  const io::ImageSizes sizes = rt.image().sizes();
+  mirror_ = std::make_unique<ImageMirror>(sizes.outputs, sizes.memory);
+  const std::size_t delta = kHead + mirror_->max_delta_bytes() + kTail;
+  delta_.reserve_fixed(delta);
+  writer_ = std::make_unique<RecordingWriter>(
+      fd, file, std::string(kMagic, sizeof kMagic),
+      std::max({kMinBlockBytes, shared + kEventBytes + 64, delta}), kBlocks,
+      std::make_unique<ImageMirror>(sizes.outputs, sizes.memory));
 
   const RecordingLayout l = RecordingLayout::of(rt);
   shared_.begin(kHeader);
@@ -306,9 +312,17 @@ void Recorder::before_publish(TaskRuntime& t, io::ProcessImage& global) {
   }
   seal(ts, kBeforePublish, 0);
   ts.merge.patch(kHead + 2, ts.merge_groups);
-  ts.merge.le(image_hash(global.area(io::Area::Output), global.area(io::Area::Memory)));
+  ts.merge.le(std::uint64_t{0});  // the output hash: the writer's, from the deltas
   ts.merge.end();
-  commit(ts.merge, rt_.mode() == io::ClockMode::Virtual);
+  const bool wait = rt_.mode() == io::ClockMode::Virtual;
+  delta_.begin(kImageDelta);
+  if (mirror_->diff(global.area(io::Area::Output), global.area(io::Area::Memory), delta_) != 0) {
+    delta_.end();
+    // Not a record of the file: not counted, and no CRC of its own.
+    if (!dead_.load(std::memory_order_acquire) && !writer_->append(delta_.view(), wait))
+      fail(writer_->error());
+  }
+  commit(ts.merge, wait);
   ts.state = TaskRec::Idle;
   scans_.fetch_add(1, std::memory_order_relaxed);
 }

@@ -10,12 +10,14 @@
 namespace plc::debug {
 
 RecordingWriter::RecordingWriter(int fd, std::string file, std::string prefix,
-                                 std::size_t block_bytes, std::size_t blocks)
+                                 std::size_t block_bytes, std::size_t blocks,
+                                 std::unique_ptr<ImageMirror> mirror)
     : fd_(fd),
       file_(std::move(file)),
       prefix_(std::move(prefix)),
       block_bytes_(block_bytes),
-      blocks_(blocks) {
+      blocks_(blocks),
+      mirror_(std::move(mirror)) {
   free_.resize(blocks);
   full_.resize(blocks);
   for (std::size_t i = 0; i < blocks; ++i) {
@@ -97,21 +99,40 @@ void RecordingWriter::run() {
   }
 }
 
-// Fills in the CRC of every record in the block, then writes the block.
+// Takes the image deltas into the mirror and out of the block, fills in
+// the merge records' hashes and every record's CRC, then writes the block.
 void RecordingWriter::write_out(Block& b) {
   if (failed()) return;  // the file is broken already; drop the rest
+  std::uint8_t* d = b.data.data();
+  std::size_t kept = 0;  // bytes of the block that go to the file, moved to its front
   for (std::size_t p = 0; p + recfmt::kHead <= b.n;) {
     std::uint32_t len = 0;
-    std::memcpy(&len, b.data.data() + p + 1, 4);
+    std::memcpy(&len, d + p + 1, 4);
     len = boost::endian::little_to_native(len);
     const std::size_t body = recfmt::kHead + len;
-    if (p + body + recfmt::kTail > b.n) break;  // cannot happen: append() copies whole records
-    crc_.process_bytes(b.data.data() + p, body);
+    const std::size_t whole = body + recfmt::kTail;
+    if (p + whole > b.n) break;  // cannot happen: append() copies whole records
+    const std::uint8_t type = d[p];
+    if (mirror_ && type == kImageDelta) {
+      if (!mirror_->apply(std::span(d + p + recfmt::kHead, len))) {
+        fail("a malformed image delta (internal error)");
+        return;
+      }
+      p += whole;
+      continue;
+    }
+    if (mirror_ && type == recfmt::kMerge && len >= 8) {
+      const std::uint64_t h = boost::endian::native_to_little(mirror_->hash());
+      std::memcpy(d + p + body - 8, &h, 8);
+    }
+    if (kept != p) std::memmove(d + kept, d + p, whole);
+    crc_.process_bytes(d + kept, body);
     const std::uint32_t crc = boost::endian::native_to_little(crc_.checksum());
-    std::memcpy(b.data.data() + p + body, &crc, 4);
-    p += body + recfmt::kTail;
+    std::memcpy(d + kept + body, &crc, 4);
+    kept += whole;
+    p += whole;
   }
-  write_all(b.data.data(), b.n);
+  write_all(d, kept);
 }
 
 void RecordingWriter::write_all(const std::uint8_t* p, std::size_t n) {

@@ -7,17 +7,23 @@
 // recording is marked broken rather than make the scan wait; in virtual time
 // (`wait`) the scan waits for a block, as the trace writer does, so a
 // virtual-time recording is always complete.
+//
+// With an ImageMirror, the writer also fills in the merge records' output
+// hash from the image-delta records before them (image_mirror.hpp), and
+// leaves the delta records out of the file.
 #pragma once
 
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <span>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "image_mirror.hpp"
 #include "plc/debug/recording_format.hpp"
 
 namespace plc::debug {
@@ -25,9 +31,9 @@ namespace plc::debug {
 class RecordingWriter {
  public:
   // Takes `fd` (open for writing) and writes `prefix` (the magic) first;
-  // `file` names it in errors.
+  // `file` names it in errors; `mirror` (may be null): see above.
   RecordingWriter(int fd, std::string file, std::string prefix, std::size_t block_bytes,
-                  std::size_t blocks);
+                  std::size_t blocks, std::unique_ptr<ImageMirror> mirror = nullptr);
   ~RecordingWriter();
   RecordingWriter(const RecordingWriter&) = delete;
   RecordingWriter& operator=(const RecordingWriter&) = delete;
@@ -65,7 +71,8 @@ class RecordingWriter {
   bool closing_ = false;
   std::atomic<bool> failed_{false};
   std::string error_;
-  recfmt::RunningCrc crc_;  // writer thread only
+  recfmt::RunningCrc crc_;               // writer thread only
+  std::unique_ptr<ImageMirror> mirror_;  // writer thread only
   std::thread thread_;
   bool finished_ = false;
 };

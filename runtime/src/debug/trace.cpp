@@ -37,6 +37,12 @@ int vcd_width(VarType t) {
   }
 }
 
+// The size_of(v.type) bytes that VarRegistry::read() reads: native
+// storage, or v's bytes in the image.
+const std::uint8_t* storage(const VarInfo& v) {
+  return v.address ? v.image_ptr : static_cast<const std::uint8_t*>(v.ptr);
+}
+
 // A path component as a VCD identifier: brackets would read as bit selects.
 std::string vcd_name(std::string s) {
   for (char& c : s)
@@ -119,9 +125,10 @@ std::string Trace::start(const std::string& file, std::optional<TraceFormat> for
   file_ = std::fopen(file.c_str(), "w");
   if (!file_) return "cannot write '" + file + "'";
   file_name_ = file;
+  plan_spans();
   const std::size_t slots = pre_rows_ + 1;
   meta_.assign(slots, {});
-  raw_.assign(slots * columns_.size(), 0);
+  raw_.assign(slots * row_bytes_, 0);
   last_.assign(columns_.size(), 0);
   have_last_ = false;
   ring_head_ = ring_count_ = 0;
@@ -208,26 +215,64 @@ void Trace::write_header() {
   text_ += "$enddefinitions $end\n";
 }
 
+// The columns' storage bytes as few spans as possible: sorted by address,
+// overlapping or touching bytes merged (an array's elements, the bits of
+// one image byte). Only bytes of traced variables are read, never a gap
+// between them (it may belong to another object).
+void Trace::plan_spans() {
+  struct Piece {
+    const std::uint8_t* src;
+    std::size_t bytes;
+    std::size_t column;
+  };
+  std::vector<Piece> pieces;
+  for (std::size_t i = 0; i < columns_.size(); ++i)
+    pieces.push_back({storage(columns_[i].var), size_of(columns_[i].var.type), i});
+  std::sort(pieces.begin(), pieces.end(), [](const Piece& a, const Piece& b) {
+    return std::less<const std::uint8_t*>()(a.src, b.src);
+  });
+  spans_.clear();
+  column_at_.assign(columns_.size(), 0);
+  row_bytes_ = 0;
+  for (const Piece& p : pieces) {
+    Span* s = spans_.empty() ? nullptr : &spans_.back();
+    if (s && !std::less<const std::uint8_t*>()(s->src + s->bytes, p.src)) {
+      const std::size_t end = std::size_t(p.src - s->src) + p.bytes;
+      if (end > s->bytes) {
+        row_bytes_ += end - s->bytes;
+        s->bytes = end;
+      }
+    } else {
+      spans_.push_back({p.src, p.bytes, row_bytes_});
+      row_bytes_ += p.bytes;
+      s = &spans_.back();
+    }
+    column_at_[p.column] = s->at + std::size_t(p.src - s->src);
+  }
+  decode_.clear();
+  for (const Column& c : columns_) decode_.push_back(c.var);
+  values_.assign(columns_.size(), 0);
+}
+
 std::unique_ptr<Trace::Block> Trace::new_block() const {
   auto b = std::make_unique<Block>();
   b->meta.resize(kBlockRows);
-  b->raw.resize(kBlockRows * columns_.size());
+  b->raw.resize(kBlockRows * row_bytes_);
   return b;
 }
 
-void Trace::capture(Row* meta, std::uint64_t* raw, const ScanContext& ctx) {
+void Trace::capture(Row* meta, std::uint8_t* raw, const ScanContext& ctx) {
   *meta = {ctx.now.count(), ctx.cycle};
-  for (std::size_t i = 0; i < columns_.size(); ++i) {
-    std::uint64_t v = 0;
-    VarRegistry::read(columns_[i].var, &v);
-    raw[i] = v;
-  }
+  for (const Span& s : spans_) std::memcpy(raw + s.at, s.src, s.bytes);
 }
 
-void Trace::append(const Row& m, const std::uint64_t* raw) {
-  const std::size_t nc = columns_.size();
+void Trace::append(const Row& m, const std::uint8_t* raw) {
   cur_->meta[cur_->n] = m;
-  std::copy(raw, raw + nc, cur_->raw.data() + cur_->n * nc);
+  std::memcpy(cur_->raw.data() + cur_->n * row_bytes_, raw, row_bytes_);
+  advance();
+}
+
+void Trace::advance() {
   if (++cur_->n == kBlockRows) hand_off();
   ++rows_sampled_;
 }
@@ -252,11 +297,11 @@ void Trace::hand_off() {
 
 void Trace::sample(const ScanContext& ctx) {
   if (!running()) return;
-  const std::size_t nc = columns_.size();
+  const std::size_t nb = row_bytes_;
   if (!triggered_) {
     const std::size_t slots = pre_rows_ + 1;
     const std::size_t slot = (ring_head_ + ring_count_) % slots;
-    capture(&meta_[slot], raw_.data() + slot * nc, ctx);
+    capture(&meta_[slot], raw_.data() + slot * nb, ctx);
     if (ring_count_ < slots)
       ++ring_count_;
     else
@@ -265,15 +310,14 @@ void Trace::sample(const ScanContext& ctx) {
       triggered_ = true;
       for (std::size_t k = 0; k < ring_count_; ++k) {
         const std::size_t s = (ring_head_ + k) % slots;
-        append(meta_[s], raw_.data() + s * nc);
+        append(meta_[s], raw_.data() + s * nb);
       }
       ring_count_ = 0;
     }
     return;
   }
-  Row m;
-  capture(&m, raw_.data(), ctx);  // slot 0 of the ring is free once triggered
-  append(m, raw_.data());
+  capture(&cur_->meta[cur_->n], cur_->raw.data() + cur_->n * nb, ctx);
+  advance();
 }
 
 void Trace::writer_loop() {
@@ -284,8 +328,7 @@ void Trace::writer_loop() {
       std::unique_ptr<Block> b = std::move(full_.front());
       full_.pop_front();
       lock.unlock();
-      for (std::size_t r = 0; r < b->n; ++r)
-        format_row(b->meta[r], b->raw.data() + r * columns_.size());
+      for (std::size_t r = 0; r < b->n; ++r) format_row(b->meta[r], b->raw.data() + r * row_bytes_);
       flush_text();
       lock.lock();
       b->n = 0;
@@ -296,7 +339,19 @@ void Trace::writer_loop() {
   }
 }
 
-void Trace::format_row(const Row& m, const std::uint64_t* row) {
+void Trace::format_row(const Row& m, const std::uint8_t* bytes) {
+  for (std::size_t i = 0; i < columns_.size(); ++i) {
+    VarInfo& d = decode_[i];
+    auto* p = const_cast<std::uint8_t*>(bytes + column_at_[i]);  // only read
+    if (d.address)
+      d.image_ptr = p;
+    else
+      d.ptr = p;
+    std::uint64_t v = 0;
+    VarRegistry::read(d, &v);
+    values_[i] = v;
+  }
+  const std::uint64_t* row = values_.data();
   if (format_ == TraceFormat::Csv) {
     text_ += std::to_string(m.time_ns);
     text_ += ',';

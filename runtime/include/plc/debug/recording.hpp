@@ -97,9 +97,12 @@ std::string find_library_build(const std::string& recording, const std::string& 
                                std::uint32_t crc32, std::uint64_t size);
 
 class RecordingWriter;
+class ImageMirror;
 
 // Scan threads only copy bytes into preallocated buffers (no allocation,
-// no I/O); a writer thread writes the file. Real time: several task
+// no I/O); a writer thread writes the file, and computes the merge records'
+// output hashes from the image deltas the scans hand it (image_mirror.hpp:
+// the scan compares %Q and %M with its copy instead of hashing them). Real time: several task
 // threads record at once; the latch and merge records are written under
 // the image lock the scan holds anyway, the rest of a scan's record goes
 // into the task's own buffer.
@@ -173,8 +176,10 @@ class Recorder final : public ScanHooks {
   std::unique_ptr<RecordingWriter> writer_;
   std::vector<TaskRec> tasks_;
   // Used under the image lock only (one task at a time): the latch, stop
-  // and end records, and the answers collected during a latch.
-  recfmt::Buf shared_, answers_;
+  // and end records, the answers collected during a latch, the image
+  // deltas and the copy of %Q and %M they are taken against.
+  recfmt::Buf shared_, answers_, delta_;
+  std::unique_ptr<ImageMirror> mirror_;
   std::uint16_t answer_count_ = 0;
   bool active_ = false;  // the first latch (with the snapshot) is written
   std::uint64_t records_ = 0;

@@ -3,13 +3,14 @@
 // ring buffer: the rows before the trigger are kept and written when it
 // fires, so the file shows what led up to the event.
 //
-// Sampling only copies raw values into preallocated blocks of rows; a writer
-// thread formats full blocks and writes them, so the scan thread pays about
-// a load and a store per variable. When the writer falls more than the
-// preallocated blocks behind: in virtual time (backpressure on, the default)
-// the sampling waits for it, which costs nothing but wall time; in real time
-// a new block is allocated rather than a row lost (counted in
-// overflow_blocks()).
+// Sampling only copies the traced variables' storage bytes into
+// preallocated blocks of rows, as a few memcpy of the byte spans they cover
+// (worked out at start: an array's traced elements are one span); a writer
+// thread converts them to values (byte order, bits), formats full blocks and
+// writes them. So the scan thread does no per-variable work at all. When the writer falls more than
+// the preallocated blocks behind: in virtual time (backpressure on, the default) the sampling waits
+// for it, which costs nothing but wall time; in real time a new block is allocated rather than a
+// row lost (counted in overflow_blocks()).
 #pragma once
 
 #include <condition_variable>
@@ -96,15 +97,23 @@ class Trace {
   static constexpr std::size_t kBlocks = 8;
   struct Block {
     std::vector<Row> meta;
-    std::vector<std::uint64_t> raw;
+    std::vector<std::uint8_t> raw;  // kBlockRows rows of row_bytes_
     std::size_t n = 0;
   };
-  void capture(Row* meta, std::uint64_t* raw, const ScanContext& ctx);
-  void append(const Row& m, const std::uint64_t* raw);  // into the current block
-  void hand_off();                                      // current block -> writer
+  // Bytes copied by a sample: [src, src + bytes) to offset `at` of the row.
+  struct Span {
+    const std::uint8_t* src;
+    std::size_t bytes;
+    std::size_t at;
+  };
+  void plan_spans();
+  void capture(Row* meta, std::uint8_t* raw, const ScanContext& ctx);
+  void append(const Row& m, const std::uint8_t* raw);  // into the current block
+  void advance();                                      // the current block's row n is written
+  void hand_off();                                     // current block -> writer
   std::unique_ptr<Block> new_block() const;
   void writer_loop();
-  void format_row(const Row& m, const std::uint64_t* row);
+  void format_row(const Row& m, const std::uint8_t* bytes);
   void flush_text();
   void write_header();
 
@@ -118,9 +127,17 @@ class Trace {
   std::string file_name_;
   std::FILE* file_ = nullptr;
   bool triggered_ = false;
-  // Ring of pre_rows_+1 rows: meta and raw values (8 bytes per column).
+  std::vector<Span> spans_;
+  std::size_t row_bytes_ = 0;
+  // Writer thread: per column, its VarInfo with the storage pointer aimed
+  // at the column's bytes in the row being formatted (VarRegistry::read
+  // converts them), and the row's values.
+  std::vector<std::size_t> column_at_;
+  std::vector<VarInfo> decode_;
+  std::vector<std::uint64_t> values_;
+  // Ring of pre_rows_+1 rows: meta and storage bytes.
   std::vector<Row> meta_;
-  std::vector<std::uint64_t> raw_;
+  std::vector<std::uint8_t> raw_;
   std::size_t ring_head_ = 0, ring_count_ = 0;
   std::vector<std::uint64_t> last_;  // VCD: last written values
   bool have_last_ = false;

@@ -114,6 +114,14 @@ class Manager : public ScanHooks, public SwitchFollower, public ChangeObserver {
   Storage& storage() { return storage_; }
 
   void before_publish(TaskRuntime& t, io::ProcessImage& global) override;
+  // The scans may copy and merge only their bound bytes: the manager writes
+  // no image byte during the scans (restores happen before the first), and
+  // reads only the global image, after the task's merge (located retained
+  // variables and retained %M ranges point there, retain_layout.cpp), never
+  // a task's private copy. A byte no program is bound to changes in the
+  // global image only by a write from outside (debugger, HMI, the restore),
+  // so it holds the same value whether the scans copy it or not.
+  [[nodiscard]] bool whole_image() const override { return false; }
   // SwitchFollower: the last task concerned switched its programs (its
   // thread, inside its scan latch) / the change was dropped.
   void on_switched() noexcept override;

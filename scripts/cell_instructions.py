@@ -1,0 +1,68 @@
+"""Instructions per simulated ms of the example cells, counted by callgrind.
+
+plcrun runs a cell in virtual time, so the instructions it executes repeat
+from run to run to within about 1 % (the runtime's helper threads, e.g.
+the watchdog's, add a few instructions that vary: 0.1 % of the filling
+cells' thousands per ms, 1 % of the conveyor's 48): unlike a time, the count shows what
+a change costs on a shared, loaded machine. Per cell: (instructions of `plcrun CELL
+--virtual --for 3s -q` - those of `--for 1s`) / 2,000 (the conveyor: 21 s,
+/ 20,000), so that start-up and shut-down cancel out. scripts/bench prints these figures,
+scripts/perf-baseline records them in tests/perf/instructions.baseline and
+the ctest PerfInstructions.ExampleCells (tests/perf) compares with them.
+"""
+import concurrent.futures
+import os
+import pathlib
+import re
+import shlex
+import subprocess
+import tempfile
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+
+# (figure, config, long run in s): the cells whose instructions per
+# simulated ms are counted, as (long run - 1 s run) / (long - 1) s. The
+# conveyor (48 per ms, one 10 ms task) runs 21 s: over 2 s the few thousand
+# instructions by which runs differ were 4 % of its count, over 20 s 0.4 %.
+CG_CELLS = [("demo_instr_per_sim_ms", "programs/demo/cell.yaml", 3),
+            ("filling_instr_per_sim_ms", "programs/filling_cell/cell.yaml", 3),
+            ("filling_profinet_instr_per_sim_ms", "programs/filling_cell/cell_profinet.yaml", 3),
+            ("conveyor_instr_per_sim_ms", "programs/conveyor/cell.yaml", 21)]
+
+SHORT_S = 1
+
+
+class CallgrindError(RuntimeError):
+    pass
+
+
+def callgrind_ir(bin_dir, config, seconds, valgrind="valgrind"):
+    """Instructions of `plcrun CONFIG --virtual --for SECONDS` under callgrind."""
+    with tempfile.TemporaryDirectory(prefix="plc-callgrind-") as tmp:
+        out = pathlib.Path(tmp) / "callgrind.out"
+        cmd = [valgrind, "--tool=callgrind", f"--callgrind-out-file={out}",
+               str(pathlib.Path(bin_dir) / "plcrun"), str(ROOT / config), "--virtual", "--for",
+               f"{seconds}s", "-q"]
+        p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if p.returncode != 0:
+            raise CallgrindError(f"{shlex.join(cmd)} failed with exit code {p.returncode}:\n"
+                                 f"{p.stderr[-2000:]}")
+        text = out.read_text(errors="replace")
+    m = re.search(r"^summary: (\d+)", text, re.M) or re.search(r"^totals: (\d+)", text, re.M)
+    if not m:
+        raise CallgrindError(f"no instruction total in callgrind's output of {config}")
+    return int(m.group(1))
+
+
+def instr_per_sim_ms(bin_dir, cells=None, jobs=None, valgrind="valgrind"):
+    """{figure: instructions per simulated ms} of `cells` (default CG_CELLS).
+    The 2 x len(cells) callgrind runs go `jobs` at a time (default: one per
+    core): each is single-threaded work, and the counts do not depend on
+    what runs beside them."""
+    cells = CG_CELLS if cells is None else cells
+    jobs = jobs or os.cpu_count() or 1
+    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+        runs = {(name, s): pool.submit(callgrind_ir, bin_dir, config, s, valgrind)
+                for name, config, long_s in cells for s in (long_s, SHORT_S)}
+        return {name: (runs[(name, long_s)].result() - runs[(name, SHORT_S)].result()) /
+                ((long_s - SHORT_S) * 1000) for name, _, long_s in cells}
