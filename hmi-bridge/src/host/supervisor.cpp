@@ -18,9 +18,27 @@
 #include <system_error>
 #include <thread>
 
+// ThreadSanitizer intercepts clone() as a fork and fails its own check on a
+// child that shares the memory (CLONE_VM). A TSan build starts plchmi with
+// fork() instead, and the child reports a failed step through a pipe: the
+// same steps, the same messages; only the copy of the address space that
+// clone avoids (plcrun's scan threads' copy-on-write faults) comes back,
+// which a TSan build does not measure.
+#if defined(__SANITIZE_THREAD__)
+#define PLC_SUPERVISOR_FORK 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define PLC_SUPERVISOR_FORK 1
+#endif
+#endif
+
 namespace plc::hmi {
 
 namespace {
+
+// The fork path's report descriptor in the child (kept out of the range
+// the child closes, close-on-exec like the pipe it copies).
+constexpr int kReportFd = 1000;
 
 // What the child needs, prepared by the parent: between clone and exec the
 // child only makes system calls (no allocation, no lock, no glibc wrapper
@@ -37,9 +55,11 @@ struct ChildArgs {
   gid_t gid = 0;
   pid_t parent = 0;
   sigset_t mask{};
-  // Written by the child when it fails (the memory is shared until exec).
+  // Written by the child when it fails (the memory is shared until exec;
+  // in the fork path also written to report_fd).
   volatile int failed_step = 0;
   volatile int failed_errno = 0;
+  int report_fd = -1;
 };
 
 constexpr const char* kSteps[] = {"",
@@ -63,8 +83,16 @@ int child_main(void* p) {
   auto fail = [a](int step) {
     a->failed_errno = errno;
     a->failed_step = step;
+    if (a->report_fd >= 0) {
+      const int report[2] = {step, a->failed_errno};
+      (void)!write(a->report_fd, report, sizeof report);
+    }
     _exit(127);
   };
+  if (a->report_fd >= 0) {
+    if (dup3(a->report_fd, kReportFd, O_CLOEXEC) != kReportFd) _exit(127);
+    a->report_fd = kReportFd;
+  }
   // Handlers are plcrun's code: none may run in the child.
   struct sigaction dfl {};
   dfl.sa_handler = SIG_DFL;
@@ -79,7 +107,12 @@ int child_main(void* p) {
   }
   for (int i = 0; i < a->nfds; ++i)
     if (dup2(high[i], 3 + i) != 3 + i) fail(3);
-  if (syscall(SYS_close_range, 3 + a->nfds, ~0U, 0) != 0) fail(4);
+  if (a->report_fd < 0) {
+    if (syscall(SYS_close_range, 3 + a->nfds, ~0U, 0) != 0) fail(4);
+  } else if (syscall(SYS_close_range, 3 + a->nfds, kReportFd - 1, 0) != 0 ||
+             syscall(SYS_close_range, kReportFd + 1, ~0U, 0) != 0) {
+    fail(4);
+  }
   if (a->change_user) {
     // The bounding set first: dropping it needs CAP_SETPCAP, which setuid takes.
     for (int cap = 0; cap <= 63; ++cap)
@@ -158,6 +191,33 @@ std::string Supervisor::start() {
   sigset_t all;
   sigfillset(&all);
   pthread_sigmask(SIG_SETMASK, &all, &a->mask);
+#ifdef PLC_SUPERVISOR_FORK
+  int report[2] = {-1, -1};
+  if (pipe2(report, O_CLOEXEC) != 0) {
+    const int e = errno;
+    pthread_sigmask(SIG_SETMASK, &a->mask, nullptr);
+    return std::string("pipe: ") + std::strerror(e);
+  }
+  a->report_fd = report[1];
+  const pid_t pid = fork();
+  if (pid == 0) _exit(child_main(a.get()));
+  const int clone_errno = errno;
+  pthread_sigmask(SIG_SETMASK, &a->mask, nullptr);
+  close(report[1]);
+  if (pid > 0) {
+    // EOF at the child's execve (close-on-exec), or its failed step.
+    int got[2] = {0, 0};
+    ssize_t n = -1;
+    do n = read(report[0], got, sizeof got);
+    while (n < 0 && errno == EINTR);
+    if (n == ssize_t(sizeof got)) {
+      a->failed_step = got[0];
+      a->failed_errno = got[1];
+    }
+  }
+  close(report[0]);
+  if (pid < 0) return std::string("fork: ") + std::strerror(clone_errno);
+#else
   constexpr std::size_t kStack = 64 * 1024;
   auto stack = std::make_unique<unsigned char[]>(kStack);
   const pid_t pid =
@@ -165,6 +225,7 @@ std::string Supervisor::start() {
   const int clone_errno = errno;
   pthread_sigmask(SIG_SETMASK, &a->mask, nullptr);
   if (pid < 0) return std::string("clone: ") + std::strerror(clone_errno);
+#endif
   if (a->failed_step) {
     int status = 0;
     waitpid(pid, &status, 0);

@@ -18,6 +18,7 @@
 
 #include <sys/types.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -61,7 +62,7 @@ class Supervisor {
   std::vector<Event> poll(Clock::time_point now);
   // Readable when the child has exited (poll(2) on it; -1 while none runs).
   [[nodiscard]] int pidfd() const { return pidfd_; }
-  [[nodiscard]] pid_t pid() const { return pid_; }
+  [[nodiscard]] pid_t pid() const { return pid_.load(); }
   // When poll() should next be called at the latest (a restart due).
   [[nodiscard]] std::optional<Clock::time_point> next_start() const;
   // SIGTERM, then SIGKILL after `grace`, and reaped. No restart afterwards.
@@ -78,7 +79,8 @@ class Supervisor {
 
   Spawn spawn_;
   Backoff backoff_;
-  pid_t pid_ = 0;
+  // Written by the host's thread, read by others (Host::bridge_pid()).
+  std::atomic<pid_t> pid_{0};
   int pidfd_ = -1;
   bool stopped_ = false;
   std::uint64_t starts_ = 0;
