@@ -48,8 +48,6 @@ int hash_password() {
   return 0;
 }
 
-std::string bounded(const char* s, std::size_t cap) { return std::string(s, strnlen(s, cap)); }
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -88,21 +86,12 @@ int main(int argc, char** argv) {
     plc::hmi::Bridge bridge(std::move(regions), doorbell);
     std::unique_ptr<plc::hmi::web::WebServer> web;
     if (settings.web_port != 0) {
-      plc::hmi::web::WebOptions o;
-      o.address = bounded(settings.web_address, sizeof settings.web_address);
-      o.port = settings.web_port;
-      o.read_only = settings.web_read_only != 0;
-      o.login = plc::hmi::ipc::WebLogin(settings.web_login);
-      o.password_hash = bounded(settings.web_password_hash, sizeof settings.web_password_hash);
-      if (settings.has_key) {
-        plc::hmi::Key k;
-        std::memcpy(k.data(), settings.key, k.size());
-        o.key = k;
-      }
+      const plc::hmi::web::WebOptions o = plc::hmi::web::web_options(settings);
       web = std::make_unique<plc::hmi::web::WebServer>(bridge, o);
       bridge.set_tap(web.get());
       web->start();
-      std::fprintf(stderr, "plchmi: web HMI on http://%s%s%s:%d/\n",
+      std::fprintf(stderr, "plchmi: web HMI on %s://%s%s%s:%d/\n",
+                   o.tls_cert_pem.empty() ? "http" : "https",
                    o.address.find(':') != std::string::npos ? "[" : "", o.address.c_str(),
                    o.address.find(':') != std::string::npos ? "]" : "", web->port());
     }

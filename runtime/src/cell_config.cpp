@@ -385,7 +385,7 @@ class Loader {
     w.present = true;
     w.mark = mark_of(n);
     expect_map(n, "web");
-    check_keys(n, {"address", "port", "read_only", "login"}, "web");
+    check_keys(n, {"address", "port", "read_only", "login", "tls"}, "web");
     w.address.mark = w.port.mark = w.read_only.mark = w.login.mark = w.mark;
     if (n["address"]) {
       w.address = scalar(n["address"], "address");
@@ -402,6 +402,19 @@ class Loader {
       if (s.value != "true" && s.value != "false")
         fail(b, "key 'read_only': '" + s.value + "' is not true or false");
       w.read_only = {s.value == "true", s.mark};
+    }
+    if (const auto t = n["tls"]) {
+      // The files are read and checked by plcrun at the bridge's start
+      // (hmi-bridge/src/host/tls_files.cpp), which reports at these lines.
+      expect_map(t, "tls");
+      check_keys(t, {"cert", "key"}, "tls");
+      w.tls = true;
+      w.tls_cert = scalar(require(t, "cert", "tls"), "cert");
+      w.tls_key = scalar(require(t, "key", "tls"), "key");
+      if (w.tls_cert.value.empty()) fail(t["cert"], "key 'cert': names no file");
+      if (w.tls_key.value.empty()) fail(t["key"], "key 'key': names no file");
+      w.tls_cert_path = in_folder(w.tls_cert.value);
+      w.tls_key_path = in_folder(w.tls_key.value);
     }
     const YAML::Node l = require(n, "login", "web");
     w.login = scalar(l, "login");

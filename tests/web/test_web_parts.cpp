@@ -168,9 +168,19 @@ TEST(WebHmiParts, ConfigErrorsAtTheirLine) {
   EXPECT_NE(config_error("    login: key\n").find("needs the hmi: key_file"), std::string::npos);
   EXPECT_NE(config_error("    login: hunter2\n").find("plchmi --hash-password"), std::string::npos);
   EXPECT_NE(config_error("    port: 8080\n").find("login"), std::string::npos);
-  EXPECT_NE(config_error("    login: none\n    tls: yes\n").find("unknown key 'tls'"),
-            std::string::npos)
+  EXPECT_NE(
+      config_error("    login: none\n    tls: yes\n").find("web.yaml:13:10: tls must be a mapping"),
+      std::string::npos)
       << config_error("    login: none\n    tls: yes\n");
+  EXPECT_NE(config_error("    login: none\n    tls: {cert: c.pem}\n")
+                .find("web.yaml:13:10: missing key 'key' in tls"),
+            std::string::npos)
+      << config_error("    login: none\n    tls: {cert: c.pem}\n");
+  EXPECT_NE(config_error("    login: none\n    tls: {cert: c.pem, key: k.pem, ca: x}\n")
+                .find("unknown key 'ca' in tls"),
+            std::string::npos);
+  // The files themselves are plcrun's to read (WebHmiTls.BadFilesAreLocatedConfigErrors).
+  EXPECT_EQ(config_error("    login: none\n    tls: {cert: c.pem, key: k.pem}\n"), "");
   EXPECT_NE(config_error("    login: none\n    read_only: maybe\n").find("not true or false"),
             std::string::npos);
   EXPECT_EQ(config_error("    address: \"::1\"\n    login: \"" + hash_password("pw", 1000) +

@@ -1,5 +1,6 @@
 #include "plc/hmi/host.hpp"
 
+#include <openssl/crypto.h>
 #include <poll.h>
 #include <sys/eventfd.h>
 #include <sys/random.h>
@@ -13,6 +14,7 @@
 #include "plc/hmi/command_auth.hpp"
 #include "plc/hmi/host_privileges.hpp"
 #include "plc/hmi/pattern.hpp"
+#include "plc/hmi/tls_files.hpp"
 
 namespace plc::hmi {
 
@@ -98,6 +100,17 @@ Host::Host(const HmiConfig& cfg, std::string cell_file, Options options)
                                                         : ipc::WebLogin::Hash);
     if (settings_.web_login == std::uint8_t(ipc::WebLogin::Hash))
       copy_text(settings_.web_password_hash, sizeof settings_.web_password_hash, login);
+    if (w.tls) {
+      TlsFilesError err;
+      auto files = load_tls_files(w.tls_cert_path, w.tls_key_path, err);
+      if (!files)
+        throw ConfigError(cell_file_, err.in_key ? w.tls_key.mark : w.tls_cert.mark,
+                          std::string(err.in_key ? "key 'key': " : "key 'cert': ") + err.message);
+      // Both fit (load_tls_files' bounds are the fields' sizes less the NUL).
+      copy_text(settings_.web_tls_cert, sizeof settings_.web_tls_cert, files->cert_pem);
+      copy_text(settings_.web_tls_key, sizeof settings_.web_tls_key, files->key_pem);
+      OPENSSL_cleanse(files->key_pem.data(), files->key_pem.size());
+    }
   }
   boot_epoch_ = boot_epoch();
   if (opt_.mode != Mode::Lockstep) {

@@ -21,18 +21,47 @@ std::string json_refusal(const std::string& why) {
   return out;
 }
 
+Stream make_stream(WebServer::Impl* server, tcp::socket socket) {
+  if (server->tls) return Stream(std::in_place_type<TlsStream>, std::move(socket), *server->tls);
+  return Stream(std::in_place_type<PlainStream>, std::move(socket));
+}
+
 }  // namespace
 
 HttpSession::HttpSession(WebServer::Impl* server, tcp::socket socket)
-    : server_(server), stream_(std::move(socket)), reply_timer_(*server->io) {
+    : server_(server), stream_(make_stream(server, std::move(socket))), reply_timer_(*server->io) {
   server_->connections.insert(this);
   // What the kernel holds for a page that does not read is bounded too: its
   // queue (WsSession) fills after this much and it is dropped.
   beast::error_code ignored;
-  stream_.socket().set_option(asio::socket_base::send_buffer_size(64 * 1024), ignored);
+  tcp().socket().set_option(asio::socket_base::send_buffer_size(64 * 1024), ignored);
   // A message goes out whole at once: without this Nagle's algorithm holds
   // its last segment for the page's delayed ACK (40 ms).
-  stream_.socket().set_option(tcp::no_delay(true), ignored);
+  tcp().socket().set_option(tcp::no_delay(true), ignored);
+}
+
+beast::tcp_stream& HttpSession::tcp() {
+  return std::visit([](auto& s) -> beast::tcp_stream& { return beast::get_lowest_layer(s); },
+                    stream_);
+}
+
+std::string HttpSession::cookie(const std::string& token) const {
+  return std::string(kCookie) + "=" + token + "; Path=/; HttpOnly; SameSite=Strict" +
+         (server_->tls ? "; Secure" : "");
+}
+
+void HttpSession::run() {
+  auto* tls = std::get_if<TlsStream>(&stream_);
+  if (!tls) return read();
+  // Bounded as a request: a client that never finishes its hello goes.
+  tcp().expires_after(kTlsHandshakeTimeout);
+  tls->async_handshake(asio::ssl::stream_base::server,
+                       [self = shared_from_this()](beast::error_code ec) {
+                         if (!ec) return self->read();
+                         // Plain HTTP, an old protocol, a timeout: no answer.
+                         self->server_->count([](WebCounters& c) { ++c.tls_failed; });
+                         self->close();
+                       });
 }
 
 HttpSession::~HttpSession() { server_->connections.erase(this); }
@@ -40,8 +69,10 @@ HttpSession::~HttpSession() { server_->connections.erase(this); }
 void HttpSession::close() {
   beast::error_code ignored;
   reply_timer_.cancel();
-  stream_.socket().shutdown(tcp::socket::shutdown_both, ignored);
-  stream_.close();
+  // The socket, without TLS close_notify: a peer that does not read would
+  // hold it (the browser takes a closed connection as the end).
+  tcp().socket().shutdown(tcp::socket::shutdown_both, ignored);
+  tcp().close();
 }
 
 void HttpSession::read() {
@@ -49,10 +80,14 @@ void HttpSession::read() {
   parser_->header_limit(kMaxHeader);
   parser_->body_limit(kMaxCommandBody);
   req_ = {};
-  stream_.expires_after(kReadTimeout);
-  http::async_read(
-      stream_, buffer_, *parser_,
-      [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
+  tcp().expires_after(kReadTimeout);
+  std::visit(
+      [this](auto& s) {
+        http::async_read(
+            s, buffer_, *parser_,
+            [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
+      },
+      stream_);
 }
 
 void HttpSession::on_read(beast::error_code ec) {
@@ -82,12 +117,16 @@ void HttpSession::send(http::response<http::string_body> res) {
   res.keep_alive(req_.keep_alive());
   res.prepare_payload();
   auto sp = std::make_shared<http::response<http::string_body>>(std::move(res));
-  stream_.expires_after(kReadTimeout);
-  http::async_write(stream_, *sp,
-                    [self = shared_from_this(), sp](beast::error_code ec, std::size_t) {
-                      if (ec || !sp->keep_alive()) return self->close();
-                      self->read();
-                    });
+  tcp().expires_after(kReadTimeout);
+  std::visit(
+      [this, &sp](auto& s) {
+        http::async_write(s, *sp,
+                          [self = shared_from_this(), sp](beast::error_code ec, std::size_t) {
+                            if (ec || !sp->keep_alive()) return self->close();
+                            self->read();
+                          });
+      },
+      stream_);
 }
 
 void HttpSession::send_json(http::status status, std::string json) {
@@ -124,7 +163,9 @@ bool HttpSession::check_host() {
 }
 
 bool HttpSession::check_origin() {
-  if (same_origin(sv(req_[http::field::origin]), sv(req_[http::field::host]), false)) return true;
+  if (same_origin(sv(req_[http::field::origin]), sv(req_[http::field::host]),
+                  server_->tls.has_value()))
+    return true;
   server_->count([](WebCounters& c) { ++c.bad_origin; });
   refuse(http::status::forbidden, "another origin (or none): refused");
   return false;
@@ -159,8 +200,7 @@ void HttpSession::handle_api(const std::string& target) {
       // cell_config.cpp); it still carries the CSRF token.
       auto [token, csrf] = server_->sessions.open(now);
       http::response<http::string_body> res{http::status::ok, req_.version()};
-      res.set(http::field::set_cookie,
-              std::string(kCookie) + "=" + token + "; Path=/; HttpOnly; SameSite=Strict");
+      res.set(http::field::set_cookie, cookie(token));
       res.set(http::field::content_type, "application/json");
       res.body() = R"({"session":true,"csrf":")" + csrf + R"(","login":"none"})";
       return send(std::move(res));
@@ -187,8 +227,7 @@ void HttpSession::handle_api(const std::string& target) {
     server_->count([](WebCounters& c) { ++c.logins; });
     auto [token, csrf] = server_->sessions.open(now);
     http::response<http::string_body> res{http::status::ok, req_.version()};
-    res.set(http::field::set_cookie,
-            std::string(kCookie) + "=" + token + "; Path=/; HttpOnly; SameSite=Strict");
+    res.set(http::field::set_cookie, cookie(token));
     res.set(http::field::content_type, "application/json");
     res.body() = R"({"session":true,"csrf":")" + csrf + R"("})";
     return send(std::move(res));

@@ -6,9 +6,12 @@
 #include <utility>
 // clang-format off: <utility> first
 #include <boost/asio.hpp>
+#include <boost/asio/ssl.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
 #include <boost/beast/websocket.hpp>
+#include <boost/beast/websocket/ssl.hpp>
 // clang-format on
 #include <chrono>
 #include <deque>
@@ -18,6 +21,7 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <variant>
 #include <vector>
 
 #include "plc/hmi/web/web_auth.hpp"
@@ -31,6 +35,12 @@ namespace http = beast::http;
 namespace websocket = beast::websocket;
 using tcp = asio::ip::tcp;
 using Message = std::shared_ptr<const std::string>;
+// A connection is plain TCP or, with hmi: web: tls:, TLS over it: one
+// server serves one of them only (no plain request reaches a TLS server).
+using PlainStream = beast::tcp_stream;
+using TlsStream = beast::ssl_stream<beast::tcp_stream>;
+using Stream = std::variant<PlainStream, TlsStream>;
+using WsStream = std::variant<websocket::stream<PlainStream>, websocket::stream<TlsStream>>;
 
 inline std::string_view sv(beast::string_view s) { return {s.data(), s.size()}; }
 
@@ -39,6 +49,7 @@ inline constexpr std::size_t kMaxBacklog = 256;
 inline constexpr std::size_t kMaxWsIn = 1024;
 inline constexpr std::size_t kAlarmHistory = 200;
 inline constexpr auto kReplyTimeout = std::chrono::seconds(5);
+inline constexpr auto kTlsHandshakeTimeout = std::chrono::seconds(10);
 
 class HttpSession;
 class WsSession;
@@ -51,6 +62,7 @@ struct WebServer::Impl {
 
   Bridge& bridge;
   WebOptions opt;
+  std::optional<asio::ssl::context> tls;  // hmi: web: tls: (outlives the sessions, ~Impl)
   std::unique_ptr<asio::io_context> io = std::make_unique<asio::io_context>(1);
   std::optional<tcp::acceptor> acceptor;
   std::thread thread;
@@ -119,7 +131,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
   HttpSession(WebServer::Impl* server, tcp::socket socket);
   ~HttpSession();
-  void run() { read(); }
+  void run();  // the TLS handshake first, with tls
   void close();
   // The bridge's answer to this connection's command (or the timeout's).
   void answer(http::status status, std::string json);
@@ -136,9 +148,12 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   const Session* session();
   bool check_host();
   bool check_origin();
+  beast::tcp_stream& tcp();
+  // "; Secure" with TLS: the browser sends the cookie over HTTPS only.
+  std::string cookie(const std::string& token) const;
 
   WebServer::Impl* server_;
-  beast::tcp_stream stream_;
+  Stream stream_;
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
   http::request<http::string_body> req_;
@@ -150,7 +165,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 // a bounded queue.
 class WsSession : public std::enable_shared_from_this<WsSession> {
  public:
-  WsSession(WebServer::Impl* server, beast::tcp_stream stream);
+  WsSession(WebServer::Impl* server, Stream&& stream);
   void accept(http::request<http::string_body> req);
   void send(const Message& m);
   void close();
@@ -158,9 +173,10 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
  private:
   void read();
   void write();
+  beast::tcp_stream& tcp();
 
   WebServer::Impl* server_;
-  websocket::stream<beast::tcp_stream> ws_;
+  WsStream ws_;
   beast::flat_buffer in_;
   std::deque<Message> queue_;
   std::size_t queued_bytes_ = 0;

@@ -1,7 +1,9 @@
 #include "plc/hmi/web/web_server.hpp"
 
+#include <openssl/crypto.h>
 #include <pthread.h>
 
+#include <cstring>
 #include <stdexcept>
 
 #include "plc/hmi/web/json.hpp"
@@ -48,6 +50,7 @@ std::string WebServer::Impl::counters_json() const {
     out += ',';
   };
   f("connections", c.connections);
+  f("tls_failed", c.tls_failed);
   f("refused_connections", c.refused_connections);
   f("pages", c.pages);
   f("sent", c.sent);
@@ -204,6 +207,29 @@ void WebServer::on_reply(const softplc_hmi::reply_t& r) {
 
 // ---------------------------------------------------------------- WebServer
 
+namespace {
+
+std::string bounded(const char* s, std::size_t cap) { return std::string(s, strnlen(s, cap)); }
+
+}  // namespace
+
+WebOptions web_options(const ipc::Settings& settings) {
+  WebOptions o;
+  o.address = bounded(settings.web_address, sizeof settings.web_address);
+  o.port = settings.web_port;
+  o.read_only = settings.web_read_only != 0;
+  o.login = ipc::WebLogin(settings.web_login);
+  o.password_hash = bounded(settings.web_password_hash, sizeof settings.web_password_hash);
+  if (settings.has_key) {
+    Key k;
+    std::memcpy(k.data(), settings.key, k.size());
+    o.key = k;
+  }
+  o.tls_cert_pem = bounded(settings.web_tls_cert, sizeof settings.web_tls_cert);
+  o.tls_key_pem = bounded(settings.web_tls_key, sizeof settings.web_tls_key);
+  return o;
+}
+
 WebServer::WebServer(Bridge& bridge, WebOptions options)
     : impl_(std::make_unique<Impl>(bridge, std::move(options))) {
   Impl& s = *impl_;
@@ -219,6 +245,23 @@ WebServer::WebServer(Bridge& bridge, WebOptions options)
   if (!ec) s.acceptor->bind(ep, ec);
   if (!ec) s.acceptor->listen(asio::socket_base::max_listen_connections, ec);
   if (ec) throw std::runtime_error(where + ec.message());
+  if (!s.opt.tls_cert_pem.empty() || !s.opt.tls_key_pem.empty()) {
+    // TLS 1.2 at least (no SSLv3, TLS 1.0, 1.1); the certificate and key as
+    // plcrun read them (hmi: web: tls:), from memory: plchmi opens no file.
+    namespace ssl = asio::ssl;
+    s.tls.emplace(ssl::context::tls_server);
+    s.tls->set_options(ssl::context::default_workarounds | ssl::context::no_sslv2 |
+                       ssl::context::no_sslv3 | ssl::context::no_tlsv1 | ssl::context::no_tlsv1_1 |
+                       ssl::context::single_dh_use);
+    if (SSL_CTX_set_min_proto_version(s.tls->native_handle(), TLS1_2_VERSION) != 1)
+      throw std::runtime_error("hmi: web: tls: cannot require TLS 1.2");
+    s.tls->use_certificate_chain(asio::buffer(s.opt.tls_cert_pem), ec);
+    if (ec) throw std::runtime_error("hmi: web: tls: the certificate: " + ec.message());
+    s.tls->use_private_key(asio::buffer(s.opt.tls_key_pem), ssl::context::pem, ec);
+    if (ec) throw std::runtime_error("hmi: web: tls: the private key: " + ec.message());
+    OPENSSL_cleanse(s.opt.tls_key_pem.data(), s.opt.tls_key_pem.size());
+    s.opt.tls_key_pem.clear();
+  }
   s.port = s.acceptor->local_endpoint().port();
   s.hosts = allowed_hosts(s.opt.address, s.port);
 }

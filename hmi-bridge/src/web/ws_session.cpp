@@ -6,37 +6,59 @@
 
 namespace plc::hmi::web {
 
-WsSession::WsSession(WebServer::Impl* server, beast::tcp_stream stream)
-    : server_(server), ws_(std::move(stream)) {}
+namespace {
+
+WsStream make_ws(Stream&& s) {
+  if (auto* plain = std::get_if<PlainStream>(&s))
+    return WsStream(std::in_place_index<0>, std::move(*plain));
+  return WsStream(std::in_place_index<1>, std::move(std::get<TlsStream>(s)));
+}
+
+}  // namespace
+
+WsSession::WsSession(WebServer::Impl* server, Stream&& stream)
+    : server_(server), ws_(make_ws(std::move(stream))) {}
+
+beast::tcp_stream& WsSession::tcp() {
+  return std::visit([](auto& w) -> beast::tcp_stream& { return beast::get_lowest_layer(w); }, ws_);
+}
 
 void WsSession::accept(http::request<http::string_body> req) {
-  beast::get_lowest_layer(ws_).expires_never();  // the WebSocket's own timeouts from here
+  tcp().expires_never();  // the WebSocket's own timeouts from here
   websocket::stream_base::timeout t{};
   t.handshake_timeout = std::chrono::seconds(10);
   t.idle_timeout = std::chrono::seconds(20);  // a page that answers no ping goes
   t.keep_alive_pings = true;
-  ws_.set_option(t);
-  ws_.read_message_max(kMaxWsIn);
-  ws_.set_option(websocket::stream_base::decorator(
-      [](websocket::response_type& res) { res.set(http::field::server, "plchmi"); }));
-  ws_.async_accept(req, [self = shared_from_this()](beast::error_code ec) {
-    if (ec) return;
-    self->open_ = true;
-    self->server_->open_page(self);
-    self->read();
-  });
+  std::visit(
+      [&](auto& ws) {
+        ws.set_option(t);
+        ws.read_message_max(kMaxWsIn);
+        ws.set_option(websocket::stream_base::decorator(
+            [](websocket::response_type& res) { res.set(http::field::server, "plchmi"); }));
+        ws.async_accept(req, [self = shared_from_this()](beast::error_code ec) {
+          if (ec) return;
+          self->open_ = true;
+          self->server_->open_page(self);
+          self->read();
+        });
+      },
+      ws_);
 }
 
 void WsSession::read() {
-  ws_.async_read(in_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
-    if (ec) {
-      if (ec == websocket::error::message_too_big)
-        self->server_->count([](WebCounters& c) { ++c.too_large; });
-      return self->close();
-    }
-    self->in_.clear();  // the page has nothing to say: read only to see it close
-    self->read();
-  });
+  std::visit(
+      [this](auto& ws) {
+        ws.async_read(in_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+          if (ec) {
+            if (ec == websocket::error::message_too_big)
+              self->server_->count([](WebCounters& c) { ++c.too_large; });
+            return self->close();
+          }
+          self->in_.clear();  // the page has nothing to say: read only to see it close
+          self->read();
+        });
+      },
+      ws_);
 }
 
 void WsSession::send(const Message& m) {
@@ -56,16 +78,20 @@ void WsSession::send(const Message& m) {
 
 void WsSession::write() {
   writing_ = true;
-  ws_.text(true);
-  ws_.async_write(asio::buffer(*queue_.front()),
-                  [self = shared_from_this()](beast::error_code ec, std::size_t) {
-                    self->writing_ = false;
-                    if (ec || self->closed_) return self->close();
-                    self->server_->count([](WebCounters& c) { ++c.sent; });
-                    self->queued_bytes_ -= self->queue_.front()->size();
-                    self->queue_.pop_front();
-                    if (!self->queue_.empty()) self->write();
-                  });
+  std::visit(
+      [this](auto& ws) {
+        ws.text(true);
+        ws.async_write(asio::buffer(*queue_.front()),
+                       [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                         self->writing_ = false;
+                         if (ec || self->closed_) return self->close();
+                         self->server_->count([](WebCounters& c) { ++c.sent; });
+                         self->queued_bytes_ -= self->queue_.front()->size();
+                         self->queue_.pop_front();
+                         if (!self->queue_.empty()) self->write();
+                       });
+      },
+      ws_);
 }
 
 void WsSession::close() {
@@ -76,8 +102,8 @@ void WsSession::close() {
   // The socket, not a close handshake: a page that does not read would
   // never complete one.
   beast::error_code ignored;
-  beast::get_lowest_layer(ws_).socket().shutdown(tcp::socket::shutdown_both, ignored);
-  beast::get_lowest_layer(ws_).close();
+  tcp().socket().shutdown(tcp::socket::shutdown_both, ignored);
+  tcp().close();
   server_->pages.erase(shared_from_this());
   server_->count([n = server_->pages.size()](WebCounters& c) { c.pages = n; });
 }

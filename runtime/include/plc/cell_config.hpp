@@ -135,6 +135,11 @@ struct WebConfig {
   // hex digits are the password), or a password hash
   // "pbkdf2-sha256$ITERATIONS$SALT_HEX$HASH_HEX" (plchmi --hash-password).
   Item<std::string> login;
+  // tls: {cert, key}: HTTPS and WSS only, with this PEM certificate (chain)
+  // and private key; as written and resolved against the config's folder.
+  bool tls = false;
+  Item<std::string> tls_cert, tls_key;
+  std::string tls_cert_path, tls_key_path;
   Mark mark;
 };
 

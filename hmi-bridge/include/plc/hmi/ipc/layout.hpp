@@ -29,7 +29,7 @@ namespace plc::hmi::ipc {
 
 inline constexpr std::uint32_t kStateMagic = 0x53484c50;    // "PLHS"
 inline constexpr std::uint32_t kControlMagic = 0x43484c50;  // "PLHC"
-inline constexpr std::uint32_t kVersion = 3;
+inline constexpr std::uint32_t kVersion = 4;
 inline constexpr std::size_t kMaxSlots = 64;  // tasks with published variables
 inline constexpr std::uint32_t kCommandCapacity = 32;
 inline constexpr std::uint32_t kReplyCapacity = 16;
@@ -69,6 +69,11 @@ struct StateHeader {
   HostCounters host;
 };
 
+// Bounds of hmi: web: tls: files (with their NUL): a chain of a few
+// certificates, an EC or RSA (up to 4096 bits) key.
+inline constexpr std::size_t kMaxTlsCertPem = 16384;
+inline constexpr std::size_t kMaxTlsKeyPem = 4096;
+
 // The hmi: settings plchmi needs; strings NUL-terminated.
 struct Settings {
   char url[256] = {};
@@ -86,6 +91,11 @@ struct Settings {
   std::uint8_t web_login = 0;  // WebLogin
   char web_address[64] = {};
   char web_password_hash[256] = {};  // web_login == Hash
+  // hmi: web: tls: the PEM texts plcrun read and checked (tls_files.hpp);
+  // web_tls_cert[0] == 0: plain HTTP. In the state region, which only
+  // plcrun and plchmi map (a memfd, as the HMI key above).
+  char web_tls_cert[kMaxTlsCertPem] = {};
+  char web_tls_key[kMaxTlsKeyPem] = {};
 };
 
 enum class WebLogin : std::uint8_t { None = 0, Key = 1, Hash = 2 };

@@ -33,14 +33,22 @@ struct WebOptions {
   ipc::WebLogin login = ipc::WebLogin::None;
   std::string password_hash;  // login == Hash
   std::optional<Key> key;     // login == Key: its 64 hex digits are the password
+  // hmi: web: tls: PEM texts (plcrun read and checked them); both set:
+  // HTTPS and WSS only, TLS 1.2 at least. Throws "hmi: web: tls: ..." when
+  // OpenSSL does not take them.
+  std::string tls_cert_pem, tls_key_pem;
   std::size_t max_queue_messages = 64;
   std::size_t max_queue_bytes = 4u << 20;
   std::size_t max_connections = 64;
 };
 
+// The options plcrun handed over in the state region (plchmi's main).
+WebOptions web_options(const ipc::Settings& settings);
+
 // What the server did, for the page (stats), the tests and the benchmark.
 struct WebCounters {
   std::uint64_t connections = 0;          // TCP connections accepted
+  std::uint64_t tls_failed = 0;           // TLS handshakes that failed or timed out
   std::uint64_t refused_connections = 0;  // beyond max_connections
   std::uint64_t pages = 0;                // WebSockets open now
   std::uint64_t sent = 0;                 // WebSocket messages written

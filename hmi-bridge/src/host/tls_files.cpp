@@ -1,0 +1,131 @@
+#include "plc/hmi/tls_files.hpp"
+
+#include <fcntl.h>
+#include <openssl/crypto.h>
+#include <openssl/err.h>
+#include <openssl/pem.h>
+#include <openssl/x509.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <memory>
+
+#include "plc/hmi/ipc/layout.hpp"
+
+namespace plc::hmi {
+
+namespace {
+
+struct Fd {
+  int fd;
+  ~Fd() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+std::string octal_mode(mode_t m) {
+  char b[8];
+  std::snprintf(b, sizeof b, "%04o", unsigned(m & 07777));
+  return b;
+}
+
+// The file's text, or "" with `err` set. `secret`: the private key's file,
+// which only its owner may read.
+std::string read_pem(const std::string& path, std::size_t max, bool secret, std::string& err) {
+  const char* what = secret ? "key file '" : "certificate file '";
+  // O_NONBLOCK: a FIFO in its place must not hang the start; what was
+  // opened is what is checked (fstat), so it cannot be swapped in between.
+  Fd f{::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK)};
+  struct stat st {};
+  if (f.fd < 0 || ::fstat(f.fd, &st) != 0) {
+    err = std::string("cannot read ") + what + path + "'";
+    return {};
+  }
+  if (!S_ISREG(st.st_mode)) {
+    err = what + path + "' is not a regular file";
+    return {};
+  }
+  if (secret && (st.st_mode & 077) != 0) {
+    err = what + path + "' is readable or writable by group or others (mode " +
+          octal_mode(st.st_mode) + "): anyone who can read it can pose as this server; chmod 600 " +
+          path;
+    return {};
+  }
+  if (secret && st.st_uid != ::geteuid() && st.st_uid != 0) {
+    err = what + path + "' belongs to uid " + std::to_string(st.st_uid) +
+          ", neither this user (uid " + std::to_string(::geteuid()) +
+          ") nor root: its owner can change its mode";
+    return {};
+  }
+  if (std::size_t(st.st_size) >= max) {
+    err = what + path + "' is " + std::to_string(st.st_size) + " bytes, more than " +
+          std::to_string(max - 1);
+    return {};
+  }
+  std::string text(max, '\0');
+  std::size_t got = 0;
+  for (int i = 0; i < 64 && got < max; ++i) {  // bounded: short reads of a small file
+    const ssize_t n = ::read(f.fd, text.data() + got, max - got);
+    if (n <= 0) break;
+    got += std::size_t(n);
+  }
+  if (got >= max) {  // it grew since fstat
+    OPENSSL_cleanse(text.data(), text.size());
+    err = what + path + "' is more than " + std::to_string(max - 1) + " bytes";
+    return {};
+  }
+  text.resize(got);
+  return text;
+}
+
+struct BioFree {
+  void operator()(BIO* b) const { BIO_free(b); }
+};
+struct X509Free {
+  void operator()(X509* x) const { X509_free(x); }
+};
+struct KeyFree {
+  void operator()(EVP_PKEY* k) const { EVP_PKEY_free(k); }
+};
+
+}  // namespace
+
+std::optional<TlsFiles> load_tls_files(const std::string& cert_path, const std::string& key_path,
+                                       TlsFilesError& err) {
+  TlsFiles t;
+  err = {};
+  t.cert_pem = read_pem(cert_path, ipc::kMaxTlsCertPem, false, err.message);
+  if (!err.message.empty()) return std::nullopt;
+  t.key_pem = read_pem(key_path, ipc::kMaxTlsKeyPem, true, err.message);
+  if (!err.message.empty()) {
+    err.in_key = true;
+    return std::nullopt;
+  }
+  auto fail = [&](bool in_key, std::string m) {
+    OPENSSL_cleanse(t.key_pem.data(), t.key_pem.size());
+    ERR_clear_error();
+    err = {in_key, std::move(m)};
+    return std::nullopt;
+  };
+  std::unique_ptr<BIO, BioFree> cb(BIO_new_mem_buf(t.cert_pem.data(), int(t.cert_pem.size())));
+  std::unique_ptr<X509, X509Free> cert(cb ? PEM_read_bio_X509(cb.get(), nullptr, nullptr, nullptr)
+                                          : nullptr);
+  if (!cert) return fail(false, "certificate file '" + cert_path + "' holds no PEM certificate");
+  std::unique_ptr<BIO, BioFree> kb(BIO_new_mem_buf(t.key_pem.data(), int(t.key_pem.size())));
+  // No passphrase callback: an encrypted key is refused (plcrun starts
+  // unattended).
+  std::unique_ptr<EVP_PKEY, KeyFree> key(
+      kb ? PEM_read_bio_PrivateKey(
+               kb.get(), nullptr, [](char*, int, int, void*) { return 0; }, nullptr)
+         : nullptr);
+  if (!key)
+    return fail(true, "key file '" + key_path +
+                          "' holds no unencrypted PEM private key (openssl req ... -nodes)");
+  if (X509_check_private_key(cert.get(), key.get()) != 1)
+    return fail(true, "key file '" + key_path + "' is not the key of the certificate in '" +
+                          cert_path + "'");
+  return t;
+}
+
+}  // namespace plc::hmi
