@@ -48,6 +48,9 @@ function(plc_precompile_headers)
   add_executable(plc_pch_test EXCLUDE_FROM_ALL ${anchor})
   target_link_libraries(plc_pch_test PRIVATE GTest::gtest)
   target_precompile_headers(plc_pch_test PRIVATE <gtest/gtest.h> ${PLC_PCH_STD_HEADERS})
+  # The header is only used with the options it was built with (clang
+  # refuses an -O1 header in an -O0 file: __OPTIMIZE__).
+  target_compile_options(plc_pch_test PRIVATE ${PLC_GTEST_COMPILE_OPTIONS})
 
   set(dirs ${PROJECT_SOURCE_DIR})
   while(dirs)

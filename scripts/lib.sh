@@ -23,8 +23,11 @@ plc_jobs() { echo "${PLC_JOBS:-$(nproc)}"; }
 # scripts/fuzz (the fuzz targets): clang, everything also instrumented for
 # libFuzzer (fuzzer-no-link), tests/fuzz/ targets as libFuzzer executables.
 # -O1 without NDEBUG (asserts stay on); any sanitizer report is fatal.
+# The gtest executables' own files at -O0 without libFuzzer's coverage
+# (PLC_GTEST_COMPILE_OPTIONS in CMakeLists.txt: CI's build time).
 plc_configure_asan() {
   plc_configure build-asan -DCMAKE_CXX_COMPILER="${PLC_ASAN_CXX:-clang++}" -DPLC_EXCLUDE="" -DPLC_BENCHES=OFF \
+    -DPLC_GTEST_COMPILE_OPTIONS="-O0;-fno-sanitize=fuzzer-no-link" \
     -DPLC_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
     -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
 }
