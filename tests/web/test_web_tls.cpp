@@ -146,7 +146,9 @@ TEST(WebHmiTls, HttpsLoginCommandAndWss) {
   });
   EXPECT_EQ(r.status, 200);
   EXPECT_TRUE(has(r.body, "\"ok\":true")) << r.body;
-  w.round();
+  // Applied at the next scan of its task, some base ticks on (bounded).
+  for (int i = 0; i < 100 && w.h.dbg->read({"Tank.high_level"}).front().text != "4321"; ++i)
+    w.round();
   EXPECT_EQ(w.h.dbg->read({"Tank.high_level"}).front().text, "4321");
   // The page's WebSocket over TLS: its first message is the cell's picture.
   asio::io_context ioc;
