@@ -752,6 +752,15 @@ void Controller::start_cyclic(Device& d, TIME now) {
     for (const IoDataObject& o : d.plan.layout.output.data)
       c_sdu[o.iops_offset()] = iocr::kIoxsGood;
   }
+  // The Ethernet header and FrameID are the AR's (the device's MAC, ours,
+  // the output FrameID): written once, each send writes only the outputs
+  // and the APDU status.
+  CyclicHeader h;
+  h.dst = d.mac;
+  h.src = eth_->mac();
+  h.vlan_tci = kVlanTciPriority6;
+  h.frame_id = d.output_frame_id;
+  d.tx_length = finish_cyclic(d.tx, h, length);
   send_cyclic(d, now);
 }
 
@@ -772,15 +781,9 @@ void Controller::send_cyclic(Device& d, TIME now) {
     put_io_data(c_sdu, u.object,
                 std::span<const std::uint8_t>(d.out).subspan(u.user_offset, u.object.length),
                 iocr::kIoxsGood);
-  CyclicHeader h;
-  h.dst = d.mac;
-  h.src = eth_->mac();
-  h.vlan_tci = kVlanTciPriority6;
-  h.frame_id = d.output_frame_id;
-  h.cycle_counter = d.cycle_counter;
-  h.data_status = data_status::kGood;
-  h.transfer_status = 0;
-  const std::size_t n = finish_cyclic(d.tx, h, length);
+  const std::size_t n = d.tx_length > 0 ? put_cyclic_status(d.tx, length, true, d.cycle_counter,
+                                                            data_status::kGood, 0)
+                                        : 0;
   if (n > 0 && eth_->send(std::span<const std::uint8_t>(d.tx).first(n))) ++d.counters.frames_out;
   d.cycle_counter = static_cast<std::uint16_t>(d.cycle_counter + d.counter_step);
   d.next_send += d.interval;

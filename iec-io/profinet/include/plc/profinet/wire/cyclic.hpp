@@ -110,6 +110,22 @@ std::span<std::uint8_t> cyclic_c_sdu(std::span<std::uint8_t> frame, std::size_t 
                                      bool vlan);
 std::size_t finish_cyclic(std::span<std::uint8_t> frame, const CyclicHeader& h,
                           std::size_t c_sdu_length);
+// The per-frame part of a frame finish_cyclic() built once (its Ethernet
+// header and FrameID stay what they are for the whole AR): writes only the
+// APDU status after the C_SDU. Returns the frame length, 0 when `frame` is
+// too small.
+inline std::size_t put_cyclic_status(std::span<std::uint8_t> frame, std::size_t c_sdu_length,
+                                     bool vlan, std::uint16_t cycle_counter,
+                                     std::uint8_t data_status, std::uint8_t transfer_status) {
+  const std::size_t len = cyclic_frame_length(c_sdu_length, vlan);
+  if (len > frame.size()) return 0;
+  std::uint8_t* p = frame.data() + len - 4;
+  p[0] = static_cast<std::uint8_t>(cycle_counter >> 8);
+  p[1] = static_cast<std::uint8_t>(cycle_counter);
+  p[2] = data_status;
+  p[3] = transfer_status;
+  return len;
+}
 
 // A received cyclic frame; c_sdu views into the caller's buffer.
 struct CyclicView {
