@@ -234,6 +234,14 @@ class MemorySegment {
   std::size_t take(Endpoint& ep, std::span<std::uint8_t> buf, std::chrono::nanoseconds timeout,
                    Extra* extra) {
     if (timeout.count() <= 0 && ep.queued.load(std::memory_order_relaxed) == 0) return 0;
+    return take_queued(ep, buf, timeout, extra);
+  }
+
+ private:
+  // The rest of take(), out of line: most polls find nothing and return
+  // above without paying for this part's frame.
+  [[gnu::noinline]] std::size_t take_queued(Endpoint& ep, std::span<std::uint8_t> buf,
+                                            std::chrono::nanoseconds timeout, Extra* extra) {
     Lock lock(*this);
     auto ready = [&] { return !ep.queue.empty(); };
     if (!ready() && timeout.count() > 0 && !link_down(ep.address) && lock.held().owns_lock()) {
