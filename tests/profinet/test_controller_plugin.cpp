@@ -8,6 +8,7 @@
 
 #include "plc/profinet/controller/profinet_plugin.hpp"
 #include "plc/profinet/device/pn_device.hpp"
+#include "plc/profinet/link/open_link.hpp"
 
 namespace {
 
@@ -104,6 +105,35 @@ TEST(ProfinetPlugin, RealTimeThreadExchangesDataWhileTheScanCopies) {
   EXPECT_NE(d.find("cyclic thread wake-ups"), std::string::npos) << d;
   EXPECT_EQ(plugin.link(0).live_state(), io::DeviceState::Offline) << "released on stop";
   EXPECT_GT(plugin.wake_stats().wakes, 10u);
+}
+
+// Virtual time: the runtime's scan thread steps every plugin, so the
+// plugin declares its mem: link single-threaded (no lock per frame) from
+// start() to stop(); in real time (its cyclic thread) the link keeps its
+// lock.
+TEST(ProfinetPlugin, VirtualTimeDeclaresTheMemoryLinkSingleThreaded) {
+  for (const io::ClockMode mode : {io::ClockMode::Virtual, io::ClockMode::RealTime}) {
+    const bool virtual_time = mode == io::ClockMode::Virtual;
+    ProfinetPlugin plugin;
+    plugin.configure(
+        params({{"interface", "mem:plugin-one-thread"}, {"simulate", "true"}, {"log", "false"}}));
+    plugin.add_device(
+        {"conveyor", "hiwin_e1",
+         params({{"telegram", "111"}, {"station_name", "conveyor"}, {"ip", "192.168.0.10"}})});
+    plugin.start(mode);
+    EXPECT_EQ(memory_ethernet("plugin-one-thread").single_threaded(), virtual_time);
+    EXPECT_EQ(memory_udp("plugin-one-thread").single_threaded(), virtual_time);
+    if (virtual_time) {
+      for (int ms = 1; ms <= 200; ++ms) plugin.step(std::chrono::milliseconds(ms), {});
+      EXPECT_EQ(plugin.link(0).live_state(), io::DeviceState::Online) << plugin.diagnostics(0);
+    }
+    plugin.stop();
+    EXPECT_FALSE(memory_ethernet("plugin-one-thread").single_threaded());
+    EXPECT_FALSE(memory_udp("plugin-one-thread").single_threaded());
+    if (virtual_time) {
+      EXPECT_EQ(plugin.link(0).live_state(), io::DeviceState::Offline) << plugin.diagnostics(0);
+    }
+  }
 }
 
 }  // namespace

@@ -236,3 +236,34 @@ TEST(LinkMemoryEthernet, ReceiveWithTimeoutWakesOnAFrameFromAnotherThread) {
   EXPECT_EQ(got, 60u);
   EXPECT_EQ(b->counters().received.load(), 1u);
 }
+
+// Declared single-threaded (a cell in virtual time), the hub takes no lock
+// but keeps its contract: delivery to the others only, the fault hooks, and
+// receive() with a timeout returns at once (nobody else could send).
+TEST(LinkMemoryEthernet, SingleThreadedHubKeepsTheContract) {
+  pn::MemoryEthernet hub;
+  hub.set_single_threaded(true);
+  EXPECT_TRUE(hub.single_threaded());
+  auto a = hub.port(), b = hub.port(), c = hub.port(pn::Mac{}, /*promiscuous=*/false);
+  const auto f = frame(b->mac(), a->mac(), 1);
+  ASSERT_TRUE(a->send(f));
+  EXPECT_EQ(take(*b), f);
+  EXPECT_TRUE(take(*c).empty());  // not its MAC
+  EXPECT_TRUE(take(*a).empty());
+  hub.drop_next(a->mac(), 1);
+  ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 2)));
+  EXPECT_TRUE(take(*b).empty());
+  hub.set_time(5ms);
+  hub.delay_next(a->mac(), 1, 1ms);
+  ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 3)));
+  std::vector<std::uint8_t> buf(pn::kMaxFrameLength);
+  EXPECT_EQ(b->receive(buf, 10s), 0u);  // not yet due; no wait
+  hub.set_time(6ms);
+  ASSERT_EQ(b->receive(buf, 10s), 60u);
+  EXPECT_EQ(buf[16], 3);
+  EXPECT_EQ(hub.frames_carried(), 3u);
+  hub.set_single_threaded(false);
+  EXPECT_FALSE(hub.single_threaded());
+  ASSERT_TRUE(a->send(f));
+  EXPECT_EQ(take(*b), f);
+}

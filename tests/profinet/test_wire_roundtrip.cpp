@@ -357,6 +357,34 @@ TEST(WireCyclic, FrameRoundTripTaggedAndUntagged) {
   EXPECT_EQ(pn::decode_cyclic(dcp, 40, v).error, pn::WireError::BadFrameId);
 }
 
+// A frame built once per AR and sent again and again: put_cyclic_status()
+// rewrites the APDU status (CycleCounter, DataStatus, TransferStatus after
+// the C_SDU, IEC 61158-6-10 §4.7) and nothing else: the frame is byte for
+// byte the one finish_cyclic() builds with that status.
+TEST(WireCyclic, StatusRewrittenInPlaceEqualsAFreshlyFinishedFrame) {
+  for (bool tagged : {false, true}) {
+    std::array<std::uint8_t, 128> once{}, fresh{};
+    pn::CyclicHeader h{pt::kDevMac, pt::kCtrlMac, std::nullopt, 0x8001, 0, 0x35, 0};
+    if (tagged) h.vlan_tci = pn::kVlanTciPriority6;
+    for (std::size_t i = 0; i < 40; ++i)
+      pn::cyclic_c_sdu(once, 40, tagged)[i] = static_cast<std::uint8_t>(0xA0 + i);
+    fresh = once;
+    const std::size_t n = pn::finish_cyclic(once, h, 40);
+    ASSERT_EQ(n, pn::cyclic_frame_length(40, tagged));
+    EXPECT_EQ(pn::put_cyclic_status(once, 40, tagged, 0x1234, 0x15, 0x01), n);
+    h.cycle_counter = 0x1234;
+    h.data_status = 0x15;
+    h.transfer_status = 0x01;
+    ASSERT_EQ(pn::finish_cyclic(fresh, h, 40), n);
+    EXPECT_EQ(once, fresh);
+    EXPECT_EQ(once[n - 4], 0x12);
+    EXPECT_EQ(once[n - 3], 0x34);
+    EXPECT_EQ(once[n - 2], 0x15);
+    EXPECT_EQ(once[n - 1], 0x01);
+    EXPECT_EQ(pn::put_cyclic_status(std::span(once).first(n - 1), 40, tagged, 1, 0x35, 0), 0u);
+  }
+}
+
 // p-net's cycle counter rule: advanced by 1..61440 (mod 2^16).
 TEST(WireCyclic, CycleCounterAdvance) {
   EXPECT_TRUE(pn::cycle_counter_advanced(10, 11));

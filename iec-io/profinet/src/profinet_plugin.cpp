@@ -146,6 +146,12 @@ void ProfinetPlugin::open() {
 void ProfinetPlugin::start(io::ClockMode mode) {
   open();
   mode_ = mode;
+  // Virtual time: the runtime's one scan thread steps every plugin, so the
+  // controller and the simulated devices (and any other plugin's ports on
+  // the same mem: link) are driven by that thread alone: the in-memory link
+  // needs no lock. Real time keeps it (the cyclic thread, stop()'s caller).
+  single_threaded_link_ = mode == io::ClockMode::Virtual && is_memory_link(interface_);
+  if (single_threaded_link_) set_memory_link_single_threaded(interface_, true);
   if (mode == io::ClockMode::RealTime && !running_.exchange(true))
     thread_ = std::thread([this] {
       // Its devices go to Fault (Plugin::fail); without cyclic frames
@@ -158,6 +164,10 @@ void ProfinetPlugin::start(io::ClockMode mode) {
 
 void ProfinetPlugin::stop() {
   if (running_.exchange(false) && thread_.joinable()) thread_.join();
+  // The link locks again from here on: whoever uses it next may be
+  // another thread (the locked path is right for any use).
+  if (single_threaded_link_) set_memory_link_single_threaded(interface_, false);
+  single_threaded_link_ = false;
   // A failed cyclic thread: no release either (what broke it may break it).
   if (!controller_ || !eth_ || failed()) return;
   std::lock_guard<std::mutex> lock(mutex_);

@@ -82,11 +82,16 @@ std::string status_text(const PnioStatus& s) {
 }  // namespace
 
 Controller::Controller(const ControllerConfig& cfg, EthernetPort* eth, UdpPort* udp)
-    : cfg_(cfg), eth_(eth), udp_(udp), rx_(std::max(kMaxFrameLength, kMaxDatagram)) {}
+    : cfg_(cfg),
+      eth_(eth),
+      mac_(eth ? eth->mac() : Mac{}),
+      udp_(udp),
+      rx_(std::max(kMaxFrameLength, kMaxDatagram)) {}
 Controller::~Controller() = default;
 
 void Controller::attach(EthernetPort* eth, UdpPort* udp) {
   eth_ = eth;
+  mac_ = eth ? eth->mac() : Mac{};
   udp_ = udp;
 }
 
@@ -162,8 +167,7 @@ void Controller::on_ethernet(std::span<const std::uint8_t> frame, TIME now) {
     ++unmatched_;
     return;
   }
-  const Mac me = eth_->mac();
-  if (v.dst != me) return;  // not ours (a hub / promiscuous port shows all traffic)
+  if (v.dst != mac_) return;  // not ours (a hub / promiscuous port shows all traffic)
   if (is_rt_class1(v.frame_id)) {
     for (auto& dp : devices_) {
       Device& d = *dp;
@@ -281,7 +285,7 @@ void Controller::on_alarm(Device& d, std::uint16_t frame_id, std::span<const std
   const bool repeat = p.header.send_seq == ch.rx_seq;  // our ACK got lost: ACK again only
   if (!repeat && p.header.send_seq != rta::next_seq(ch.rx_seq))
     return bad(d.counters, BadFrame::Decode);
-  const auto ack_frame = encode_rta_ack(d.mac, eth_->mac(), high, ack);
+  const auto ack_frame = encode_rta_ack(d.mac, mac_, high, ack);
   eth_->send(ack_frame);
   if (repeat || !p.notification) return;
   ch.rx_seq = p.header.send_seq;
@@ -312,7 +316,7 @@ void Controller::on_alarm(Device& d, std::uint16_t frame_id, std::span<const std
   ch.send_seq = rta::next_seq(ch.send_seq);
   h.send_seq = ch.send_seq;
   h.ack_seq = ch.rx_seq;
-  ch.ack_frame = encode_alarm_ack(d.mac, eth_->mac(), h, ack_for(n));
+  ch.ack_frame = encode_alarm_ack(d.mac, mac_, h, ack_for(n));
   ch.ack_pending = true;
   ch.ack_tries = 1;
   ch.ack_deadline =
@@ -624,7 +628,7 @@ void Controller::identify(Device& d, TIME now) {
   d.state = ArState::Identifying;
   d.xid = 0x50C00000u | (static_cast<std::uint32_t>(d.index) << 12) | ((d.xid + 1) & 0xFFF);
   d.deadline = now + cfg_.dcp_timeout;
-  eth_->send(encode_dcp_identify_request(eth_->mac(), d.xid, d.cfg.desc.station_name, 1));
+  eth_->send(encode_dcp_identify_request(mac_, d.xid, d.cfg.desc.station_name, 1));
 }
 
 void Controller::dcp_set(Device& d, TIME now, bool name) {
@@ -641,12 +645,12 @@ void Controller::dcp_set(Device& d, TIME now, bool name) {
   r.permanent = true;
   const Mac to = name ? d.cfg.mac : d.mac;
   if (name) d.mac = d.cfg.mac;
-  eth_->send(encode_dcp_set_request(to, eth_->mac(), d.xid, r));
+  eth_->send(encode_dcp_set_request(to, mac_, d.xid, r));
 }
 
 void Controller::connect(Device& d, TIME now) {
   const std::uint32_t n = next_ar_++;
-  const Mac me = eth_->mac();
+  const Mac me = mac_;
   std::uint64_t hi = 0;
   for (auto b : me) hi = (hi << 8) | b;
   d.ar_uuid = make_uuid_v4(hi << 16 | d.index, n);
@@ -752,6 +756,15 @@ void Controller::start_cyclic(Device& d, TIME now) {
     for (const IoDataObject& o : d.plan.layout.output.data)
       c_sdu[o.iops_offset()] = iocr::kIoxsGood;
   }
+  // The Ethernet header and FrameID are the AR's (the device's MAC, ours,
+  // the output FrameID): written once, each send writes only the outputs
+  // and the APDU status.
+  CyclicHeader h;
+  h.dst = d.mac;
+  h.src = mac_;
+  h.vlan_tci = kVlanTciPriority6;
+  h.frame_id = d.output_frame_id;
+  d.tx_length = finish_cyclic(d.tx, h, length);
   send_cyclic(d, now);
 }
 
@@ -772,15 +785,9 @@ void Controller::send_cyclic(Device& d, TIME now) {
     put_io_data(c_sdu, u.object,
                 std::span<const std::uint8_t>(d.out).subspan(u.user_offset, u.object.length),
                 iocr::kIoxsGood);
-  CyclicHeader h;
-  h.dst = d.mac;
-  h.src = eth_->mac();
-  h.vlan_tci = kVlanTciPriority6;
-  h.frame_id = d.output_frame_id;
-  h.cycle_counter = d.cycle_counter;
-  h.data_status = data_status::kGood;
-  h.transfer_status = 0;
-  const std::size_t n = finish_cyclic(d.tx, h, length);
+  const std::size_t n = d.tx_length > 0 ? put_cyclic_status(d.tx, length, true, d.cycle_counter,
+                                                            data_status::kGood, 0)
+                                        : 0;
   if (n > 0 && eth_->send(std::span<const std::uint8_t>(d.tx).first(n))) ++d.counters.frames_out;
   d.cycle_counter = static_cast<std::uint16_t>(d.cycle_counter + d.counter_step);
   d.next_send += d.interval;

@@ -48,6 +48,7 @@ struct Controller::Device {
   TIME next_send{0};
   std::uint16_t cycle_counter = 0;
   std::vector<std::uint8_t> tx;  // one output frame, its C_SDU kept in place between sends
+  std::size_t tx_length = 0;     // its length once its header is written (0: cannot be built)
   bool rx_seen = false;
   TIME last_input{0};
   std::uint16_t last_rx_counter = 0;

@@ -123,6 +123,11 @@ struct PnDevice::Ar {
   nanoseconds startup_deadline{0};
   std::vector<std::uint8_t> in_iops;  // per input data object
   std::vector<std::uint8_t> in_iocs;  // per input IOCS slot
+  // Our input frame in tx_, built once per AR (build_cyclic_frame()): its
+  // length (0: it cannot be built), where the model's inputs go in it.
+  bool tx_built = false;
+  std::size_t tx_length = 0;
+  std::size_t model_in_at = 0, model_in_bytes = 0;
   int model_in = -1, model_out = -1;  // index into the layouts' data objects
   bool model_out_proper = false;
   bool app_ready_done = false, got_output = false;
@@ -739,11 +744,11 @@ void PnDevice::step_model(nanoseconds now) {
   last_step_ = now;
 }
 
-void PnDevice::send_cyclic(nanoseconds now) {
-  Ar& ar = *ar_;
-  if (now < ar.next_send) return;
-  step_model(now);
-  // Built in place in the frame: zeros, then each data object and IOCS.
+// The frame's fixed part, the same for every frame of the AR: header and
+// FrameID, zeros, each data object's IOPS and each IOCS; and where the
+// model's inputs go.
+void PnDevice::build_cyclic_frame(Ar& ar) {
+  ar.tx_built = true;
   const std::size_t length = ar.in_layout.c_sdu_length;
   const std::span<std::uint8_t> c_sdu = cyclic_c_sdu(tx_, length, cfg_.vlan_tag);
   std::fill(c_sdu.begin(), c_sdu.end(), std::uint8_t{0});
@@ -752,9 +757,10 @@ void PnDevice::send_cyclic(nanoseconds now) {
   for (std::size_t i = 0; i < ar.in_layout.data.size(); ++i) {
     const IoDataObject& o = ar.in_layout.data[i];
     if (std::size_t{o.offset} + o.length + 1 > c_sdu.size()) continue;
-    if (static_cast<int>(i) == ar.model_in && !to_plc_.empty())
-      std::memcpy(c_sdu.data() + o.offset, to_plc_.data(),
-                  std::min<std::size_t>(to_plc_.size(), o.length));
+    if (static_cast<int>(i) == ar.model_in && !to_plc_.empty()) {
+      ar.model_in_at = static_cast<std::size_t>(c_sdu.data() - tx_.data()) + o.offset;
+      ar.model_in_bytes = std::min<std::size_t>(to_plc_.size(), o.length);
+    }
     c_sdu[o.iops_offset()] = ar.in_iops[i];
   }
   for (std::size_t i = 0; i < ar.in_layout.iocs.size() && !c_sdu.empty(); ++i)
@@ -764,10 +770,22 @@ void PnDevice::send_cyclic(nanoseconds now) {
   h.src = mac_;
   h.frame_id = ar.in_frame_id;
   if (cfg_.vlan_tag) h.vlan_tci = kVlanTciPriority6;
+  ar.tx_length = finish_cyclic(tx_, h, length);
+}
+
+void PnDevice::send_cyclic(nanoseconds now) {
+  Ar& ar = *ar_;
+  if (now < ar.next_send) return;
+  step_model(now);
+  if (!ar.tx_built) build_cyclic_frame(ar);
+  // From frame to frame only the model's inputs and the APDU status change.
+  if (ar.model_in_bytes > 0)
+    std::memcpy(tx_.data() + ar.model_in_at, to_plc_.data(), ar.model_in_bytes);
   ar.cycle_counter = static_cast<std::uint16_t>(ar.cycle_counter + ar.counter_step);
-  h.cycle_counter = ar.cycle_counter;
-  h.data_status = data_status::kGood;
-  const std::size_t n = finish_cyclic(tx_, h, length);
+  const std::size_t n = ar.tx_length > 0
+                            ? put_cyclic_status(tx_, ar.in_layout.c_sdu_length, cfg_.vlan_tag,
+                                                ar.cycle_counter, data_status::kGood, 0)
+                            : 0;
   // Never burst: a late poll sends one frame and resumes the grid.
   ar.next_send += ar.interval;
   if (ar.next_send <= now) ar.next_send = now + ar.interval;

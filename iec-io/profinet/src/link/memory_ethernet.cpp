@@ -107,6 +107,12 @@ void MemoryEthernet::delay_next(const Mac& from, int n, std::chrono::nanoseconds
   impl_->delay_next(from, n, d);
 }
 void MemoryEthernet::set_link_up(const Mac& port, bool up) { impl_->set_down(port, !up); }
+void MemoryEthernet::set_single_threaded(bool yes) {
+  impl_->single_threaded.store(yes, std::memory_order_relaxed);
+}
+bool MemoryEthernet::single_threaded() const {
+  return impl_->single_threaded.load(std::memory_order_relaxed);
+}
 void MemoryEthernet::set_time(std::chrono::nanoseconds now) { impl_->set_time(now); }
 std::chrono::nanoseconds MemoryEthernet::time() const { return impl_->time(); }
 std::uint64_t MemoryEthernet::frames_carried() const { return impl_->carried_count(); }

@@ -8,6 +8,12 @@
 // take(); the queues are rings of buffer numbers (message_ring.hpp). Pool
 // and rings only grow past the most messages ever in flight at once, so a
 // steady exchange of frames allocates nothing.
+//
+// Threads: a mutex guards everything, unless the segment's owner declared
+// it single-threaded (set_single_threaded(), e.g. the profinet plugin of a
+// cell in virtual time, whose scan thread drives every port): then no lock
+// is taken, and take() does not wait (no other thread could send what it
+// would wait for).
 #pragma once
 
 #include <algorithm>
@@ -60,8 +66,23 @@ class MemorySegment {
     std::chrono::nanoseconds due{0};
   };
 
+  // The segment's lock: the mutex, or nothing when single-threaded.
+  class Lock {
+   public:
+    explicit Lock(MemorySegment& s) : lock_(s.mutex, std::defer_lock) {
+      if (!s.single_threaded.load(std::memory_order_relaxed)) lock_.lock();
+    }
+    std::unique_lock<std::mutex>& held() { return lock_; }
+
+   private:
+    std::unique_lock<std::mutex> lock_;
+  };
+
   std::mutex mutex;
   std::condition_variable arrived;
+  // Declared by the segment's owner while no other thread uses the segment;
+  // atomic only so that reading it is no data race while it is false.
+  std::atomic<bool> single_threaded{false};
   std::map<std::uint64_t, Endpoint> endpoints;  // by endpoint key; nodes stay where they are
   // The same in key order, for send() to go through without walking the tree.
   std::vector<std::pair<std::uint64_t, Endpoint*>> receivers;
@@ -112,7 +133,7 @@ class MemorySegment {
             const Extra& extra, Accept to) {
     bool wake = false;
     {
-      std::lock_guard lock(mutex);
+      Lock lock(*this);
       if (link_down(from)) return false;
       ++carried;
       std::chrono::nanoseconds due{0};
@@ -136,25 +157,25 @@ class MemorySegment {
     return true;
   }
   void drop_next(const Sender& s, int n) {
-    std::lock_guard lock(mutex);
+    Lock lock(*this);
     faults[s].drop = n;
   }
   void delay_next(const Sender& s, int n, std::chrono::nanoseconds d) {
-    std::lock_guard lock(mutex);
+    Lock lock(*this);
     faults[s].delay = n;
     faults[s].delay_by = d;
   }
   std::chrono::nanoseconds time() {
-    std::lock_guard lock(mutex);
+    Lock lock(*this);
     return now;
   }
   std::uint64_t carried_count() {
-    std::lock_guard lock(mutex);
+    Lock lock(*this);
     return carried;
   }
   void set_down(const Sender& s, bool down) {
     {
-      std::lock_guard lock(mutex);
+      Lock lock(*this);
       faults[s].down = down;
     }
     arrived.notify_all();
@@ -175,7 +196,7 @@ class MemorySegment {
   }
   void set_time(std::chrono::nanoseconds t) {
     {
-      std::lock_guard lock(mutex);
+      Lock lock(*this);
       now = t;
       release_due();
     }
@@ -213,11 +234,19 @@ class MemorySegment {
   std::size_t take(Endpoint& ep, std::span<std::uint8_t> buf, std::chrono::nanoseconds timeout,
                    Extra* extra) {
     if (timeout.count() <= 0 && ep.queued.load(std::memory_order_relaxed) == 0) return 0;
-    std::unique_lock lock(mutex);
+    return take_queued(ep, buf, timeout, extra);
+  }
+
+ private:
+  // The rest of take(), out of line: most polls find nothing and return
+  // above without paying for this part's frame.
+  [[gnu::noinline]] std::size_t take_queued(Endpoint& ep, std::span<std::uint8_t> buf,
+                                            std::chrono::nanoseconds timeout, Extra* extra) {
+    Lock lock(*this);
     auto ready = [&] { return !ep.queue.empty(); };
-    if (!ready() && timeout.count() > 0 && !link_down(ep.address)) {
+    if (!ready() && timeout.count() > 0 && !link_down(ep.address) && lock.held().owns_lock()) {
       ++waiting;
-      arrived.wait_for(lock, timeout, ready);
+      arrived.wait_for(lock.held(), timeout, ready);
       --waiting;
     }
     if (link_down(ep.address)) drain(ep);

@@ -52,7 +52,7 @@ class MemoryUdpPort final : public UdpPort {
     const std::uint64_t exact = key_of(ip, port), any = key_of(Ipv4{}, port);
     bool has_exact = false;
     {
-      std::lock_guard lock(net_->mutex);
+      Seg::Lock lock(*net_);
       has_exact = net_->endpoints.count(exact) != 0;
     }
     const std::uint64_t target = has_exact ? exact : any;
@@ -94,6 +94,12 @@ void MemoryUdp::delay_next(Ipv4 from, int n, std::chrono::nanoseconds d) {
   impl_->delay_next(from, n, d);
 }
 void MemoryUdp::set_link_up(Ipv4 port, bool up) { impl_->set_down(port, !up); }
+void MemoryUdp::set_single_threaded(bool yes) {
+  impl_->single_threaded.store(yes, std::memory_order_relaxed);
+}
+bool MemoryUdp::single_threaded() const {
+  return impl_->single_threaded.load(std::memory_order_relaxed);
+}
 void MemoryUdp::set_time(std::chrono::nanoseconds now) { impl_->set_time(now); }
 std::chrono::nanoseconds MemoryUdp::time() const { return impl_->time(); }
 std::uint64_t MemoryUdp::datagrams_carried() const { return impl_->carried_count(); }

@@ -42,6 +42,13 @@ MemoryUdp memory_udp(const std::string& name) {
   return r.networks[name];
 }
 
+void set_memory_link_single_threaded(const std::string& spec, bool yes) {
+  if (!is_memory_link(spec)) return;
+  const std::string name = memory_name(spec);
+  memory_ethernet(name).set_single_threaded(yes);
+  memory_udp(name).set_single_threaded(yes);
+}
+
 void forget_memory_link(const std::string& name) {
   auto& r = registry();
   std::lock_guard lock(r.mutex);

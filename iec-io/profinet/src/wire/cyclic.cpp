@@ -227,24 +227,4 @@ WireStatus decode_cyclic(const PnFrameView& v, std::size_t c_sdu_length, CyclicV
   return kWireOk;
 }
 
-void put_io_data(std::span<std::uint8_t> c_sdu, const IoDataObject& o,
-                 std::span<const std::uint8_t> data, std::uint8_t iops_value) {
-  if (std::size_t{o.offset} + o.length + 1 > c_sdu.size()) return;
-  const std::size_t n = std::min<std::size_t>(data.size(), o.length);
-  std::copy_n(data.begin(), n, c_sdu.begin() + o.offset);
-  std::fill_n(c_sdu.begin() + o.offset + static_cast<std::ptrdiff_t>(n), o.length - n,
-              std::uint8_t{0});
-  c_sdu[o.iops_offset()] = iops_value;
-}
-
-std::span<const std::uint8_t> io_data(std::span<const std::uint8_t> c_sdu, const IoDataObject& o) {
-  if (std::size_t{o.offset} + o.length + 1 > c_sdu.size()) return {};
-  return c_sdu.subspan(o.offset, o.length);
-}
-
-std::uint8_t iops(std::span<const std::uint8_t> c_sdu, const IoDataObject& o) {
-  if (std::size_t{o.offset} + o.length + 1 > c_sdu.size()) return iocr::kIoxsBad;
-  return c_sdu[o.iops_offset()];
-}
-
 }  // namespace plc::profinet

@@ -1,6 +1,7 @@
 #include "plc/profinet/wire/ethernet.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 namespace plc::profinet {
 
@@ -30,8 +31,8 @@ WireStatus decode_pn_frame(std::span<const std::uint8_t> frame, PnFrameView& out
   }
   out.frame_id = be16(p + at);
   if (type != kEtherTypeProfinet) return wire_fail(WireError::BadEtherType, "not EtherType 0x8892");
-  std::copy_n(p, 6, out.dst.begin());
-  std::copy_n(p + 6, 6, out.src.begin());
+  std::memcpy(out.dst.data(), p, 6);  // two fixed-size moves, not byte loops
+  std::memcpy(out.src.data(), p + 6, 6);
   out.pdu = frame.subspan(at + 2);
   return kWireOk;
 }

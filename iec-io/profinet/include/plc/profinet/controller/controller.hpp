@@ -150,6 +150,7 @@ class Controller {
 
   ControllerConfig cfg_;
   EthernetPort* eth_;
+  Mac mac_{};  // eth_'s, read once (every received frame is checked against it)
   UdpPort* udp_;
   std::vector<std::unique_ptr<Device>> devices_;
   std::vector<std::uint8_t> rx_;  // one frame / datagram

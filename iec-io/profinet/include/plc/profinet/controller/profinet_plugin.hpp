@@ -7,8 +7,9 @@
 // (receive, state machines, the frames due) and sleeps again; a missed
 // deadline is skipped and counted, never made up with a burst. Virtual
 // time: step() runs the controller once per base tick with the virtual
-// clock. The scan only copies staging buffers (latch/publish) under the
-// mutex the controller runs under.
+// clock, and the in-memory link (mem:) is declared single-threaded: no lock
+// per frame. The scan only copies staging buffers (latch/publish) under the
+// mutex the controller runs under (real time).
 //
 // `simulate: true` (mem: links only) hosts a PnDevice with the device's
 // model for every configured device on the same in-memory link, stepped in
@@ -82,6 +83,7 @@ class ProfinetPlugin final : public io::Plugin {
   std::thread thread_;
   std::atomic<bool> running_{false};
   io::ClockMode mode_ = io::ClockMode::Virtual;
+  bool single_threaded_link_ = false;  // we declared the mem: link single-threaded
   TIME last_now_{0};
   WakeStats wake_{};  // under mutex_
 };

@@ -215,6 +215,7 @@ class PnDevice {
   void maybe_enter_data_exchange(std::chrono::nanoseconds now);
   void timers(std::chrono::nanoseconds now);
   void send_cyclic(std::chrono::nanoseconds now);
+  void build_cyclic_frame(Ar& ar);
   void flush_delayed(std::chrono::nanoseconds now);
   void step_model(std::chrono::nanoseconds now);
   void end_ar(ArEnd why, std::chrono::nanoseconds now);

@@ -5,6 +5,14 @@
 // a mutex makes it safe to use from several threads too (receive() with a
 // timeout then waits on a condition variable).
 //
+// set_single_threaded(true) declares that one thread alone uses the hub
+// from now on (every port, every call here), as in a cell in virtual time,
+// whose scan thread steps the controller and the simulated devices: the hub
+// then takes no lock, and receive() does not wait (no other thread could
+// send the frame it waits for). Its owner declares it, and takes it back
+// (false) before another thread may use the hub again; both while no other
+// thread uses it.
+//
 // Fault hooks act on the frames a given port sends: drop the next n, delay
 // the next n by d of the hub's time (set_time(); a delayed frame is
 // delivered once the hub's time reaches its send time + d, in send order),
@@ -40,6 +48,8 @@ class MemoryEthernet {
   void drop_next(const Mac& from, int n);
   void delay_next(const Mac& from, int n, std::chrono::nanoseconds d);
   void set_link_up(const Mac& port, bool up);
+  void set_single_threaded(bool yes);
+  [[nodiscard]] bool single_threaded() const;
   void set_time(std::chrono::nanoseconds now);
   [[nodiscard]] std::chrono::nanoseconds time() const;
   [[nodiscard]] std::uint64_t frames_carried() const;  // frames sent through the hub

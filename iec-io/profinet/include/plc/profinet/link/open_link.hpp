@@ -30,6 +30,10 @@ std::unique_ptr<UdpPort> open_udp(const std::string& spec, Ipv4 ip, std::uint16_
 // The named in-memory links (for fault hooks and virtual time in tests).
 MemoryEthernet memory_ethernet(const std::string& name);
 MemoryUdp memory_udp(const std::string& name);
+// Declares the hub and network of "mem:NAME" used by one thread alone from
+// now on, or no longer (MemoryEthernet::set_single_threaded); nothing for an
+// interface.
+void set_memory_link_single_threaded(const std::string& spec, bool yes);
 // Forgets a name: later openers get a fresh hub and network (ports still
 // open keep the old ones alive).
 void forget_memory_link(const std::string& name);

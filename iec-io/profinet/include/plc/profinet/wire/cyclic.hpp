@@ -9,6 +9,7 @@
 // Encoding and decoding work on caller buffers and never allocate.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -110,6 +111,22 @@ std::span<std::uint8_t> cyclic_c_sdu(std::span<std::uint8_t> frame, std::size_t 
                                      bool vlan);
 std::size_t finish_cyclic(std::span<std::uint8_t> frame, const CyclicHeader& h,
                           std::size_t c_sdu_length);
+// The per-frame part of a frame finish_cyclic() built once (its Ethernet
+// header and FrameID stay what they are for the whole AR): writes only the
+// APDU status after the C_SDU. Returns the frame length, 0 when `frame` is
+// too small.
+inline std::size_t put_cyclic_status(std::span<std::uint8_t> frame, std::size_t c_sdu_length,
+                                     bool vlan, std::uint16_t cycle_counter,
+                                     std::uint8_t data_status, std::uint8_t transfer_status) {
+  const std::size_t len = cyclic_frame_length(c_sdu_length, vlan);
+  if (len > frame.size()) return 0;
+  std::uint8_t* p = frame.data() + len - 4;
+  p[0] = static_cast<std::uint8_t>(cycle_counter >> 8);
+  p[1] = static_cast<std::uint8_t>(cycle_counter);
+  p[2] = data_status;
+  p[3] = transfer_status;
+  return len;
+}
 
 // A received cyclic frame; c_sdu views into the caller's buffer.
 struct CyclicView {
@@ -134,10 +151,25 @@ WireStatus decode_cyclic(const PnFrameView& v, std::size_t c_sdu_length, CyclicV
 }
 
 // Accessors of one IO data object inside a C_SDU (no bounds beyond the
-// layout's own: the layout is checked once when computed).
-void put_io_data(std::span<std::uint8_t> c_sdu, const IoDataObject& o,
-                 std::span<const std::uint8_t> data, std::uint8_t iops);
-std::span<const std::uint8_t> io_data(std::span<const std::uint8_t> c_sdu, const IoDataObject& o);
-std::uint8_t iops(std::span<const std::uint8_t> c_sdu, const IoDataObject& o);
+// layout's own: the layout is checked once when computed). Inline: every
+// cyclic frame, sent or received, goes through them.
+inline void put_io_data(std::span<std::uint8_t> c_sdu, const IoDataObject& o,
+                        std::span<const std::uint8_t> data, std::uint8_t iops_value) {
+  if (std::size_t{o.offset} + o.length + 1 > c_sdu.size()) return;
+  const std::size_t n = std::min<std::size_t>(data.size(), o.length);
+  std::copy_n(data.begin(), n, c_sdu.begin() + o.offset);
+  std::fill_n(c_sdu.begin() + o.offset + static_cast<std::ptrdiff_t>(n), o.length - n,
+              std::uint8_t{0});
+  c_sdu[o.iops_offset()] = iops_value;
+}
+inline std::span<const std::uint8_t> io_data(std::span<const std::uint8_t> c_sdu,
+                                             const IoDataObject& o) {
+  if (std::size_t{o.offset} + o.length + 1 > c_sdu.size()) return {};
+  return c_sdu.subspan(o.offset, o.length);
+}
+inline std::uint8_t iops(std::span<const std::uint8_t> c_sdu, const IoDataObject& o) {
+  if (std::size_t{o.offset} + o.length + 1 > c_sdu.size()) return iocr::kIoxsBad;
+  return c_sdu[o.iops_offset()];
+}
 
 }  // namespace plc::profinet
