@@ -141,6 +141,11 @@ void SimPlugin::publish_outputs(std::size_t device, std::span<const std::uint8_t
   copy_bytes(src, dst);
 }
 
+std::optional<Plugin::DirectIo> SimPlugin::direct_io(std::size_t device) {
+  if (locking_) return std::nullopt;
+  return DirectIo{devices_[device]->inputs(), devices_[device]->outputs()};
+}
+
 SimDevice* SimPlugin::device(const std::string& name) {
   for (std::size_t i = 0; i < names_.size(); ++i)
     if (names_[i] == name) return devices_[i].get();

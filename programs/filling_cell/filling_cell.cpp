@@ -6,6 +6,9 @@ namespace cell {
 
 FillingCell::FillingCell() {
   conveyor.Port.set_device_name("conveyor");
+  // Three blocks on the conveyor: the cell writes its telegram once per
+  // scan, after the last of them (DriveAxis::set_program_commits).
+  conveyor.set_program_commits(true);
   set_up_filling_station(guard, scale, dose, target_kg);
 }
 
@@ -61,6 +64,7 @@ void FillingCell::cycle(const ScanContext& ctx) {
   index(ctx, conveyor);
   dose(ctx);
   reset(ctx, conveyor);
+  conveyor.commit();  // the last block on the conveyor this scan
 
   fault_edge(power.Error || index.Error || dose.Error);
   if (fault_edge.Q) {

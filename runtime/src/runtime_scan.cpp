@@ -84,9 +84,13 @@ ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
     MaybeLock lock(image_mutex_, lock_image_);
     auto gi = global_.area(io::Area::Input);
     if (plugins_enabled_)
-      for (DeviceRuntime* d : t.devices)
-        if (d->sizes.input_bytes)
+      for (DeviceRuntime* d : t.devices) {
+        if (!d->sizes.input_bytes) continue;
+        if (d->direct_in)
+          std::memcpy(gi.data() + d->in.byte, d->direct_in, d->sizes.input_bytes);
+        else
           d->plugin->latch_inputs(d->index, gi.subspan(d->in.byte, d->sizes.input_bytes));
+      }
     // 1a: the answers to this task's acyclic requests and its devices'
     // states become visible now, so they never change during the scan.
     for (std::size_t i = 0; i < devices_.size(); ++i) {
@@ -162,9 +166,13 @@ bool Runtime::scan_finish(TaskRuntime& t, const ScanContext& ctx) {
       for (ScanHooks* h : hooks_) h->before_publish(t, global_);
       auto gq = global_.area(io::Area::Output);
       if (plugins_enabled_)
-        for (DeviceRuntime* d : t.devices)
-          if (d->sizes.output_bytes)
+        for (DeviceRuntime* d : t.devices) {
+          if (!d->sizes.output_bytes) continue;
+          if (d->direct_out)
+            std::memcpy(d->direct_out, gq.data() + d->out.byte, d->sizes.output_bytes);
+          else
             d->plugin->publish_outputs(d->index, gq.subspan(d->out.byte, d->sizes.output_bytes));
+        }
     }
   }
   io::DeviceLink::set_current_owner(-1);
@@ -220,6 +228,18 @@ void Runtime::start(io::ClockMode mode) {
     } catch (const std::exception& e) {
       throw io::PluginStartError("plugin '" + name + "' failed to start: " + e.what());
     }
+  }
+  // The devices whose plugin lets the scan copy their bytes itself (both
+  // directions, each the size add_device() gave: the runtime's sizes).
+  for (DeviceRuntime& d : devices_) {
+    d.direct_in = nullptr;
+    d.direct_out = nullptr;
+    if (!plugins_enabled_) continue;
+    const auto io = d.plugin->direct_io(d.index);
+    if (!io || io->in.size() != d.sizes.input_bytes || io->out.size() != d.sizes.output_bytes)
+      continue;
+    d.direct_in = io->in.data();
+    d.direct_out = io->out.data();
   }
   // Devices see the safe outputs until the first scan publishes.
   publish_all();

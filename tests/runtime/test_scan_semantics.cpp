@@ -105,3 +105,38 @@ devices: [{name: echo, plugin: sim, model: loopback, input: "%IB0", output: "%QB
   auto* sim = static_cast<io::SimPlugin*>(rt->plugin("sim"));
   for (auto b : sim->device("echo")->outputs()) EXPECT_EQ(b, 0) << "safe outputs after stop";
 }
+
+// Issue 23: in virtual time the sim plugin hands the scan its devices'
+// buffers (Plugin::direct_io), and the scan copies them itself with no
+// call into the plugin per device; in real time (a stepping thread, a
+// mutex) it does not, and every latch and publish goes through the plugin.
+TEST(ScanSemantics, SimPluginHandsTheScanItsBuffersInVirtualTimeOnly) {
+  const char* cell = R"(
+tasks: [{name: main, period: 1ms, programs: [Loop]}]
+programs: [{name: Loop, type: LoopCounter}]
+plugins: [{name: sim}]
+devices: [{name: echo, plugin: sim, model: loopback, input: "%IB0", output: "%QB0", params: {size: 4}}]
+)";
+  {
+    auto rt = plctest::make_runtime(cell);
+    auto* sim = static_cast<io::SimPlugin*>(rt->plugin("sim"));
+    EXPECT_FALSE(sim->direct_io(0)) << "not before start: tests may drive it from threads";
+    rt->start(io::ClockMode::Virtual);
+    const DeviceRuntime& d = rt->devices()[0];
+    EXPECT_EQ(d.direct_in, sim->device("echo")->inputs().data());
+    EXPECT_EQ(d.direct_out, sim->device("echo")->outputs().data());
+    // The bytes still go both ways: the loopback echoes the program's
+    // counter one step later (as in DeviceInputsArriveThroughTheImage...).
+    for (int i = 0; i < 10; ++i) rt->tick();
+    auto* p = static_cast<plctest::LoopCounter*>(rt->program("Loop"));
+    EXPECT_EQ(p->echoed, p->count - 1);
+    rt->finish();
+  }
+  {
+    auto rt = plctest::make_runtime(cell);
+    auto* sim = static_cast<io::SimPlugin*>(rt->plugin("sim"));
+    sim->start(io::ClockMode::RealTime);
+    EXPECT_FALSE(sim->direct_io(0));
+    sim->stop();
+  }
+}

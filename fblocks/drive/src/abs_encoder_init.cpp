@@ -43,7 +43,7 @@ void AbsEncoderInit::operator()(const ScanContext& ctx, DriveAxis& axis) {
     }
   }
   if (!Busy) {
-    axis.commit();
+    axis.block_done();
     return;
   }
   const bool pulses = (axis.ZSW2 & Zsw2::kPulsesEnabled) != 0 || axis.operation_enabled();
@@ -122,7 +122,7 @@ void AbsEncoderInit::operator()(const ScanContext& ctx, DriveAxis& axis) {
     default:
       break;
   }
-  axis.commit();
+  axis.block_done();
 }
 
 }  // namespace plc::drive

@@ -108,7 +108,7 @@ void MC_Power::operator()(const ScanContext& ctx, DriveAxis& axis) {
   Error = e != 0;
   ErrorID = e;
   Valid = Enable && !Error;
-  axis.commit();
+  axis.block_done();
 }
 
 // ------------------------------------------------------------ MC_Reset
@@ -129,7 +129,7 @@ void MC_Reset::operator()(const ScanContext& ctx, DriveAxis& axis) {
         break;
     }
   }
-  axis.commit();
+  axis.block_done();
 }
 
 // ------------------------------------------------------------ moves
@@ -161,7 +161,7 @@ void MC_MoveAbsolute::operator()(const ScanContext& ctx, DriveAxis& axis) {
   if (on_call())
     start_positioning(axis, TaskKind::Absolute, Position, Velocity, Acceleration, Deceleration);
   poll(axis);
-  axis.commit();
+  axis.block_done();
 }
 
 void MC_MoveRelative::operator()(const ScanContext& ctx, DriveAxis& axis) {
@@ -169,7 +169,7 @@ void MC_MoveRelative::operator()(const ScanContext& ctx, DriveAxis& axis) {
   if (on_call())
     start_positioning(axis, TaskKind::Relative, Distance, Velocity, Acceleration, Deceleration);
   poll(axis);
-  axis.commit();
+  axis.block_done();
 }
 
 void MC_MoveVelocity::operator()(const ScanContext& ctx, DriveAxis& axis) {
@@ -197,7 +197,7 @@ void MC_MoveVelocity::operator()(const ScanContext& ctx, DriveAxis& axis) {
   poll(axis);
   InVelocity = Busy && axis.in_velocity(id_);
   if (!Execute && !Busy) InVelocity = false;
-  axis.commit();
+  axis.block_done();
 }
 
 void MC_Home::operator()(const ScanContext& ctx, DriveAxis& axis) {
@@ -216,7 +216,7 @@ void MC_Home::operator()(const ScanContext& ctx, DriveAxis& axis) {
     }
   }
   poll(axis);
-  axis.commit();
+  axis.block_done();
 }
 
 void MC_Stop::operator()(const ScanContext& ctx, DriveAxis& axis) {
@@ -239,7 +239,7 @@ void MC_Stop::operator()(const ScanContext& ctx, DriveAxis& axis) {
     held_ = false;
     axis.update_state();
   }
-  axis.commit();
+  axis.block_done();
 }
 
 void MC_Halt::operator()(const ScanContext& ctx, DriveAxis& axis) {
@@ -254,7 +254,7 @@ void MC_Halt::operator()(const ScanContext& ctx, DriveAxis& axis) {
     }
   }
   poll(axis);
-  axis.commit();
+  axis.block_done();
 }
 
 void MC_ReadStatus::operator()(const ScanContext& ctx, DriveAxis& axis) {
@@ -272,7 +272,7 @@ void MC_ReadStatus::operator()(const ScanContext& ctx, DriveAxis& axis) {
   DiscreteMotion = Enable && s == AxisState::DiscreteMotion;
   ContinuousMotion = Enable && s == AxisState::ContinuousMotion;
   SynchronizedMotion = Enable && s == AxisState::SynchronizedMotion;
-  axis.commit();
+  axis.block_done();
 }
 
 void MC_ReadActualPosition::operator()(const ScanContext& ctx, DriveAxis& axis) {
@@ -283,7 +283,7 @@ void MC_ReadActualPosition::operator()(const ScanContext& ctx, DriveAxis& axis) 
   Valid = Enable && !Error;
   Busy = Enable;
   if (Valid) Position = axis.ActPosition;
-  axis.commit();
+  axis.block_done();
 }
 
 }  // namespace plc::drive

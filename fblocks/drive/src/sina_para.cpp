@@ -67,7 +67,7 @@ void SinaPara::operator()(const ScanContext& ctx, DriveAxis& axis) {
     }
   }
   Ready = !Busy;
-  axis.commit();
+  axis.block_done();
 }
 
 }  // namespace plc::drive

@@ -222,7 +222,7 @@ void SinaPos::operator()(const ScanContext& ctx, DriveAxis& axis) {
   DiagID = diag;
   Error = status >= 0x8000;
   AxisError = Error;
-  axis.commit();
+  axis.block_done();
 }
 
 }  // namespace plc::drive

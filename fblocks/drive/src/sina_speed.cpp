@@ -54,7 +54,7 @@ void SinaSpeed::operator()(const ScanContext& ctx, DriveAxis& axis) {
   DiagID = diag;
   Error = status >= 0x8000;
   (void)ctx;
-  axis.commit();
+  axis.block_done();
 }
 
 }  // namespace plc::drive

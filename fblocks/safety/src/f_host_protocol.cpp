@@ -90,7 +90,7 @@ void FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> response,
         ++wd_expiries_;
         comm_fault(diag::kHostWd);
       }
-    } else if (!check_pdu(response, in_len_, cn_, crc1_)) {
+    } else if (!response_crc_.check_pdu(response, in_len_, cn_, crc1_)) {
       ++crc_errors_;
       comm_fault(diag::kHostCrc);
     } else {
@@ -190,11 +190,10 @@ void FHostProtocol::build_request(TIME now, std::span<std::uint8_t> request,
   if (pending_rcons_) control |= cb::kRConsNr;
   if (activate_fv) control |= cb::kActivateFv;
 
-  std::uint8_t data[kMaxFData] = {};
-  if (run && !cmd.pass_on) {
-    for (std::size_t i = 0; i < out_len_; ++i) data[i] = app_out[i];
-  }
-  write_pdu(request, std::span<const std::uint8_t>(data, out_len_), control, cn_, crc1_);
+  // The F-output data, or the fail-safe value 0, straight into the PDU.
+  const bool pass = run && !cmd.pass_on;
+  for (std::size_t i = 0; i < out_len_; ++i) request[i] = pass ? app_out[i] : std::uint8_t{0};
+  request_crc_.seal_pdu(request, out_len_, control, cn_, crc1_);
 }
 
 }  // namespace plc::safety

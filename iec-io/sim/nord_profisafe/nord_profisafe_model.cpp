@@ -313,7 +313,7 @@ void NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> 
 
   const bool rcons = (control & cb::kRConsNr) != 0;
   const std::uint32_t expected = rcons ? 0u : safety::next_cons_nr(cn_);
-  const bool ok = safety::check_pdu(req, 4, expected, crc1_);
+  const bool ok = request_crc_.check_pdu(req, 4, expected, crc1_);
   cn_ = expected;  // the host counts on as well, valid or not
   cons_nr_r_ = false;
   respond_pending_ = true;
@@ -449,7 +449,7 @@ void NordProfisafeModel::build_response() {
     --foreign_;
     tag.foreign = true;
   }
-  safety::write_pdu(pdu_, data, status, cn_, seed);
+  response_crc_.write_pdu(pdu_, data, status, cn_, seed);
   Sent& s = sent_[sent_head_++ % kHist];
   s.cn = cn_;
   s.valid = true;

@@ -17,7 +17,9 @@
 // relative file parameter is taken from (issue 21).
 // 4: plc::io::Plugin records the failure of its thread (fail(), failed(),
 // failure(): issue 21 follow-up).
-#define PLC_ABI_VERSION 4
+// 5: plc::io::Plugin::direct_io() (a new virtual), DriveAxis holds
+// program_commits_, FHostProtocol its CRC2 caches (issue 23).
+#define PLC_ABI_VERSION 5
 
 // The exported symbol's name, for dlsym.
 #define PLC_CELL_ABI_SYMBOL "softplc_cell_abi_version"

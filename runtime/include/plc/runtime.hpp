@@ -68,6 +68,10 @@ struct DeviceRuntime {
   io::IecAddress out{io::Area::Output, io::AddrSize::Byte, 0, 0};
   int task = -1;                   // the task that exchanges its data
   io::DeviceLink* link = nullptr;  // plugin->link(index), the same object for the plugin's life
+  // plugin->direct_io(index) at start: the scan copies from and to these
+  // bytes itself (empty: it calls latch_inputs()/publish_outputs()).
+  const std::uint8_t* direct_in = nullptr;
+  std::uint8_t* direct_out = nullptr;
 };
 
 // A span of one image area, [begin, end) in bytes.

@@ -18,6 +18,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -65,6 +66,20 @@ class Plugin {
   virtual void latch_inputs(std::size_t device, std::span<std::uint8_t> dst) = 0;
   virtual void publish_outputs(std::size_t device, std::span<const std::uint8_t> src) = 0;
   virtual DeviceLink& link(std::size_t device) = 0;
+  // A device's staging bytes, if the scan may copy them itself instead of
+  // calling latch_inputs()/publish_outputs() (a virtual call and a memcpy
+  // per device and scan, in virtual time a good part of a small device's
+  // cost). Asked once, after start(); a plugin may answer only if, from
+  // then on, those two calls would do nothing but copy from `in` and to
+  // `out` (no lock, no bookkeeping) and the bytes never move: the sim
+  // plugin in virtual time. Default: no.
+  struct DirectIo {
+    std::span<const std::uint8_t> in;  // what latch_inputs() copies from
+    std::span<std::uint8_t> out;       // what publish_outputs() copies to
+  };
+  [[nodiscard]] virtual std::optional<DirectIo> direct_io(std::size_t /*device*/) {
+    return std::nullopt;
+  }
 
   // Human-readable state of a device for `stats` and logs.
   [[nodiscard]] virtual std::string diagnostics(std::size_t device) const;

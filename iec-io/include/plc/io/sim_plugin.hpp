@@ -7,7 +7,8 @@
 // Real time: a thread steps the models every `step` (default 1 ms) against
 // CLOCK_MONOTONIC absolute deadlines; latch/publish copy under a mutex held
 // for a memcpy, so a scan never waits for a model step longer than one step.
-// Virtual time has one thread (the scan's, which also steps): no mutex.
+// Virtual time has one thread (the scan's, which also steps): no mutex,
+// and the scan copies the devices' buffers itself (Plugin::direct_io).
 #pragma once
 
 #include <atomic>
@@ -33,6 +34,9 @@ class SimPlugin final : public Plugin {
   void latch_inputs(std::size_t device, std::span<std::uint8_t> dst) override;
   void publish_outputs(std::size_t device, std::span<const std::uint8_t> src) override;
   DeviceLink& link(std::size_t device) override { return devices_[device]->link(); }
+  // Virtual time: latch and publish are plain copies of the device's
+  // buffers (no lock), which never move after add_device().
+  std::optional<DirectIo> direct_io(std::size_t device) override;
 
   // Tests and fault injection reach the models by device name.
   SimDevice* device(const std::string& name);

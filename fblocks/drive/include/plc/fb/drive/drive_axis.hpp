@@ -6,7 +6,9 @@
 // axis
 // * reads the drive's telegram once per scan (begin(), idempotent per scan)
 //   and writes the PLC's telegram after every block (commit()), so the
-//   order of the blocks in a program does not matter;
+//   order of the blocks in a program does not matter; a program that calls
+//   several blocks on one axis may instead write it once per scan itself
+//   (set_program_commits(), below);
 // * counts the controller sign-of-life into STW2.12-15 once per scan and
 //   watches the drive's in ZSW2.12-15: a counter that does not move for more
 //   than SignOfLifeTolerance scans (like PNU 925 on the drive side) is a
@@ -145,6 +147,24 @@ struct DriveAxis {
   // ---------------- the scan protocol ----------------
   void begin(const ScanContext& ctx);  // read inputs once per scan
   void commit();                       // write outputs (cheap, any number of times)
+  // What every block calls after its work: commit(), unless the program
+  // writes the telegram itself.
+  void block_done() {
+    if (!program_commits_) commit();
+  }
+  // Who writes the PLC's telegram, set before the first scan. false (the
+  // default): every block, after its call (block_done()). true: the blocks
+  // leave it, and the program calls commit() once per scan after the last
+  // block on this axis; only that last write reaches the drive anyway, so
+  // a program with several blocks on one axis saves the writes before it.
+  // Between the blocks of a scan the axis then shows the words of the last
+  // scan (STW1, stw6_sent_: what the drive has seen), and a change the
+  // program makes after its last block goes out in this scan, not the next.
+  // A program that does not commit in a scan stops the controller
+  // sign-of-life and the drive trips (AL.FB1), so this is not a variable:
+  // the program's structure decides it, neither the debugger nor the HMI.
+  void set_program_commits(bool on) { program_commits_ = on; }
+  [[nodiscard]] bool program_commits() const { return program_commits_; }
 
   [[nodiscard]] TelegramType telegram() const { return static_cast<TelegramType>(Telegram); }
   [[nodiscard]] bool positioning() const { return Telegram == 9 || Telegram == 111; }
@@ -259,6 +279,7 @@ struct DriveAxis {
   std::uint16_t reset_err_ = 0;
   std::uint8_t reset_sol_ = 0;  // the drive's sign-of-life when the reset was requested
   bool reset_answered_ = false;
+  bool program_commits_ = false;  // not reflected: see set_program_commits()
 };
 
 }  // namespace plc::drive

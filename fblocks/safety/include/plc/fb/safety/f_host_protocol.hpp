@@ -72,6 +72,7 @@
 #include <cstdint>
 #include <span>
 
+#include "plc/fb/safety/crc2_cache.hpp"
 #include "plc/fb/safety/safety_pdu.hpp"
 #include "plc/reflect.hpp"
 #include "plc/types.hpp"
@@ -174,6 +175,10 @@ class FHostProtocol {
   TIME wd_period_from_{};  // start of the current watchdog period after a trip
   std::uint64_t crc_errors_ = 0, wd_expiries_ = 0, late_answers_ = 0, deliveries_ = 0;
   std::uint32_t wd_in_row_ = 0;
+  // CRC2 of the requests built and the responses checked. Not reflected:
+  // a cache whose results are compute_crc2()'s whatever it holds, so a
+  // snapshot restored without it gives the same telegrams.
+  Crc2Cache request_crc_, response_crc_;
 };
 
 }  // namespace plc::safety

@@ -52,6 +52,7 @@
 #include <cstdint>
 #include <span>
 
+#include "plc/fb/safety/crc2_cache.hpp"
 #include "plc/fb/safety/f_parameters.hpp"
 #include "plc/io/device_model.hpp"
 #include "plc/sim/nord_fe_led.hpp"
@@ -239,7 +240,10 @@ class NordProfisafeModel : public io::DeviceModel {
   // Outputs
   std::array<bool, 3> ossd_{};
   std::array<std::uint8_t, kPdu> pdu_{};  // the response as sent
-  NordResponseChannel channel_;           // device -> host (not reset by power_cycle)
+  // CRC2 of the requests checked and the responses sent (a cache: the
+  // results are compute_crc2()'s whatever it holds).
+  safety::Crc2Cache request_crc_, response_crc_;
+  NordResponseChannel channel_;  // device -> host (not reset by power_cycle)
   std::uint64_t frames_sent_ = 0;
 
   // History (ring) for repeat injection and the soak oracle.

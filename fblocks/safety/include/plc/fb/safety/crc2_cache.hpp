@@ -1,0 +1,136 @@
+// CRC2 of one PROFIsafe connection in a few table steps per telegram, bit
+// for bit the CRC2 of safety_pdu.hpp (compute_crc2()).
+//
+// FOR TEST BENCHES AND SIMULATION ONLY, NOT CERTIFIED SAFETY SOFTWARE.
+//
+// CRC2 is fed the CRC1 seed, the control/status byte, the F-data reversed
+// (the "head") and then the consecutive number as 4 bytes (the "tail"; order
+// in safety_pdu.hpp). A CRC without final XOR is linear over GF(2), so
+//   CRC2 = Z4(register after the head) ^ TAIL(consecutive number),
+// with Z4 = the register run on through 4 zero bytes and TAIL = the CRC of
+// (low, middle, high, 0x00) from register 0, which three constant tables
+// give: one per byte of the 24-bit number, each entry the CRC of that byte
+// in its place followed by the zero bytes after it.
+//
+// From one telegram to the next of a connection only the number changes,
+// and the toggle bit (bit 5) of the control/status byte alternates: the
+// F-data and the other bits stay as long as the process data does. So the
+// cache keeps Z4(head) for the last head seen with each toggle value, and a
+// telegram whose head (seed, byte, F-data) is one of those two costs a
+// compare of the head and three table look-ups. Any other head is computed
+// in full and replaces the one of its toggle value: the result never
+// depends on what the cache held. Only the 3-byte CRC2 (F-data up to 12
+// bytes) is cached; the 4-byte one is computed in full.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "plc/fb/safety/safety_pdu.hpp"
+
+namespace plc::safety {
+
+namespace detail {
+// kCrc2Tail[k][b]: the 24-bit CRC2 from register 0 of the 4 number bytes
+// with b in place k (0 = least significant) and 0 in the others.
+constexpr std::array<std::array<std::uint32_t, 256>, 3> make_crc2_tail() {
+  std::array<std::array<std::uint32_t, 256>, 3> t{};
+  for (std::size_t k = 0; k < 3; ++k)
+    for (std::uint32_t b = 0; b < 256; ++b) {
+      std::uint32_t c = 0;
+      for (std::size_t i = 0; i < 4; ++i)
+        c = Crc2x24Engine::update_byte(c, i == k ? static_cast<std::uint8_t>(b) : std::uint8_t{0});
+      t[k][b] = c;
+    }
+  return t;
+}
+inline constexpr std::array<std::array<std::uint32_t, 256>, 3> kCrc2Tail = make_crc2_tail();
+}  // namespace detail
+
+class Crc2Cache {
+ public:
+  using Engine = Crc2x24Engine;
+  static constexpr std::size_t kMaxCachedFData = 12;  // crc2_length() == 3 up to here
+
+  // compute_crc2(fdata, cb_sb, cons_nr, crc1_seed), cheaper when the head
+  // repeats.
+  std::uint32_t crc2(std::span<const std::uint8_t> fdata, std::uint8_t cb_sb, std::uint32_t cons_nr,
+                     std::uint16_t crc1_seed) {
+    const std::size_t n = fdata.size();
+    if (n > kMaxCachedFData) return compute_crc2(fdata, cb_sb, cons_nr, crc1_seed);
+    Head& h = heads_[(cb_sb >> 5) & 1u];
+    if (!h.same(fdata, cb_sb, crc1_seed)) h.take(fdata, cb_sb, crc1_seed);
+    const auto& t = detail::kCrc2Tail;
+    return h.z4 ^ t[0][cons_nr & 0xFFu] ^ t[1][(cons_nr >> 8) & 0xFFu] ^
+           t[2][(cons_nr >> 16) & 0xFFu];
+  }
+
+  // write_pdu() and check_pdu() of safety_pdu.hpp with this cache's CRC2.
+  void write_pdu(std::span<std::uint8_t> pdu, std::span<const std::uint8_t> fdata,
+                 std::uint8_t cb_sb, std::uint32_t cons_nr, std::uint16_t crc1_seed) {
+    const std::size_t n = fdata.size();
+    for (std::size_t i = 0; i < n; ++i) pdu[i] = fdata[i];
+    seal_pdu(pdu, n, cb_sb, cons_nr, crc1_seed);
+  }
+  // write_pdu() for F-data already in pdu[0, fdata_len): writes the
+  // control/status byte and CRC2 behind it (no copy of the data).
+  void seal_pdu(std::span<std::uint8_t> pdu, std::size_t fdata_len, std::uint8_t cb_sb,
+                std::uint32_t cons_nr, std::uint16_t crc1_seed) {
+    pdu[fdata_len] = cb_sb;
+    put_crc2(pdu, fdata_len, crc2(pdu.first(fdata_len), cb_sb, cons_nr, crc1_seed));
+  }
+  bool check_pdu(std::span<const std::uint8_t> pdu, std::size_t fdata_len, std::uint32_t cons_nr,
+                 std::uint16_t crc1_seed) {
+    if (pdu.size() < pdu_size(fdata_len)) return false;
+    return crc2(pdu.first(fdata_len), pdu[fdata_len], cons_nr, crc1_seed) ==
+           get_crc2(pdu, fdata_len);
+  }
+
+ private:
+  struct Head {
+    bool valid = false;
+    std::uint8_t cb = 0;
+    std::uint8_t len = 0;
+    std::uint16_t seed = 0;
+    std::array<std::uint8_t, kMaxCachedFData> data{};
+    std::uint32_t z4 = 0;  // Z4(register after seed, cb, F-data reversed)
+
+    bool same(std::span<const std::uint8_t> fdata, std::uint8_t cb_sb, std::uint16_t s) const {
+      if (!valid || cb != cb_sb || seed != s || len != fdata.size()) return false;
+      for (std::size_t i = 0; i < fdata.size(); ++i)
+        if (data[i] != fdata[i]) return false;
+      return true;
+    }
+    void take(std::span<const std::uint8_t> fdata, std::uint8_t cb_sb, std::uint16_t s) {
+      valid = true;
+      cb = cb_sb;
+      seed = s;
+      len = static_cast<std::uint8_t>(fdata.size());
+      std::uint32_t c = Engine::update_byte(s, cb_sb);
+      for (std::size_t i = fdata.size(); i-- > 0;) {
+        data[i] = fdata[i];
+        c = Engine::update_byte(c, fdata[i]);
+      }
+      for (int k = 0; k < 4; ++k) c = Engine::update_byte(c, 0x00);
+      z4 = c;
+    }
+  };
+
+  static void put_crc2(std::span<std::uint8_t> pdu, std::size_t n, std::uint32_t c) {
+    const std::size_t len = crc2_length(n);
+    for (std::size_t i = 0; i < len; ++i)
+      pdu[n + 1 + i] = static_cast<std::uint8_t>(c >> (8 * (len - 1 - i)));
+  }
+  static std::uint32_t get_crc2(std::span<const std::uint8_t> pdu, std::size_t n) {
+    const std::size_t len = crc2_length(n);
+    std::uint32_t got = 0;
+    for (std::size_t i = 0; i < len; ++i) got = (got << 8) | pdu[n + 1 + i];
+    return got;
+  }
+
+  std::array<Head, 2> heads_{};
+};
+
+}  // namespace plc::safety
