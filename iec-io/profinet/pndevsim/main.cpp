@@ -28,8 +28,6 @@
 // the config file's folder.
 #include <fcntl.h>
 #include <poll.h>
-#include <pthread.h>
-#include <sched.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
@@ -54,6 +52,7 @@
 #include "plc/profinet/device/pn_device.hpp"
 #include "plc/profinet/link/raw_ethernet_port.hpp"
 #include "plc/profinet/link/socket_udp_port.hpp"
+#include "plc/realtime_thread.hpp"
 #include "plc/thread_guard.hpp"
 
 namespace pn = plc::profinet;
@@ -172,9 +171,8 @@ std::string run_command(const std::string& line, std::vector<Hosted>& hosted) {
 
 void realtime_thread(pn::EthernetPort& eth, std::vector<Hosted>& hosted, Mailbox& mb,
                      nanoseconds period, std::int64_t t0, std::int64_t run_ns) {
-  sched_param sp{};
-  sp.sched_priority = 80;
-  (void)pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);  // where permitted
+  if (const int rc = plc::set_fifo_priority(80); rc != 0)
+    plc::warn_fifo_refused("pndevsim", rc, "the devices' cyclic thread runs at normal priority");
   std::array<std::uint8_t, pn::kMaxFrameLength> buf{};
   int toggles_seen = 0;
   std::int64_t next = mono_ns();

@@ -22,14 +22,11 @@
 #include <string>
 
 #include "plc/iec_literal.hpp"
+#include "plc/realtime_thread.hpp"
 
 namespace plc::io::sim_host {
 
-inline std::int64_t mono_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
+using plc::mono_ns;
 
 // A bad config: "LINE:COLUMN: message" (the caller prefixes the file).
 struct ConfigError : std::runtime_error {
