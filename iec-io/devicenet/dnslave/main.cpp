@@ -204,15 +204,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-// Nothing ends dnslave with an uncaught exception: what escapes run() (the
-// bus failing while it runs) is a message and exit code 1.
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "dnslave: %s\n", e.what());
-  } catch (...) {
-    std::fprintf(stderr, "dnslave: an unknown error\n");
-  }
-  return 1;
-}
+int main(int argc, char** argv) { return sim_host::guarded_main("dnslave", run, argc, argv); }

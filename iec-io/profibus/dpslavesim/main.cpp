@@ -286,15 +286,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-// Nothing ends dpslavesim with an uncaught exception: what escapes run()
-// (the line failing while it runs) is a message and exit code 1.
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "dpslavesim: %s\n", e.what());
-  } catch (...) {
-    std::fprintf(stderr, "dpslavesim: unknown error\n");
-  }
-  return 1;
-}
+int main(int argc, char** argv) { return sim_host::guarded_main("dpslavesim", run, argc, argv); }

@@ -455,15 +455,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-// Nothing ends pndevsim with an uncaught exception: what escapes run() once
-// the devices run is a message and exit code 1.
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "pndevsim: %s\n", e.what());
-  } catch (...) {
-    std::fprintf(stderr, "pndevsim: an unknown error\n");
-  }
-  return 1;
-}
+int main(int argc, char** argv) { return sim_host::guarded_main("pndevsim", run, argc, argv); }

@@ -2,7 +2,8 @@
 // models behind a fieldbus slave stack, as a process of their own): the
 // command line `TOOL CONFIG.yaml [--for DURATION]`, the YAML config's
 // checks with line:column in every message, the monotonic clock of their
-// loops and the signals that end a run or toggle "silent" on every slave.
+// loops, the signals that end a run or toggle "silent" on every slave, and
+// main()'s last word on an exception.
 //
 // Header-only on yaml-cpp: only those executables include it, and they
 // link yaml-cpp themselves (plc_io does not).
@@ -119,6 +120,20 @@ inline void install_signals() {
   std::signal(SIGTERM, [](int) { g_stop = true; });
   std::signal(SIGINT, [](int) { g_stop = true; });
   std::signal(SIGUSR1, [](int) { g_toggle_silent.fetch_add(1); });
+}
+
+// The tool's main(): run(argc, argv)'s exit code. Nothing ends the tool
+// with an uncaught exception: what escapes run() (the bus or line failing
+// while it runs) is "TOOL: what" on stderr and exit code 1.
+inline int guarded_main(const char* tool, int (*run)(int, char**), int argc, char** argv) noexcept {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: %s\n", tool, e.what());
+  } catch (...) {
+    std::fprintf(stderr, "%s: an unknown error\n", tool);
+  }
+  return 1;
 }
 
 }  // namespace plc::io::sim_host
