@@ -235,12 +235,7 @@ int run(int argc, char** argv) {
   std::vector<Hosted> hosted;
   nanoseconds period = std::chrono::microseconds(250);
   std::string control = "stdin";
-  try {
-    if (const std::string why = plc::readable_file_problem(file); !why.empty()) {
-      std::fprintf(stderr, "%s: %s\n", file.c_str(), why.c_str());
-      return 2;
-    }
-    const YAML::Node root = YAML::LoadFile(file);
+  const bool loaded = sim_host::load_config("pndevsim", file, [&](const YAML::Node& root) {
     reject_unknown(root, {"interface", "poll", "control", "devices"});
     if (!root["interface"])
       throw ConfigError(root, "key 'interface' missing (a network interface)");
@@ -354,19 +349,8 @@ int run(int argc, char** argv) {
       h.dev->faults() = p.faults;
       hosted.push_back(std::move(h));
     }
-  } catch (const ConfigError& e) {
-    std::fprintf(stderr, "%s:%s\n", file.c_str(), e.what());
-    return 2;
-  } catch (const YAML::Exception& e) {
-    std::fprintf(stderr, "%s: %s\n", file.c_str(), e.what());
-    return 2;
-  } catch (const pn::LinkError& e) {
-    std::fprintf(stderr, "pndevsim: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "pndevsim: %s\n", e.what());
-    return 2;
-  }
+  });
+  if (!loaded) return 2;
 
   Mailbox mb;
   for (auto& h : hosted) {
