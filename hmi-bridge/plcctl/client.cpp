@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "plc/hmi/utime.hpp"
+
 namespace plc::hmi {
 
 namespace {
@@ -33,10 +35,7 @@ Client::Client(const std::string& url, const std::string& prefix, std::optional<
 // and between clients (the bridge's replay floor compares them): the wall
 // clock in microseconds, one more than the last when the clock stands still.
 std::int64_t Client::next_counter() {
-  const std::int64_t now = std::chrono::duration_cast<std::chrono::microseconds>(
-                               std::chrono::system_clock::now().time_since_epoch())
-                               .count();
-  last_counter_ = std::max(now, last_counter_ + 1);
+  last_counter_ = std::max(utime_now(), last_counter_ + 1);
   return last_counter_;
 }
 

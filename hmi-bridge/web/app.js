@@ -56,6 +56,11 @@ $('#login-form').addEventListener('submit', async (ev) => {
   ev.preventDefault();
   const r = await fetch('/api/login', {method: 'POST', body: $('#password').value,
     headers: {'Content-Type': 'text/plain'}});
+  if (r.status === 429) {
+    $('#login-error').textContent = 'too many failed logins: try again in ' +
+      (r.headers.get('Retry-After') || '60') + ' s';
+    return;
+  }
   if (r.status !== 200) { $('#login-error').textContent = 'wrong password'; return; }
   $('#password').value = '';
   $('#login-error').textContent = '';

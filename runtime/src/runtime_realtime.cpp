@@ -1,8 +1,6 @@
 // Real-time execution: one SCHED_FIFO thread per task on absolute
 // CLOCK_MONOTONIC deadlines, a watchdog thread, and the overrun policy.
 #include <fcntl.h>
-#include <pthread.h>
-#include <sched.h>
 #include <sys/mman.h>
 #include <sys/prctl.h>
 #include <time.h>
@@ -13,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "plc/realtime_thread.hpp"
 #include "plc/release_schedule.hpp"
 #include "plc/runtime.hpp"
 #include "plc/thread_guard.hpp"
@@ -20,18 +19,6 @@
 
 namespace plc {
 namespace {
-
-std::int64_t mono_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-void sleep_until_ns(std::int64_t t) {
-  timespec ts{static_cast<time_t>(t / 1'000'000'000), static_cast<long>(t % 1'000'000'000)};
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-  }
-}
 
 // IEC priority 0 (highest) .. 48 maps to SCHED_FIFO 49 .. 1: below the
 // default priority (50) of PREEMPT_RT's interrupt threads, so a busy PLC task
@@ -110,15 +97,12 @@ void Runtime::run_realtime(TIME span) {
 }
 
 void Runtime::realtime_task_loop(TaskRuntime& t, std::int64_t t0) {
-  sched_param sp{};
-  sp.sched_priority = fifo_priority(t.priority);
-  if (const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp); rc != 0) {
-    static std::atomic<bool> warned{false};
+  if (const int rc = set_fifo_priority(fifo_priority(t.priority)); rc != 0) {
+    static std::atomic<bool> warned{false};  // once, not once per task
     if (!warned.exchange(true))
-      std::fprintf(stderr,
-                   "plcrun: warning: SCHED_FIFO not permitted (%s); tasks run at normal priority "
-                   "and wake-up latency will be higher (run as root or grant CAP_SYS_NICE)\n",
-                   std::strerror(rc));
+      warn_fifo_refused("plcrun", rc,
+                        "tasks run at normal priority and wake-up latency will be higher (run as "
+                        "root or grant CAP_SYS_NICE)");
   }
   const std::int64_t period = t.period.count();
   std::int64_t k = 0;
@@ -214,9 +198,9 @@ void Runtime::watchdog_loop() {
   const std::int64_t poll =
       std::clamp<std::int64_t>(fastest / 4, virtual_time ? 1'000'000 : 100'000, 10'000'000);
   if (!virtual_time) {
-    sched_param sp{};
-    sp.sched_priority = 50;  // above every task (max task priority is 49)
-    pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
+    // Above every task (max task priority is 49); where refused, the tasks'
+    // own warning has said so.
+    (void)set_fifo_priority(50);
   }
   // Virtual time: per task, the scan we are watching and the scan thread's
   // CPU time when we first saw it running.

@@ -33,51 +33,18 @@
 #include "plc/hmi/bridge.hpp"
 #include "plc/hmi/checked_decode.hpp"
 #include "plc/hmi/host.hpp"
+#include "plc/hmi/utime.hpp"
 #include "plc/program.hpp"
 #include "plc_bench/collector.hpp"
+#include "plc_bench/thousand_vars_cell.hpp"
 #include "softplc_hmi/values_t.hpp"
 
 namespace {
 
 using namespace plc;
 
-// 1,000 variables that change every scan (a fixed-seed xorshift).
-class ThousandVars : public ProgramBase<ThousandVars> {
- public:
-  std::array<DINT, 1000> vals{};
-  std::uint32_t x = 2463534242u;
-  void cycle(const ScanContext&) override {
-    for (auto& e : vals) {
-      x ^= x << 13;
-      x ^= x >> 17;
-      x ^= x << 5;
-      e = DINT(x % 100000);
-    }
-  }
-  PLC_REFLECT(vals)
-};
-PLC_REGISTER_PROGRAM(ThousandVars)
-
-const char* kCell = R"(
-cell: bench
-tasks: [{name: main, period: 1ms, watchdog: 0, programs: [P]}]
-programs: [{name: P, type: ThousandVars}]
-)";
-
-HmiConfig hmi_config(const std::string& url, int rate = 1000) {
-  HmiConfig h;
-  h.present = true;
-  h.url.value = url;
-  h.rate.value = rate;
-  h.publish = {{"P.vals*", {}}};
-  return h;
-}
-
-std::int64_t utime_now() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
+using bench::kThousandVarsCell;
+using bench::thousand_vars_hmi;
 
 // The snapshot of P's 1,000 variables, as the HMI host builds it, with a
 // slot of its own (header, buffer, request word) instead of the shared
@@ -107,7 +74,7 @@ hmi::Host::Options lockstep() {
 }
 
 void BM_ScanNoBridge(benchmark::State& state) {
-  Runtime rt(parse_cell_config(kCell, "bench.yaml"));
+  Runtime rt(parse_cell_config(kThousandVarsCell, "bench.yaml"));
   rt.start(io::ClockMode::Virtual);
   for (auto _ : state) rt.step_scan();
   rt.finish();
@@ -117,8 +84,8 @@ BENCHMARK(BM_ScanNoBridge)->MinTime(1.0);
 // The HMI host attached, its first snapshot filled and nothing asked
 // since: every scan only looks at the request word.
 void BM_ScanBridgeIdle(benchmark::State& state) {
-  Runtime rt(parse_cell_config(kCell, "bench.yaml"));
-  hmi::Host host(hmi_config("memq://"), "bench.yaml", lockstep());
+  Runtime rt(parse_cell_config(kThousandVarsCell, "bench.yaml"));
+  hmi::Host host(thousand_vars_hmi("memq://", 1000), "bench.yaml", lockstep());
   host.attach(rt);
   rt.start(io::ClockMode::Virtual);
   rt.step_scan();  // fills the first request; nobody asks again
@@ -131,7 +98,7 @@ BENCHMARK(BM_ScanBridgeIdle)->MinTime(1.0);
 // for before each scan (the ScanSnapshot the host uses, driven directly so
 // that only the scan is timed).
 void BM_ScanBridgeCopy1000(benchmark::State& state) {
-  Runtime rt(parse_cell_config(kCell, "bench.yaml"));
+  Runtime rt(parse_cell_config(kThousandVarsCell, "bench.yaml"));
   OwnSlot slot(rt);
   if (slot.snap.items().size() != 1000) state.SkipWithError("expected 1000 variables");
   state.counters["copy_runs"] = double(slot.snap.runs());
@@ -149,7 +116,7 @@ BENCHMARK(BM_ScanBridgeCopy1000)->MinTime(1.0);
 // The copy alone, as the scan thread runs it at the end of a scan: what
 // the bridge adds to that scan.
 void BM_SnapshotCopy1000(benchmark::State& state) {
-  Runtime rt(parse_cell_config(kCell, "bench.yaml"));
+  Runtime rt(parse_cell_config(kThousandVarsCell, "bench.yaml"));
   OwnSlot slot(rt);
   rt.start(io::ClockMode::Virtual);
   rt.step_scan();
@@ -167,8 +134,8 @@ BENCHMARK(BM_SnapshotCopy1000)->MinTime(1.0);
 // A scan plus the bridge's encode and publish of all 1,000 (changed)
 // values, host and bridge in lockstep over their shared memory.
 void BM_ScanAndPublish1000(benchmark::State& state) {
-  Runtime rt(parse_cell_config(kCell, "bench.yaml"));
-  hmi::Host host(hmi_config("memq://"), "bench.yaml", lockstep());
+  Runtime rt(parse_cell_config(kThousandVarsCell, "bench.yaml"));
+  hmi::Host host(thousand_vars_hmi("memq://", 1000), "bench.yaml", lockstep());
   host.attach(rt);
   hmi::Bridge b(host.regions().view());
   b.set_peer([&host] { host.round(); });
@@ -184,8 +151,8 @@ BENCHMARK(BM_ScanAndPublish1000)->MinTime(1.0)->UseRealTime();
 // A command record through the command ring and a reply record back, in
 // the host's real shared memory.
 void BM_CommandRingRoundTrip(benchmark::State& state) {
-  Runtime rt(parse_cell_config(kCell, "bench.yaml"));
-  hmi::Host host(hmi_config("memq://"), "bench.yaml", lockstep());
+  Runtime rt(parse_cell_config(kThousandVarsCell, "bench.yaml"));
+  hmi::Host host(thousand_vars_hmi("memq://", 1000), "bench.yaml", lockstep());
   host.attach(rt);
   auto view = host.regions().view();
   hmi::ipc::Ring<hmi::ipc::CommandRecord> to_host = view->commands();
@@ -221,10 +188,10 @@ std::vector<std::int64_t> latency_run(int rate, std::chrono::seconds span, std::
     why = no_route;
     return {};
   }
-  Runtime rt(parse_cell_config(kCell, "bench.yaml"));
+  Runtime rt(parse_cell_config(kThousandVarsCell, "bench.yaml"));
   hmi::Host::Options o;  // Supervised: plchmi beside this executable
   o.log = [](const std::string&) {};
-  hmi::Host host(hmi_config(url, rate), "bench.yaml", std::move(o));
+  hmi::Host host(thousand_vars_hmi(url, rate), "bench.yaml", std::move(o));
   host.attach(rt);
   std::mutex mu;
   std::vector<std::int64_t> delays;
@@ -232,7 +199,7 @@ std::vector<std::int64_t> latency_run(int rate, std::chrono::seconds span, std::
     std::mutex* mu;
     std::vector<std::int64_t>* out;
     void on(const softplc_hmi::values_t& m) {
-      const std::int64_t d = utime_now() - m.scan_utime;
+      const std::int64_t d = hmi::utime_now() - m.scan_utime;
       std::lock_guard<std::mutex> l(*mu);
       if (out->size() < 100000) out->push_back(d);
     }
@@ -292,11 +259,11 @@ double quantile(std::vector<double> v, double q) {
 }
 
 AbabResult abab_run(int pairs, int scans_per_block) {
-  Runtime off(parse_cell_config(kCell, "bench.yaml"));
-  Runtime on(parse_cell_config(kCell, "bench.yaml"));
+  Runtime off(parse_cell_config(kThousandVarsCell, "bench.yaml"));
+  Runtime on(parse_cell_config(kThousandVarsCell, "bench.yaml"));
   hmi::Host::Options o;
   o.mode = hmi::Host::Mode::Thread;
-  hmi::Host host(hmi_config("memq://"), "bench.yaml", o);
+  hmi::Host host(thousand_vars_hmi("memq://", 1000), "bench.yaml", o);
   host.attach(on);
   hmi::Bridge b(host.regions().view(), host.doorbell());
   off.start(io::ClockMode::Virtual);

@@ -28,6 +28,7 @@
 #include "plc/profibus/link/serial_line.hpp"
 #include "plc/profibus/master/dp_master.hpp"
 #include "plc/profibus/slave/dp_slave.hpp"
+#include "plc/realtime_thread.hpp"
 #include "plc_bench/collector.hpp"
 
 namespace {
@@ -153,12 +154,6 @@ void BM_BusCycleMasterAndSlaves(benchmark::State& state) {
   for (auto _ : state) c.cycle();
 }
 BENCHMARK(BM_BusCycleMasterAndSlaves)->MinTime(0.5);
-
-std::int64_t mono_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 // Back-to-back bus cycles on a pty for `seconds`: the average cycle in us.
 double pty_cycle_us(int slaves, double seconds) {

@@ -39,8 +39,10 @@
 
 #include "plc/hmi/bridge.hpp"
 #include "plc/hmi/host.hpp"
+#include "plc/hmi/utime.hpp"
 #include "plc/hmi/web/web_server.hpp"
 #include "plc/program.hpp"
+#include "plc_bench/thousand_vars_cell.hpp"
 
 namespace {
 
@@ -50,35 +52,6 @@ namespace beast = boost::beast;
 namespace http = beast::http;
 namespace websocket = beast::websocket;
 using tcp = asio::ip::tcp;
-
-// 1,000 variables that change every scan (a fixed-seed xorshift).
-class WebThousandVars : public ProgramBase<WebThousandVars> {
- public:
-  std::array<DINT, 1000> vals{};
-  std::uint32_t x = 2463534242u;
-  void cycle(const ScanContext&) override {
-    for (auto& e : vals) {
-      x ^= x << 13;
-      x ^= x >> 17;
-      x ^= x << 5;
-      e = DINT(x % 100000);
-    }
-  }
-  PLC_REFLECT(vals)
-};
-PLC_REGISTER_PROGRAM(WebThousandVars)
-
-const char* kCell = R"(
-cell: bench
-tasks: [{name: main, period: 1ms, watchdog: 0, programs: [P]}]
-programs: [{name: P, type: WebThousandVars}]
-)";
-
-std::int64_t utime_now() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 // A thread's CPU time so far in seconds, to the nanosecond: the first
 // field of /proc/self/task/TID/schedstat (stat's utime and stime count
@@ -107,15 +80,10 @@ struct Result {
 };
 
 Result run(int pages, std::chrono::seconds span) {
-  Runtime rt(parse_cell_config(kCell, "bench.yaml"));
-  HmiConfig h;
-  h.present = true;
-  h.url.value = "memq://";
-  h.rate.value = 10;
-  h.publish = {{"P.vals*", {}}};
+  Runtime rt(parse_cell_config(bench::kThousandVarsCell, "bench.yaml"));
   hmi::Host::Options o;
   o.mode = hmi::Host::Mode::Thread;
-  hmi::Host host(h, "bench.yaml", o);
+  hmi::Host host(bench::thousand_vars_hmi("memq://", 10), "bench.yaml", o);
   host.attach(rt);
   hmi::Bridge bridge(host.regions().view(), host.doorbell());
   std::unique_ptr<hmi::web::WebServer> web;
@@ -181,7 +149,7 @@ Result run(int pages, std::chrono::seconds span) {
         bytes += m.size();
         const auto at = m.find("\"scan_utime\":");
         if (at == std::string::npos || m.find("\"t\":\"values\"") != 1) continue;
-        const std::int64_t d = utime_now() - std::stoll(m.substr(at + 13));
+        const std::int64_t d = hmi::utime_now() - std::stoll(m.substr(at + 13));
         std::lock_guard<std::mutex> l(mu);
         latency.push_back(d);
       }

@@ -46,22 +46,16 @@ using dntest::free_udp_port;
 
 namespace {
 
-std::string replace_all(std::string s, const std::string& from, const std::string& to) {
-  for (auto p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size()))
-    s.replace(p, from.size(), to);
-  return s;
-}
-
 // The cell file as the tests run it: EPR 100 ms, F_WD_Time 500 ms, no
 // watchdog (see above).
 std::string stall_tolerant(std::string cell) {
   EXPECT_NE(cell.find("epr: 50ms"), std::string::npos);
-  cell = replace_all(cell, "epr: 50ms", "epr: 100ms");
+  cell = plctest::replace_all(cell, "epr: 50ms", "epr: 100ms");
   EXPECT_NE(cell.find("      scale.BusType: 1"), std::string::npos);
-  cell = replace_all(cell, "      scale.BusType: 1",
-                     "      guard.FMOD.F_WD_Time: 500\n      scale.BusType: 1");
+  cell = plctest::replace_all(cell, "      scale.BusType: 1",
+                              "      guard.FMOD.F_WD_Time: 500\n      scale.BusType: 1");
   EXPECT_NE(cell.find("    period: 1ms\n"), std::string::npos);
-  return replace_all(cell, "    period: 1ms\n", "    period: 1ms\n    watchdog: 0\n");
+  return plctest::replace_all(cell, "    period: 1ms\n", "    period: 1ms\n    watchdog: 0\n");
 }
 
 }  // namespace
@@ -73,15 +67,15 @@ TEST(DeviceNetCell, BatchWeighingOverDeviceNetSurvivesASlaveKillAndRestart) {
   std::string cell =
       plctest::read_file(plctest::source_path("programs/filling_cell/cell_devicenet.yaml"));
   ASSERT_FALSE(cell.empty());
-  cell = replace_all(cell, "udp:127.0.0.1:47800", "udp:127.0.0.1:" + port);
-  cell = replace_all(cell, "      poll_cycle: 10ms",
-                     "      poll_cycle: 10ms\n      pcap: \"" + pcap + "\"");
-  cell =
-      replace_all(cell, "      scale.BusType: 1", "      target_kg: 5.0\n      scale.BusType: 1");
+  cell = plctest::replace_all(cell, "udp:127.0.0.1:47800", "udp:127.0.0.1:" + port);
+  cell = plctest::replace_all(cell, "      poll_cycle: 10ms",
+                              "      poll_cycle: 10ms\n      pcap: \"" + pcap + "\"");
+  cell = plctest::replace_all(cell, "      scale.BusType: 1",
+                              "      target_kg: 5.0\n      scale.BusType: 1");
   const std::string cell_file = plctest::write_temp("dnet_cell.yaml", stall_tolerant(cell));
   std::string slave =
       plctest::read_file(plctest::source_path("programs/filling_cell/dnslave.yaml"));
-  slave = replace_all(slave, "udp:127.0.0.1:47800", "udp:127.0.0.1:" + port);
+  slave = plctest::replace_all(slave, "udp:127.0.0.1:47800", "udp:127.0.0.1:" + port);
   const std::string slave_file = plctest::write_temp("dnet_slave.yaml", slave);
 
   Child plc({plctest::plcrun_path(), cell_file, "--realtime", "--for", "30s", "-q", "--trace",
@@ -167,13 +161,13 @@ TEST(DeviceNetCell, AcConveyorCellTripsOnFault18AndRecovers) {
   std::string cell =
       plctest::read_file(plctest::source_path("programs/filling_cell/cell_vf66b_devicenet.yaml"));
   ASSERT_FALSE(cell.empty());
-  cell = replace_all(cell, "udp:127.0.0.1:47800", "udp:127.0.0.1:" + port);
-  cell =
-      replace_all(cell, "      scale.BusType: 1", "      target_kg: 4.0\n      scale.BusType: 1");
+  cell = plctest::replace_all(cell, "udp:127.0.0.1:47800", "udp:127.0.0.1:" + port);
+  cell = plctest::replace_all(cell, "      scale.BusType: 1",
+                              "      target_kg: 4.0\n      scale.BusType: 1");
   const std::string cell_file = plctest::write_temp("dnet_ac_cell.yaml", stall_tolerant(cell));
   std::string slave =
       plctest::read_file(plctest::source_path("programs/filling_cell/dnslave_vf66b.yaml"));
-  slave = replace_all(slave, "udp:127.0.0.1:47800", "udp:127.0.0.1:" + port);
+  slave = plctest::replace_all(slave, "udp:127.0.0.1:47800", "udp:127.0.0.1:" + port);
   const std::string slave_file = plctest::write_temp("dnet_ac_slave.yaml", slave);
 
   Child plc({plctest::plcrun_path(), cell_file, "--realtime", "--for", "28s", "-q", "--trace",

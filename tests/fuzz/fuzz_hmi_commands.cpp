@@ -16,42 +16,29 @@
 #include <memory>
 #include <string>
 
-#include "fuzz_cell.hpp"
-#include "plc/debug/debugger.hpp"
+#include "fuzz_hmi_host.hpp"
 #include "plc/hmi/bridge.hpp"
-#include "plc/hmi/host.hpp"
 
 namespace {
 
+plc::CellConfig session_config(bool keyed) {
+  plc::CellConfig cfg = plc::fuzz::filling_cell_with_hmi();
+  cfg.hmi.writable.push_back({"Cell.pitch", {}});
+  if (keyed) {
+    cfg.hmi.key_path = "/tmp/plc_fuzz_hmi_" + std::to_string(::getpid()) + ".key";
+    std::ofstream(cfg.hmi.key_path)
+        << "5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a\n";
+    ::chmod(cfg.hmi.key_path.c_str(), 0600);  // load_key refuses a key others may read
+  }
+  return cfg;
+}
+
 struct Session {
-  plc::CellConfig cfg;
-  std::unique_ptr<plc::hmi::Host> host;
-  std::unique_ptr<plc::debug::Debugger> dbg;
+  plc::fuzz::LockstepHmiHost cell;
   std::unique_ptr<plc::hmi::Bridge> bridge;
-  explicit Session(bool keyed) {
-    cfg = plc::fuzz::filling_cell();
-    cfg.hmi.present = true;
-    cfg.hmi.url.value = "memq://";
-    cfg.hmi.publish = {{"Cell.*", {}}};
-    cfg.hmi.writable = {{"Cell.target_kg", {}}, {"Cell.pitch", {}}};
-    cfg.hmi.forceable = {{"Cell.run", {}}};
-    if (keyed) {
-      cfg.hmi.key_path = "/tmp/plc_fuzz_hmi_" + std::to_string(::getpid()) + ".key";
-      std::ofstream(cfg.hmi.key_path)
-          << "5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a5a\n";
-      ::chmod(cfg.hmi.key_path.c_str(), 0600);  // load_key refuses a key others may read
-    }
-    plc::hmi::Host::Options ho;
-    ho.mode = plc::hmi::Host::Mode::Lockstep;
-    host = std::make_unique<plc::hmi::Host>(cfg.hmi, cfg.file, ho);
-    plc::debug::Debugger::Options o;
-    o.span = std::chrono::seconds(1);
-    o.on_build = [this](plc::Runtime& rt) { host->attach(rt); };
-    dbg = std::make_unique<plc::debug::Debugger>(
-        [this] { return std::make_unique<plc::Runtime>(cfg); }, o);
-    host->set_debugger(dbg.get());
-    bridge = std::make_unique<plc::hmi::Bridge>(host->regions().view());
-    bridge->set_peer([this] { host->round(); });
+  explicit Session(bool keyed) : cell(session_config(keyed)) {
+    bridge = std::make_unique<plc::hmi::Bridge>(cell.host->regions().view());
+    bridge->set_peer([this] { cell.host->round(); });
   }
 };
 

@@ -13,38 +13,21 @@
 #include <cstring>
 #include <memory>
 
-#include "fuzz_cell.hpp"
-#include "plc/debug/debugger.hpp"
-#include "plc/hmi/host.hpp"
+#include "fuzz_hmi_host.hpp"
 
 namespace {
 
+plc::CellConfig session_config() {
+  plc::CellConfig cfg = plc::fuzz::filling_cell_with_hmi();
+  // Off: a step of up to 1,000,000 scans per input would slow the
+  // fuzzer down to nothing; the stop verbs are then refused (NoStops).
+  cfg.hmi.stop_commands.value = false;
+  return cfg;
+}
+
 struct Session {
-  plc::CellConfig cfg;
-  std::unique_ptr<plc::hmi::Host> host;
-  std::unique_ptr<plc::debug::Debugger> dbg;
-  std::unique_ptr<plc::hmi::ipc::Regions> bridge_side;
-  Session() {
-    cfg = plc::fuzz::filling_cell();
-    cfg.hmi.present = true;
-    cfg.hmi.url.value = "memq://";
-    cfg.hmi.publish = {{"Cell.*", {}}};
-    cfg.hmi.writable = {{"Cell.target_kg", {}}};
-    cfg.hmi.forceable = {{"Cell.run", {}}};
-    // Off: a step of up to 1,000,000 scans per input would slow the
-    // fuzzer down to nothing; the stop verbs are then refused (NoStops).
-    cfg.hmi.stop_commands.value = false;
-    plc::hmi::Host::Options ho;
-    ho.mode = plc::hmi::Host::Mode::Lockstep;
-    host = std::make_unique<plc::hmi::Host>(cfg.hmi, cfg.file, ho);
-    plc::debug::Debugger::Options o;
-    o.span = std::chrono::seconds(1);
-    o.on_build = [this](plc::Runtime& rt) { host->attach(rt); };
-    dbg = std::make_unique<plc::debug::Debugger>(
-        [this] { return std::make_unique<plc::Runtime>(cfg); }, o);
-    host->set_debugger(dbg.get());
-    bridge_side = host->regions().view();
-  }
+  plc::fuzz::LockstepHmiHost cell{session_config()};
+  std::unique_ptr<plc::hmi::ipc::Regions> bridge_side = cell.host->regions().view();
 };
 
 }  // namespace
@@ -62,12 +45,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static std::uint32_t token = 0;
   rec->token = ++token;
   if (!s.bridge_side->commands().push(*rec)) __builtin_trap();  // one at a time: never full
-  s.host->round();
+  s.cell.host->round();
   auto replies = s.bridge_side->replies();
   if (replies.pop(*reply) != decltype(replies)::Pop::Got) __builtin_trap();
   if (reply->token != token || reply->reason >= plc::hmi::ipc::kReasons) __builtin_trap();
-  for (const auto& name : s.dbg->forced())
+  for (const auto& name : s.cell.dbg->forced())
     if (name != "Cell.run") __builtin_trap();
-  if (s.dbg->forced().size() > 1) __builtin_trap();
+  if (s.cell.dbg->forced().size() > 1) __builtin_trap();
   return 0;
 }

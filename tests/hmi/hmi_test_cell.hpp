@@ -6,6 +6,8 @@
 // the process boundary, so that virtual time stays reproducible.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <fstream>
 #include <functional>
 #include <map>
@@ -19,6 +21,7 @@
 #include "plc/hmi/checked_decode.hpp"
 #include "plc/hmi/host.hpp"
 #include "plc_test_paths.hpp"
+#include "softplc_hmi/command_t.hpp"
 #include "softplc_hmi/reply_t.hpp"
 #include "softplc_hmi/values_t.hpp"
 
@@ -95,6 +98,18 @@ struct HmiCell {
   ~HmiCell() {
     if (bridge) bridge->stop();
   }
+
+  // Sends c as a client would, lets the bridge serve it, returns its one
+  // reply (or fails the test).
+  softplc_hmi::reply_t send(const softplc_hmi::command_t& c) {
+    replies.clear();
+    bridge->transport().publish(bridge->channels().cmd, &c);
+    bridge->service();
+    EXPECT_EQ(replies.size(), 1U) << c.verb;
+    return replies.empty() ? softplc_hmi::reply_t{} : replies.front();
+  }
+  // The variable's value as the debugger reads it (IEC text).
+  std::string value_of(const std::string& path) { return dbg->read({path}).front().text; }
 };
 
 }  // namespace plctest

@@ -1,6 +1,5 @@
 #include "loopback_netns.hpp"
 
-#include <dirent.h>
 #include <fcntl.h>
 #include <poll.h>
 #include <sched.h>
@@ -16,29 +15,13 @@
 #include <vector>
 
 #include "runtime/test_helpers.hpp"
+#include "stale_netns.hpp"
 
 namespace plctest {
 
 namespace {
 
 const char* const kPrefix = "plchmi";
-
-// Deletes namespaces "plchmi<pid>_..." of processes that no longer run.
-void delete_stale() {
-  DIR* d = ::opendir("/run/netns");
-  if (!d) return;
-  std::vector<std::string> stale;
-  for (int i = 0; i < 10000; ++i) {
-    dirent* e = ::readdir(d);
-    if (!e) break;
-    const std::string name = e->d_name;
-    if (name.rfind(kPrefix, 0) != 0) continue;
-    const int pid = std::atoi(name.c_str() + std::strlen(kPrefix));
-    if (pid > 0 && ::kill(pid, 0) != 0 && errno == ESRCH) stale.push_back(name);
-  }
-  ::closedir(d);
-  for (const auto& n : stale) (void)run_command("ip netns delete " + n);
-}
 
 }  // namespace
 
@@ -51,7 +34,7 @@ std::unique_ptr<LoopbackNetns> LoopbackNetns::create(std::string& why_not) {
     why_not = "the `ip` tool (iproute2) is missing";
     return nullptr;
   }
-  delete_stale();
+  delete_stale_netns(kPrefix);
   static std::atomic<int> counter{0};
   std::unique_ptr<LoopbackNetns> ns(new LoopbackNetns);
   const std::string name = kPrefix + std::to_string(::getpid()) + "_" + std::to_string(counter++);

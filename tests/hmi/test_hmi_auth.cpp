@@ -59,18 +59,6 @@ softplc_hmi::command_t signed_for(HmiCell& h, softplc_hmi::command_t c, const hm
   return c;
 }
 
-softplc_hmi::reply_t send(HmiCell& h, const softplc_hmi::command_t& c) {
-  h.replies.clear();
-  h.bridge->transport().publish(h.bridge->channels().cmd, &c);
-  h.bridge->service();
-  EXPECT_EQ(h.replies.size(), 1U) << c.verb;
-  return h.replies.empty() ? softplc_hmi::reply_t{} : h.replies.front();
-}
-
-std::string value_of(HmiCell& h, const std::string& path) {
-  return h.dbg->read({path}).front().text;
-}
-
 bool has(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
@@ -96,22 +84,22 @@ TEST(HmiAuth, SignedCommandReplayedAfterARestartIsRefusedAsStale) {
   auto first = std::make_unique<HmiCell>(plctest::kHmiSection, kf);
   first->dbg->step(1);
   const auto captured = signed_for(*first, command(1000, "write", {"Tank.high_level", "222"}), key);
-  EXPECT_TRUE(send(*first, captured).ok);
+  EXPECT_TRUE(first->send(captured).ok);
   const hmi::Epoch old_epoch = first->bridge->epoch();
   first.reset();
 
   HmiCell again(plctest::kHmiSection, kf);
   EXPECT_NE(again.bridge->epoch(), old_epoch);
   again.dbg->step(1);
-  const std::string before = value_of(again, "Tank.high_level");
+  const std::string before = again.value_of("Tank.high_level");
   ASSERT_NE(before, "222");
-  const auto r = send(again, captured);
+  const auto r = again.send(captured);
   EXPECT_FALSE(r.ok);
   EXPECT_TRUE(has(r.refusal, "stale epoch")) << r.refusal;
   // The signed refusal names the epoch to use (plcctl sends again for it).
   EXPECT_EQ(hmi::epoch_of(r), again.bridge->epoch());
   again.dbg->step(2);
-  EXPECT_EQ(value_of(again, "Tank.high_level"), before);
+  EXPECT_EQ(again.value_of("Tank.high_level"), before);
   EXPECT_EQ(again.bridge->counters().stale, 1U);
   EXPECT_EQ(again.bridge->counters().commands, 0U);
 }
@@ -125,18 +113,18 @@ TEST(HmiAuth, RestartInsideTheSessionKeepsTheEpochAndTheReplayGuard) {
   HmiCell h(plctest::kHmiSection, kf);
   h.dbg->step(1);
   const auto first = signed_for(h, command(10, "write", {"Tank.high_level", "333"}), key);
-  EXPECT_TRUE(send(h, first).ok);
+  EXPECT_TRUE(h.send(first).ok);
   const hmi::Epoch epoch = h.bridge->epoch();
   const std::string restarted = h.dbg->execute("restart cold");  // a new runtime, attached again
   ASSERT_TRUE(has(restarted, "cold restart")) << restarted;
   EXPECT_EQ(h.bridge->epoch(), epoch);
   EXPECT_EQ(hmi::epoch_of(h.bridge->description()), epoch);
-  const auto r = send(h, first);
+  const auto r = h.send(first);
   EXPECT_FALSE(r.ok);
   EXPECT_TRUE(has(r.refusal, "replayed")) << r.refusal;
-  EXPECT_TRUE(send(h, signed_for(h, command(11, "write", {"Tank.high_level", "444"}), key)).ok);
+  EXPECT_TRUE(h.send(signed_for(h, command(11, "write", {"Tank.high_level", "444"}), key)).ok);
   h.dbg->step(1, "fast");
-  EXPECT_EQ(value_of(h, "Tank.high_level"), "444");
+  EXPECT_EQ(h.value_of("Tank.high_level"), "444");
 }
 
 // Two cells on one bus with the same key and prefix: what is signed for
@@ -149,21 +137,21 @@ TEST(HmiAuth, SignedCommandReplayedToASecondCellWithTheSameKeyIsRefused) {
   HmiCell b(plctest::kHmiSection, kf, demo_named("demo2"));
   a.dbg->step(1);
   b.dbg->step(1);
-  const std::string before = value_of(b, "Tank.high_level");
+  const std::string before = b.value_of("Tank.high_level");
   const auto for_a = signed_for(a, command(20, "write", {"Tank.high_level", "555"}), key);
-  EXPECT_TRUE(send(a, for_a).ok);
-  auto r = send(b, for_a);
+  EXPECT_TRUE(a.send(for_a).ok);
+  auto r = b.send(for_a);
   EXPECT_FALSE(r.ok);
   EXPECT_TRUE(has(r.refusal, "bad tag")) << r.refusal;
   // b's epoch, a's cell name: still not b's.
   auto c = command(21, "write", {"Tank.high_level", "556"});
   hmi::set_epoch(c, b.bridge->epoch());
   hmi::sign(c, key, {"PLC", "demo", "PLC_CMD"});
-  r = send(b, c);
+  r = b.send(c);
   EXPECT_FALSE(r.ok);
   EXPECT_TRUE(has(r.refusal, "bad tag")) << r.refusal;
   b.dbg->step(2);
-  EXPECT_EQ(value_of(b, "Tank.high_level"), before);
+  EXPECT_EQ(b.value_of("Tank.high_level"), before);
   EXPECT_EQ(b.bridge->counters().bad_tag, 2U);
   EXPECT_EQ(b.bridge->counters().commands, 0U);
 }
@@ -188,25 +176,25 @@ TEST(HmiAuth, TagMadeForAnotherPrefixCellChannelOrEpochIsRefused) {
   for (const hmi::TagContext& ctx :
        {hmi::TagContext{"PLC2", "demo", "PLC_CMD"}, hmi::TagContext{"PLC", "other", "PLC_CMD"},
         hmi::TagContext{"PLC", "demo", "PLC_REPLY"}, hmi::TagContext{"PLC", "demo", "PLC2_CMD"}}) {
-    const auto r = send(h, signed_with(ctx, epoch));
+    const auto r = h.send(signed_with(ctx, epoch));
     EXPECT_FALSE(r.ok) << ctx.prefix << " " << ctx.cell << " " << ctx.channel;
     EXPECT_TRUE(has(r.refusal, "bad tag")) << r.refusal;
   }
   auto moved = signed_with({"PLC", "demo", "PLC_CMD"}, epoch);
   moved.epoch[0] = std::int8_t(moved.epoch[0] ^ 1);  // the tag covers the epoch
-  EXPECT_TRUE(has(send(h, moved).refusal, "bad tag"));
+  EXPECT_TRUE(has(h.send(moved).refusal, "bad tag"));
   hmi::Epoch other = epoch;
   other[15] = std::uint8_t(other[15] ^ 0x80);
-  EXPECT_TRUE(has(send(h, signed_with({"PLC", "demo", "PLC_CMD"}, other)).refusal, "stale epoch"));
+  EXPECT_TRUE(has(h.send(signed_with({"PLC", "demo", "PLC_CMD"}, other)).refusal, "stale epoch"));
   const auto c = h.bridge->counters();
   EXPECT_EQ(c.bad_tag, 5U);
   EXPECT_EQ(c.stale, 1U);
   EXPECT_EQ(c.commands, 0U);
   h.dbg->step(1, "fast");
-  EXPECT_NE(value_of(h, "Tank.high_level"), std::to_string(counter));
-  EXPECT_TRUE(send(h, signed_with({"PLC", "demo", "PLC_CMD"}, epoch)).ok);
+  EXPECT_NE(h.value_of("Tank.high_level"), std::to_string(counter));
+  EXPECT_TRUE(h.send(signed_with({"PLC", "demo", "PLC_CMD"}, epoch)).ok);
   h.dbg->step(1, "fast");
-  EXPECT_EQ(value_of(h, "Tank.high_level"), std::to_string(counter));
+  EXPECT_EQ(h.value_of("Tank.high_level"), std::to_string(counter));
 }
 
 // describe needs no tag (it is how a client learns the epoch) and changes
@@ -225,11 +213,11 @@ TEST(HmiAuth, DescriptionAndRepliesAreSigned) {
   forged.vars[0].writable = !forged.vars[0].writable;
   EXPECT_FALSE(hmi::verify(forged, key, {"PLC", "demo", "PLC_DESC"}));
 
-  const auto described = send(h, command(1, "describe", {}));
+  const auto described = h.send(command(1, "describe", {}));
   EXPECT_TRUE(described.ok) << described.refusal;
-  const auto refused = send(h, command(2, "write", {"Tank.high_level", "1"}));  // unsigned
+  const auto refused = h.send(command(2, "write", {"Tank.high_level", "1"}));  // unsigned
   EXPECT_FALSE(refused.ok);
-  const auto served = send(h, signed_for(h, command(3, "read", {"Tank.level"}), key));
+  const auto served = h.send(signed_for(h, command(3, "read", {"Tank.level"}), key));
   EXPECT_TRUE(served.ok) << served.refusal;
   for (const auto& r : {described, refused, served}) {
     EXPECT_EQ(hmi::epoch_of(r), h.bridge->epoch());
@@ -305,7 +293,7 @@ TEST(HmiAuth, PlcctlClientRefusesUnsignedForgedAndMisaddressedReplies) {
   ASSERT_TRUE(r) << err;
   EXPECT_TRUE(r->ok) << r->refusal;
   ASSERT_EQ(r->values.size(), 1U);
-  EXPECT_EQ(r->values[0].text, value_of(h, "Tank.level"));
+  EXPECT_EQ(r->values[0].text, h.value_of("Tank.level"));
   EXPECT_NE(r->text, "forged");
   EXPECT_EQ(commands_seen, 2);  // describe, read
 
@@ -356,27 +344,27 @@ TEST(HmiAuth, PlcctlClientSendsAgainForTheEpochOfAStaleRefusal) {
 TEST(HmiAuth, UnforceAllFromTheHmiReleasesOnlyWhatItMayForce) {
   HmiCell h;
   h.dbg->step(1);
-  const std::string enable_before = value_of(h, "Tank.enable");
+  const std::string enable_before = h.value_of("Tank.enable");
   ASSERT_TRUE(h.dbg->force("Tank.step", "3").ok);  // the console's
   ASSERT_TRUE(h.dbg->force("%QW0", "16#1234").ok);
-  auto r = send(h, command(1, "force", {"Tank.enable", "FALSE"}));
+  auto r = h.send(command(1, "force", {"Tank.enable", "FALSE"}));
   ASSERT_TRUE(r.ok) << r.refusal;
   h.dbg->step(2);
-  r = send(h, command(2, "unforce", {"all", "restore"}));
+  r = h.send(command(2, "unforce", {"all", "restore"}));
   EXPECT_TRUE(r.ok) << r.refusal;
   EXPECT_TRUE(has(r.text, "unforced Tank.enable, restoring " + enable_before)) << r.text;
   EXPECT_TRUE(has(r.text, "kept Tank.step")) << r.text;
   EXPECT_TRUE(has(r.text, "kept %QW0")) << r.text;
   h.dbg->step(3);
-  EXPECT_EQ(value_of(h, "Tank.step"), "3");
+  EXPECT_EQ(h.value_of("Tank.step"), "3");
   EXPECT_TRUE(h.dbg->read({"Tank.step"}).front().forced);
-  EXPECT_EQ(value_of(h, "%QW0"), "16#1234");
+  EXPECT_EQ(h.value_of("%QW0"), "16#1234");
   EXPECT_FALSE(h.dbg->read({"Tank.enable"}).front().forced);
   const std::string forces = h.dbg->execute("forces");
   EXPECT_TRUE(has(forces, "Tank.step := 3")) << forces;
   EXPECT_FALSE(has(forces, "Tank.enable")) << forces;
   // Nothing left that the client may release: refused, the rest kept.
-  r = send(h, command(3, "unforce", {"all"}));
+  r = h.send(command(3, "unforce", {"all"}));
   EXPECT_FALSE(r.ok);
   EXPECT_TRUE(has(r.refusal, "kept Tank.step")) << r.refusal;
   EXPECT_TRUE(h.dbg->read({"Tank.step"}).front().forced);

@@ -28,19 +28,6 @@ softplc_hmi::command_t command(std::int64_t id, const std::string& verb,
   return c;
 }
 
-// Sends c, lets the bridge serve it, returns its reply (or a failed test).
-softplc_hmi::reply_t send(HmiCell& h, const softplc_hmi::command_t& c) {
-  h.replies.clear();
-  h.bridge->transport().publish(h.bridge->channels().cmd, &c);
-  h.bridge->service();
-  EXPECT_EQ(h.replies.size(), 1U) << c.verb;
-  return h.replies.empty() ? softplc_hmi::reply_t{} : h.replies.front();
-}
-
-std::string value_of(HmiCell& h, const std::string& path) {
-  return h.dbg->read({path}).front().text;
-}
-
 std::map<std::string, int> indices(HmiCell& h) {
   std::map<std::string, int> m;
   const auto d = h.bridge->description();
@@ -68,7 +55,7 @@ TEST(HmiBridge, WatchedValuesMatchTheCellAfterEveryScan) {
       auto it = h.seen.find(idx.at(v.path));
       if (it == h.seen.end()) continue;  // that task has not scanned yet
       // Located variables: the bridge shows the task's view, as print does.
-      ASSERT_EQ(it->second, value_of(h, v.path)) << v.path << " after scan " << scan;
+      ASSERT_EQ(it->second, h.value_of(v.path)) << v.path << " after scan " << scan;
       ++compared;
     }
   }
@@ -81,14 +68,14 @@ TEST(HmiBridge, WatchedValuesMatchTheCellAfterEveryScan) {
 TEST(HmiBridge, WriteToWritableVariableTakesEffectAtTheNextScan) {
   HmiCell h;
   h.dbg->step(1);
-  const std::string before = value_of(h, "Tank.high_level");
+  const std::string before = h.value_of("Tank.high_level");
   ASSERT_NE(before, "1234");
-  const auto r = send(h, command(1, "write", {"Tank.high_level", "1234"}));
+  const auto r = h.send(command(1, "write", {"Tank.high_level", "1234"}));
   EXPECT_TRUE(r.ok) << r.refusal;
   EXPECT_EQ(r.request_id, 1);
-  EXPECT_EQ(value_of(h, "Tank.high_level"), before);  // not yet
-  h.dbg->step(1, "fast");                             // the next scan of Tank's task
-  EXPECT_EQ(value_of(h, "Tank.high_level"), "1234");
+  EXPECT_EQ(h.value_of("Tank.high_level"), before);  // not yet
+  h.dbg->step(1, "fast");                            // the next scan of Tank's task
+  EXPECT_EQ(h.value_of("Tank.high_level"), "1234");
   EXPECT_EQ(h.bridge->counters().commands, 1U);
 }
 
@@ -97,23 +84,23 @@ TEST(HmiBridge, WriteToWritableVariableTakesEffectAtTheNextScan) {
 TEST(HmiBridge, WritesOutsideTheWritablePatternsAreRefusedAndNothingApplied) {
   HmiCell h;
   h.dbg->step(1);
-  const std::string step = value_of(h, "Tank.step");
-  auto r = send(h, command(1, "write", {"Tank.step", "7"}));
+  const std::string step = h.value_of("Tank.step");
+  auto r = h.send(command(1, "write", {"Tank.step", "7"}));
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.refusal.find("not allowed"), std::string::npos) << r.refusal;
-  r = send(h, command(2, "force", {"Tank.high_level", "5"}));  // writable, not forceable
+  r = h.send(command(2, "force", {"Tank.high_level", "5"}));  // writable, not forceable
   EXPECT_FALSE(r.ok);
-  r = send(h, command(3, "write", {"Tank.hold.running_", "TRUE"}));  // read-only, pattern-less
+  r = h.send(command(3, "write", {"Tank.hold.running_", "TRUE"}));  // read-only, pattern-less
   EXPECT_FALSE(r.ok);
-  r = send(h, command(4, "pause", {}));  // stop_commands: false
+  r = h.send(command(4, "pause", {}));  // stop_commands: false
   EXPECT_FALSE(r.ok);
   EXPECT_NE(r.refusal.find("stop_commands"), std::string::npos) << r.refusal;
-  r = send(h, command(5, "write", {"Tank.high_level", "not-a-number"}));  // the debugger says no
+  r = h.send(command(5, "write", {"Tank.high_level", "not-a-number"}));  // the debugger says no
   EXPECT_FALSE(r.ok);
-  r = send(h, command(6, "frobnicate", {}));
+  r = h.send(command(6, "frobnicate", {}));
   EXPECT_FALSE(r.ok);
   h.dbg->step(2);
-  EXPECT_EQ(value_of(h, "Tank.step"), step);
+  EXPECT_EQ(h.value_of("Tank.step"), step);
   EXPECT_EQ(h.dbg->execute("forces"), "no forces\n");
   EXPECT_EQ(h.bridge->counters().refused, 6U);
   EXPECT_EQ(h.bridge->counters().commands, 0U);
@@ -145,7 +132,7 @@ TEST(HmiBridge, MalformedCommandsAreCountedAndIgnored) {
   EXPECT_TRUE(h.replies.empty());
   EXPECT_EQ(h.bridge->counters().malformed, 4U);
   h.dbg->step(1);
-  EXPECT_NE(value_of(h, "Tank.high_level"), "99");
+  EXPECT_NE(h.value_of("Tank.high_level"), "99");
 }
 
 // The shared key: a command without a right tag, or with a counter not above
@@ -168,31 +155,31 @@ TEST(HmiBridge, SharedKeyRefusesBadTagsAndReplays) {
   };
 
   auto unsigned_cmd = command(10, "write", {"Tank.high_level", "111"});
-  EXPECT_FALSE(send(h, unsigned_cmd).ok);
+  EXPECT_FALSE(h.send(unsigned_cmd).ok);
   EXPECT_EQ(h.bridge->counters().bad_tag, 1U);
 
   auto first = command(11, "write", {"Tank.high_level", "222"});
   sign(first);
   auto tampered = first;
   tampered.args[1] = "333";  // the tag no longer fits
-  EXPECT_FALSE(send(h, tampered).ok);
+  EXPECT_FALSE(h.send(tampered).ok);
   EXPECT_EQ(h.bridge->counters().bad_tag, 2U);
 
-  EXPECT_TRUE(send(h, first).ok);
+  EXPECT_TRUE(h.send(first).ok);
   h.dbg->step(1, "fast");
-  EXPECT_EQ(value_of(h, "Tank.high_level"), "222");
+  EXPECT_EQ(h.value_of("Tank.high_level"), "222");
 
   auto second = command(12, "write", {"Tank.high_level", "444"});
   sign(second);
-  EXPECT_TRUE(send(h, second).ok);
+  EXPECT_TRUE(h.send(second).ok);
   h.dbg->step(1, "fast");
-  EXPECT_EQ(value_of(h, "Tank.high_level"), "444");
+  EXPECT_EQ(h.value_of("Tank.high_level"), "444");
 
-  const auto replay = send(h, first);  // a captured, correctly signed old command
+  const auto replay = h.send(first);  // a captured, correctly signed old command
   EXPECT_FALSE(replay.ok);
   EXPECT_NE(replay.refusal.find("replayed"), std::string::npos) << replay.refusal;
   h.dbg->step(1);
-  EXPECT_EQ(value_of(h, "Tank.high_level"), "444");
+  EXPECT_EQ(h.value_of("Tank.high_level"), "444");
   EXPECT_EQ(h.bridge->counters().replayed, 1U);
   EXPECT_EQ(h.bridge->counters().commands, 2U);
 }
@@ -202,27 +189,27 @@ TEST(HmiBridge, SharedKeyRefusesBadTagsAndReplays) {
 TEST(HmiBridge, ReadForceAndStopCommandsWhenAllowed) {
   HmiCell h(std::string(plctest::kHmiSection) + "  stop_commands: true\n");
   h.dbg->step(1);
-  auto r = send(h, command(1, "read", {"Tank.level", "Nope.x"}));
+  auto r = h.send(command(1, "read", {"Tank.level", "Nope.x"}));
   ASSERT_TRUE(r.ok);
   ASSERT_EQ(r.n, 2);
-  EXPECT_EQ(r.values[0].text, value_of(h, "Tank.level"));
+  EXPECT_EQ(r.values[0].text, h.value_of("Tank.level"));
   EXPECT_EQ(r.values[0].type, "INT");
   EXPECT_EQ(r.values[0].address, "%IW0");
   EXPECT_NE(r.values[1].error.find("unknown variable"), std::string::npos);
-  EXPECT_TRUE(send(h, command(2, "force", {"Tank.enable", "FALSE"})).ok);
+  EXPECT_TRUE(h.send(command(2, "force", {"Tank.enable", "FALSE"})).ok);
   h.dbg->step(3);
-  EXPECT_EQ(value_of(h, "Tank.enable"), "FALSE");
+  EXPECT_EQ(h.value_of("Tank.enable"), "FALSE");
   EXPECT_TRUE(h.dbg->read({"Tank.enable"}).front().forced);
-  EXPECT_TRUE(send(h, command(3, "unforce", {"Tank.enable"})).ok);
+  EXPECT_TRUE(h.send(command(3, "unforce", {"Tank.enable"})).ok);
   EXPECT_FALSE(h.dbg->read({"Tank.enable"}).front().forced);
   const auto scans = h.dbg->scan_count();
-  EXPECT_TRUE(send(h, command(4, "step", {"5"})).ok);
+  EXPECT_TRUE(h.send(command(4, "step", {"5"})).ok);
   EXPECT_EQ(h.dbg->scan_count(), scans + 5);
-  r = send(h, command(5, "break", {"Tank.step = 3"}));
+  r = h.send(command(5, "break", {"Tank.step = 3"}));
   EXPECT_TRUE(r.ok) << r.refusal;
   EXPECT_NE(h.dbg->execute("breaks").find("Tank.step = 3"), std::string::npos);
-  EXPECT_TRUE(send(h, command(6, "delete", {"all"})).ok);
-  EXPECT_FALSE(send(h, command(7, "step", {"0"})).ok);
+  EXPECT_TRUE(h.send(command(6, "delete", {"all"})).ok);
+  EXPECT_FALSE(h.send(command(7, "step", {"0"})).ok);
 }
 
 // The hmi: section's errors carry file:line:col like the rest of the config.

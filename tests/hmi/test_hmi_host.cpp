@@ -68,18 +68,14 @@ std::string text(const ReplyRecord& r) {
   return std::string(r.text, strnlen(r.text, sizeof r.text));
 }
 
-std::string value_of(HmiCell& h, const std::string& path) {
-  return h.dbg->read({path}).front().text;
-}
-
 }  // namespace
 
 TEST(HmiHost, RecordsOutsideWhatTheCellAllowsAreRefusedWithTheirReason) {
   HmiCell h;
   h.dbg->step(1);
   FakeBridge b(h);
-  const std::string step = value_of(h, "Tank.step");
-  const std::string level = value_of(h, "Tank.high_level");
+  const std::string step = h.value_of("Tank.step");
+  const std::string level = h.value_of("Tank.high_level");
   struct Row {
     CommandRecord r;
     Reason reason;
@@ -152,8 +148,8 @@ TEST(HmiHost, RecordsOutsideWhatTheCellAllowsAreRefusedWithTheirReason) {
   EXPECT_EQ(host.refused.load(), rows.size());
   EXPECT_EQ(host.served.load(), 0U);
   h.dbg->step(3);
-  EXPECT_EQ(value_of(h, "Tank.step"), step);
-  EXPECT_EQ(value_of(h, "Tank.high_level"), level);
+  EXPECT_EQ(h.value_of("Tank.step"), step);
+  EXPECT_EQ(h.value_of("Tank.high_level"), level);
   EXPECT_EQ(h.dbg->execute("forces"), "no forces\n");
 }
 

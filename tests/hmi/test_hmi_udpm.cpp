@@ -11,6 +11,7 @@
 
 #include "hmi_test_cell.hpp"
 #include "loopback_netns.hpp"
+#include "plc/hmi/utime.hpp"
 #include "runtime/test_helpers.hpp"
 #include "softplc_hmi/cell_description_t.hpp"
 #include "softplc_hmi/values_t.hpp"
@@ -275,12 +276,6 @@ struct Running {
   }
 };
 
-std::int64_t wall_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
 }  // namespace
 
 // Issue 22's acceptance, as processes: the 60-byte wrapping-offset fragment
@@ -334,7 +329,7 @@ hmi:
     ++lines;
     if (bursts < 3 && (lines == 1 || lines == 10 || lines == 20)) {
       burst();
-      last_burst_us = wall_us();
+      last_burst_us = plc::hmi::utime_now();
       after_last = 0;
     } else {
       ++after_last;

@@ -34,19 +34,6 @@ using dntest::Child;
 
 namespace {
 
-std::string replace_all(std::string s, const std::string& from, const std::string& to) {
-  for (auto p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size()))
-    s.replace(p, from.size(), to);
-  return s;
-}
-
-std::string value_of(const std::string& out, const std::string& var) {
-  const auto at = out.find(var + " = ");
-  if (at == std::string::npos) return "?";
-  const auto from = at + var.size() + 3;
-  return out.substr(from, out.find('\n', from) - from);
-}
-
 std::string gsd_path() { return plctest::source_path("iec-io/profibus/gsd/GWT_5610.gsd"); }
 
 }  // namespace
@@ -62,13 +49,13 @@ TEST(PbCell, VirtualTimeFillsAsManyContainersAsTheSimCellAllInTolerance) {
   const auto pb = plctest::run_command(plctest::plcrun_path() + " " + file + vars);
   ASSERT_EQ(sim.exit_code, 0) << sim.output;
   ASSERT_EQ(pb.exit_code, 0) << pb.output;
-  const int containers = std::stoi(value_of(pb.output, "Cell.containers"));
+  const int containers = std::stoi(plctest::printed_value(pb.output, "Cell.containers"));
   EXPECT_GE(containers, 10) << pb.output;
   // The bus cycle (5 ms, the GSD's Min_Slave_Intervall) delays the window
   // by a few ms against the sim plugin: a container more or less at the end.
-  EXPECT_NEAR(containers, std::stoi(value_of(sim.output, "Cell.containers")), 1);
-  EXPECT_EQ(value_of(pb.output, "Cell.dose.InTolCount"), std::to_string(containers));
-  EXPECT_EQ(value_of(pb.output, "Cell.dose.OutTolCount"), "0");
+  EXPECT_NEAR(containers, std::stoi(plctest::printed_value(sim.output, "Cell.containers")), 1);
+  EXPECT_EQ(plctest::printed_value(pb.output, "Cell.dose.InTolCount"), std::to_string(containers));
+  EXPECT_EQ(plctest::printed_value(pb.output, "Cell.dose.OutTolCount"), "0");
   EXPECT_NE(pb.output.find("profibus: scale (address 5): data exchange"), std::string::npos);
   EXPECT_NE(pb.output.find("losses 0 startups 1"), std::string::npos) << pb.output;
   EXPECT_NE(pb.output.find("bus cycle 5000 us"), std::string::npos) << pb.output;
@@ -81,26 +68,28 @@ TEST(PbCell, TwoProcessesOnAPtySurviveASlaveRestartAndAPulledLine) {
   std::string cell =
       plctest::read_file(plctest::source_path("programs/filling_cell/cell_profibus_pty.yaml"));
   ASSERT_FALSE(cell.empty());
-  cell = replace_all(cell, "/tmp/softplc-profibus.txt", capture);
-  cell = replace_all(cell, "/tmp/softplc-profibus", pty);
-  cell = replace_all(cell, "gsd: ../../iec-io/profibus/gsd/GWT_5610.gsd", "gsd: " + gsd_path());
-  cell = replace_all(cell, "    period: 1ms\n", "    period: 1ms\n    watchdog: 0\n");
+  cell = plctest::replace_all(cell, "/tmp/softplc-profibus.txt", capture);
+  cell = plctest::replace_all(cell, "/tmp/softplc-profibus", pty);
+  cell = plctest::replace_all(cell, "gsd: ../../iec-io/profibus/gsd/GWT_5610.gsd",
+                              "gsd: " + gsd_path());
+  cell = plctest::replace_all(cell, "    period: 1ms\n", "    period: 1ms\n    watchdog: 0\n");
   // The conveyor (sim plugin, not on the bus) without its sign-of-life
   // checks, the drive's and the axis FB's: late scans of a loaded machine
   // must not fault it, this test is about the scale. The master waits 4 x 100 ms before it drops
   // the scale.
-  cell = replace_all(cell, "params: {telegram: 111}",
-                     "params: {telegram: 111, sign_of_life_monitoring: false}");
-  cell = replace_all(cell, "reply_timeout: 50ms", "reply_timeout: 100ms");
-  cell = replace_all(cell, "    type: FillingCell\n",
-                     "    type: FillingCell\n    init:\n      target_kg: 5.0\n"
-                     "      guard.FMOD.F_WD_Time: 500\n"
-                     "      conveyor.SignOfLifeCheck: FALSE\n");
+  cell = plctest::replace_all(cell, "params: {telegram: 111}",
+                              "params: {telegram: 111, sign_of_life_monitoring: false}");
+  cell = plctest::replace_all(cell, "reply_timeout: 50ms", "reply_timeout: 100ms");
+  cell = plctest::replace_all(cell, "    type: FillingCell\n",
+                              "    type: FillingCell\n    init:\n      target_kg: 5.0\n"
+                              "      guard.FMOD.F_WD_Time: 500\n"
+                              "      conveyor.SignOfLifeCheck: FALSE\n");
   const std::string cell_file = plctest::write_temp("pb_cell_pty.yaml", cell);
   std::string slave =
       plctest::read_file(plctest::source_path("programs/filling_cell/dpslavesim.yaml"));
-  slave = replace_all(slave, "/tmp/softplc-profibus", pty);
-  slave = replace_all(slave, "gsd: ../../iec-io/profibus/gsd/GWT_5610.gsd", "gsd: " + gsd_path());
+  slave = plctest::replace_all(slave, "/tmp/softplc-profibus", pty);
+  slave = plctest::replace_all(slave, "gsd: ../../iec-io/profibus/gsd/GWT_5610.gsd",
+                               "gsd: " + gsd_path());
   const std::string slave_file = plctest::write_temp("pb_slave.yaml", slave);
 
   // No fixed run time: plcrun runs until the scenario is through and is

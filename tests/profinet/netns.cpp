@@ -1,6 +1,5 @@
 #include "netns.hpp"
 
-#include <dirent.h>
 #include <fcntl.h>
 #include <linux/if_ether.h>
 #include <poll.h>
@@ -16,6 +15,7 @@
 #include <cstring>
 
 #include "runtime/test_helpers.hpp"
+#include "stale_netns.hpp"
 
 namespace plctest {
 
@@ -29,23 +29,6 @@ std::string quote(const std::string& s) {
 
 const char* const kPrefix = "plcpn";
 
-// Deletes namespaces "plcpn<pid>_..." of processes that no longer run.
-void delete_stale() {
-  DIR* d = ::opendir("/run/netns");
-  if (!d) return;
-  std::vector<std::string> stale;
-  for (int i = 0; i < 10000; ++i) {
-    dirent* e = ::readdir(d);
-    if (!e) break;
-    const std::string name = e->d_name;
-    if (name.rfind(kPrefix, 0) != 0) continue;
-    const int pid = std::atoi(name.c_str() + std::strlen(kPrefix));
-    if (pid > 0 && ::kill(pid, 0) != 0 && errno == ESRCH) stale.push_back(name);
-  }
-  ::closedir(d);
-  for (const auto& n : stale) (void)run_command("ip netns delete " + quote(n));
-}
-
 }  // namespace
 
 std::unique_ptr<NetnsPair> NetnsPair::create(std::string& why_not) {
@@ -57,7 +40,7 @@ std::unique_ptr<NetnsPair> NetnsPair::create(std::string& why_not) {
     why_not = "the `ip` tool (iproute2) is missing";
     return nullptr;
   }
-  delete_stale();
+  delete_stale_netns(kPrefix);
   static std::atomic<int> counter{0};
   const int n = counter++;
   std::unique_ptr<NetnsPair> p(new NetnsPair);

@@ -38,19 +38,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::string replace_all(std::string s, const std::string& from, const std::string& to) {
-  for (auto p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size()))
-    s.replace(p, from.size(), to);
-  return s;
-}
-
-std::string value_of(const std::string& out, const std::string& var) {
-  const auto at = out.find(var + " = ");
-  if (at == std::string::npos) return "?";
-  const auto from = at + var.size() + 3;
-  return out.substr(from, out.find('\n', from) - from);
-}
-
 TEST(PnCell, VirtualTimeFillsTheSameContainersAsTheSimCell) {
   const std::string vars =
       " --for 2m --print-vars Cell.containers,Cell.dose.InTolCount,"
@@ -63,11 +50,11 @@ TEST(PnCell, VirtualTimeFillsTheSameContainersAsTheSimCell) {
                            plctest::source_path("programs/filling_cell/cell_profinet.yaml") + vars);
   ASSERT_EQ(sim.exit_code, 0) << sim.output;
   ASSERT_EQ(pn.exit_code, 0) << pn.output;
-  const std::string containers = value_of(sim.output, "Cell.containers");
+  const std::string containers = plctest::printed_value(sim.output, "Cell.containers");
   EXPECT_GE(std::stoi(containers), 10);
-  EXPECT_EQ(value_of(pn.output, "Cell.containers"), containers) << pn.output;
-  EXPECT_EQ(value_of(pn.output, "Cell.dose.InTolCount"), containers);
-  EXPECT_EQ(value_of(pn.output, "Cell.dose.OutTolCount"), "0");
+  EXPECT_EQ(plctest::printed_value(pn.output, "Cell.containers"), containers) << pn.output;
+  EXPECT_EQ(plctest::printed_value(pn.output, "Cell.dose.InTolCount"), containers);
+  EXPECT_EQ(plctest::printed_value(pn.output, "Cell.dose.OutTolCount"), "0");
   // Both devices were on PROFINET all along: one AR each, nothing bad.
   EXPECT_NE(pn.output.find("device conveyor   (pn): profinet conveyor 192.168.0.10"),
             std::string::npos)
@@ -100,40 +87,40 @@ TEST_F(PnCellNetns, RealTimeCellFillsSurvivesAPndevsimKillAndReconnects) {
 
   std::string sim = plctest::read_file(plctest::source_path("programs/filling_cell/pndevsim.yaml"));
   ASSERT_FALSE(sim.empty());
-  sim = replace_all(sim, "interface: pnb", "interface: " + b().iface);
-  sim = replace_all(sim, "control: stdin", "control: none");
-  sim = replace_all(sim, "10.88.0.2", b().ip);
-  sim = replace_all(sim, "10.88.0.3", safety_ip);
+  sim = plctest::replace_all(sim, "interface: pnb", "interface: " + b().iface);
+  sim = plctest::replace_all(sim, "control: stdin", "control: none");
+  sim = plctest::replace_all(sim, "10.88.0.2", b().ip);
+  sim = plctest::replace_all(sim, "10.88.0.3", safety_ip);
   // The wire check's alarm: the conveyor raises a diagnosis alarm 1 s into
   // data exchange (pndevsim's scheduled `alarm` fault, README "pndevsim");
   // the controller answers ACK-RTA + AlarmAck (no FB acts on it).
   const std::string telegram = "    params: {telegram: 111}\n";
   ASSERT_NE(sim.find(telegram), std::string::npos);
-  sim =
-      replace_all(sim, telegram, telegram + "    faults: {alarm: {kind: diagnosis, after: 1s}}\n");
+  sim = plctest::replace_all(sim, telegram,
+                             telegram + "    faults: {alarm: {kind: diagnosis, after: 1s}}\n");
   const std::string sim_file = plctest::write_temp("pn_cell_pndevsim.yaml", sim);
 
   std::string cell =
       plctest::read_file(plctest::source_path("programs/filling_cell/cell_profinet.yaml"));
-  cell = replace_all(cell, "\"mem:filling-cell\"", a().iface);
-  cell = replace_all(cell, "ip: 192.168.0.1 ", "ip: " + a().ip + " ");
-  cell = replace_all(cell, "192.168.0.10", b().ip);
-  cell = replace_all(cell, "192.168.0.11", safety_ip);
-  cell = replace_all(cell, "      simulate: true ", "      # ");
+  cell = plctest::replace_all(cell, "\"mem:filling-cell\"", a().iface);
+  cell = plctest::replace_all(cell, "ip: 192.168.0.1 ", "ip: " + a().ip + " ");
+  cell = plctest::replace_all(cell, "192.168.0.10", b().ip);
+  cell = plctest::replace_all(cell, "192.168.0.11", safety_ip);
+  cell = plctest::replace_all(cell, "      simulate: true ", "      # ");
   // 250 ms data hold (both sides): a loaded 2-core CI machine stalls a
   // process now and then, which must not read as a loss.
   ASSERT_NE(cell.find("data_hold_factor: 3 "), std::string::npos);
-  cell = replace_all(cell, "data_hold_factor: 3 ", "data_hold_factor: 250 ");
+  cell = plctest::replace_all(cell, "data_hold_factor: 3 ", "data_hold_factor: 250 ");
   // No task watchdog: a scan stretched by such a stall would stop the cell.
   ASSERT_NE(cell.find("    period: 1ms\n"), std::string::npos);
-  cell = replace_all(cell, "    period: 1ms\n", "    period: 1ms\n    watchdog: 0\n");
+  cell = plctest::replace_all(cell, "    period: 1ms\n", "    period: 1ms\n    watchdog: 0\n");
   // 5 kg containers (a first one within seconds), and a PROFIsafe watchdog
   // (F_WD_Time, both sides) of 500 ms instead of the cell's 100 ms.
   const std::string program = "    type: FillingCell\n";
   ASSERT_NE(cell.find(program), std::string::npos);
-  cell =
-      replace_all(cell, program,
-                  program + "    init:\n      target_kg: 5.0\n      guard.FMOD.F_WD_Time: 500\n");
+  cell = plctest::replace_all(
+      cell, program,
+      program + "    init:\n      target_kg: 5.0\n      guard.FMOD.F_WD_Time: 500\n");
   const std::string cell_file = plctest::write_temp("pn_cell.yaml", cell);
   const std::string trace = plctest::temp_path("pn_cell.csv");
   const std::string pcap = plctest::temp_path("pn_cell.pcap");

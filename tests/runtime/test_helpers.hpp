@@ -51,6 +51,22 @@ inline RunResult run_command(const std::string& cmd) {
   return r;
 }
 
+// s with every `from` replaced by `to` (a config's port or path made the test's own).
+inline std::string replace_all(std::string s, const std::string& from, const std::string& to) {
+  for (auto p = s.find(from); p != std::string::npos; p = s.find(from, p + to.size()))
+    s.replace(p, from.size(), to);
+  return s;
+}
+
+// The value of `var` in plcrun's `--print-vars` output ("VAR = VALUE"
+// lines); "?" when it is not there.
+inline std::string printed_value(const std::string& out, const std::string& var) {
+  const auto at = out.find(var + " = ");
+  if (at == std::string::npos) return "?";
+  const auto from = at + var.size() + 3;
+  return out.substr(from, out.find('\n', from) - from);
+}
+
 inline std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};

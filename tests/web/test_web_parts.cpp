@@ -1,12 +1,13 @@
 // The web HMI's parts without a network (issue 27): the command body's
 // parser and its bounds, the password hash, the key as a password, session
-// expiry and eviction, cookies, the Host and Origin checks, JSON escaping,
+// expiry and eviction, the login limit, cookies, the Host and Origin checks, JSON escaping,
 // and the hmi: web: keys' errors at their own line.
 #include <gtest/gtest.h>
 
 #include "plc/cell_config.hpp"
 #include "plc/hmi/web/command_body.hpp"
 #include "plc/hmi/web/json.hpp"
+#include "plc/hmi/web/login_limiter.hpp"
 #include "plc/hmi/web/web_auth.hpp"
 #include "plc_test_paths.hpp"
 
@@ -101,6 +102,66 @@ TEST(WebHmiParts, SessionsExpireAndAreBounded) {
   }
   EXPECT_EQ(many.size(), Sessions::kMax);
   EXPECT_EQ(many.find(first, t0 + seconds(100)), nullptr);  // the least recently used went
+}
+
+// Issue 27 (security): 5 failures within 60 s lock an address for 60 s
+// (login_limiter.hpp); failures spread wider than the window never lock; a
+// success forgets; the table stays bounded and drops unlocked addresses
+// before locked ones.
+TEST(WebHmiParts, LoginLimiterLocksCountsAndForgets) {
+  using namespace std::chrono;
+  using L = LoginLimiter;
+  const auto t0 = steady_clock::time_point{} + hours(1);
+  L l;
+  for (int i = 0; i < L::kMaxFailures - 1; ++i) l.failed("192.0.2.1", t0 + seconds(i));
+  EXPECT_EQ(l.locked_for("192.0.2.1", t0 + seconds(4)), seconds(0));
+  l.failed("192.0.2.1", t0 + seconds(4));
+  EXPECT_EQ(l.locked_for("192.0.2.1", t0 + seconds(4)), seconds(60));
+  EXPECT_EQ(l.locked_for("192.0.2.1", t0 + seconds(4) + milliseconds(59'500)), seconds(1));
+  EXPECT_EQ(l.locked_for("192.0.2.1", t0 + seconds(64)), seconds(0));
+  EXPECT_EQ(l.locked_for("192.0.2.2", t0 + seconds(4)), seconds(0));
+  // After the lock one more failure does not lock again at once.
+  l.failed("192.0.2.1", t0 + seconds(64));
+  EXPECT_EQ(l.locked_for("192.0.2.1", t0 + seconds(64)), seconds(0));
+  // One failure every 15 s: 5 of them span 60 s, never within 60 s.
+  L slow;
+  for (int i = 0; i < 20; ++i) {
+    slow.failed("192.0.2.3", t0 + seconds(15 * i));
+    EXPECT_EQ(slow.locked_for("192.0.2.3", t0 + seconds(15 * i)), seconds(0)) << i;
+  }
+  // Any 60 s counts, not a window from the first failure: 1 failure at 0 s,
+  // 3 at 59 s, 2 at 61 s. A window from 0 s would start anew at 61 s (2 in
+  // it); the last 5 (59, 59, 59, 61, 61 s) are within 60 s: locked.
+  L sliding;
+  sliding.failed("192.0.2.5", t0);
+  for (int i = 0; i < 3; ++i) sliding.failed("192.0.2.5", t0 + seconds(59));
+  sliding.failed("192.0.2.5", t0 + seconds(61));
+  EXPECT_EQ(sliding.locked_for("192.0.2.5", t0 + seconds(61)), seconds(0));
+  sliding.failed("192.0.2.5", t0 + seconds(61));
+  EXPECT_EQ(sliding.locked_for("192.0.2.5", t0 + seconds(61)), seconds(60));
+  // A success clears the count.
+  L ok;
+  for (int i = 0; i < L::kMaxFailures - 1; ++i) ok.failed("192.0.2.4", t0);
+  ok.succeeded("192.0.2.4");
+  ok.failed("192.0.2.4", t0);
+  EXPECT_EQ(ok.locked_for("192.0.2.4", t0), seconds(0));
+  // Bounded: a locked address survives kMaxAddresses others failing once.
+  L many;
+  for (int i = 0; i < L::kMaxFailures; ++i) many.failed("locked", t0);
+  for (std::size_t i = 0; i < 2 * L::kMaxAddresses; ++i)
+    many.failed("10.0." + std::to_string(i / 256) + "." + std::to_string(i % 256),
+                t0 + milliseconds(long(i)));
+  EXPECT_EQ(many.size(), L::kMaxAddresses);
+  EXPECT_EQ(many.locked_for("locked", t0 + seconds(1)), seconds(59));
+}
+
+TEST(WebHmiParts, LoginLimiterAddressKeys) {
+  EXPECT_EQ(address_key("192.0.2.7"), "192.0.2.7");
+  EXPECT_EQ(address_key("::ffff:192.0.2.7"), "192.0.2.7");
+  EXPECT_EQ(address_key("2001:db8:1:2:aaaa:bbbb:cccc:dddd"), "2001:db8:1:2::/64");
+  EXPECT_EQ(address_key("2001:db8:1:2::1"), address_key("2001:db8:1:2:ffff::9"));
+  EXPECT_NE(address_key("2001:db8:1:2::1"), address_key("2001:db8:1:3::1"));
+  EXPECT_EQ(address_key("::1"), "::/64");
 }
 
 TEST(WebHmiParts, CookiesHostsOrigins) {

@@ -28,6 +28,7 @@ struct Response {
   int status = 0;
   std::string body;
   std::string set_cookie;
+  std::string retry_after;
 };
 
 inline void set_timeout(int fd, int ms) {
@@ -36,10 +37,17 @@ inline void set_timeout(int fd, int ms) {
   setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
 }
 
-inline Response request(int port, http::verb method, const std::string& target,
-                        std::map<std::string, std::string> headers, const std::string& body = "") {
+// A request from loopback address `from` ("127.0.0.2": any of 127/8 is this
+// host; "" lets the kernel choose), as another client would send it.
+inline Response request_from(const std::string& from, int port, http::verb method,
+                             const std::string& target, std::map<std::string, std::string> headers,
+                             const std::string& body = "") {
   asio::io_context ioc;
   tcp::socket s(ioc);
+  if (!from.empty()) {
+    s.open(tcp::v4());
+    s.bind({asio::ip::make_address(from), 0});
+  }
   s.connect({asio::ip::make_address("127.0.0.1"), static_cast<unsigned short>(port)});
   set_timeout(s.native_handle(), 10000);
   http::request<http::string_body> req{method, target, 11};
@@ -57,7 +65,13 @@ inline Response request(int port, http::verb method, const std::string& target,
   r.status = res.result_int();
   r.body = res.body();
   r.set_cookie = std::string(res[http::field::set_cookie]);
+  r.retry_after = std::string(res[http::field::retry_after]);
   return r;
+}
+
+inline Response request(int port, http::verb method, const std::string& target,
+                        std::map<std::string, std::string> headers, const std::string& body = "") {
+  return request_from("", port, method, target, std::move(headers), body);
 }
 
 }  // namespace webtest

@@ -9,6 +9,7 @@
 
 #include "bridge_view.hpp"
 #include "plc/hmi/checked_decode.hpp"
+#include "plc/hmi/utime.hpp"
 #include "plc/hmi/value_text.hpp"
 #include "softplc_hmi/trace_sample_t.hpp"
 #include "softplc_hmi/values_t.hpp"
@@ -16,12 +17,6 @@
 namespace plc::hmi {
 
 namespace {
-
-std::int64_t utime_now() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 std::string bounded(const char* s, std::size_t cap) { return std::string(s, strnlen(s, cap)); }
 

@@ -6,18 +6,13 @@
 
 #include "bridge_view.hpp"
 #include "plc/hmi/bridge.hpp"
+#include "plc/hmi/utime.hpp"
 #include "softplc_hmi/diagnostics_t.hpp"
 #include "softplc_hmi/stats_t.hpp"
 
 namespace plc::hmi {
 
 namespace {
-
-std::int64_t utime_now() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 // io::DeviceState's names (plc/io/device_link.hpp), without linking it.
 const char* state_name(std::uint8_t s) {

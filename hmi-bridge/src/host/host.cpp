@@ -15,16 +15,11 @@
 #include "plc/hmi/host_privileges.hpp"
 #include "plc/hmi/pattern.hpp"
 #include "plc/hmi/tls_files.hpp"
+#include "plc/hmi/utime.hpp"
 
 namespace plc::hmi {
 
 namespace {
-
-std::int64_t utime_now() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 VarType type_for(io::AddrSize s) {
   switch (s) {

@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "plc/hmi/udpm_wire.hpp"
+#include "plc/hmi/utime.hpp"
 
 namespace plc::hmi {
 
@@ -18,9 +19,7 @@ bool MemqTransport::publish(const std::string& channel, const void* data, std::s
   q.channel = channel;
   q.data.assign(static_cast<const std::uint8_t*>(data),
                 static_cast<const std::uint8_t*>(data) + size);
-  q.utime = std::chrono::duration_cast<std::chrono::microseconds>(
-                std::chrono::system_clock::now().time_since_epoch())
-                .count();
+  q.utime = utime_now();
   lock.lock();
   if (queue_.size() >= kMaxQueued) {
     ++counters_.queue_full;

@@ -11,6 +11,7 @@
 #include <cstring>
 
 #include "plc/hmi/udpm_wire.hpp"
+#include "plc/hmi/utime.hpp"
 
 namespace plc::hmi {
 
@@ -19,12 +20,6 @@ namespace {
 std::int64_t mono_us() {
   return std::chrono::duration_cast<std::chrono::microseconds>(
              std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-std::int64_t wall_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
       .count();
 }
 
@@ -163,7 +158,7 @@ int UdpmTransport::read_one() {
       std::memcpy(&tv, CMSG_DATA(c), sizeof tv);
       recv_utime = std::int64_t(tv.tv_sec) * 1'000'000 + tv.tv_usec;
     }
-  if (!recv_utime) recv_utime = wall_us();
+  if (!recv_utime) recv_utime = utime_now();
   const std::uint64_t sender =
       std::uint64_t(ntohl(from.sin_addr.s_addr)) << 16 | ntohs(from.sin_port);
   std::optional<UdpmMessage> m;

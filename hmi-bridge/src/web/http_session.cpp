@@ -38,6 +38,9 @@ HttpSession::HttpSession(WebServer::Impl* server, tcp::socket socket)
   // A message goes out whole at once: without this Nagle's algorithm holds
   // its last segment for the page's delayed ACK (40 ms).
   tcp().socket().set_option(tcp::no_delay(true), ignored);
+  // A peer whose address cannot be read (gone already) shares one key.
+  const auto peer = tcp().socket().remote_endpoint(ignored);
+  client_ = ignored ? "unknown" : address_key(peer.address().to_string());
 }
 
 beast::tcp_stream& HttpSession::tcp() {
@@ -150,7 +153,7 @@ const Session* HttpSession::session() {
   const auto it = req_.find(http::field::cookie);
   if (it == req_.end()) return nullptr;
   const std::string token = cookie_value(std::string(it->value()), kCookie);
-  return server_->sessions.find(token, std::chrono::steady_clock::now());
+  return server_->sessions.find(token, server_->now());
 }
 
 bool HttpSession::check_host() {
@@ -188,7 +191,7 @@ void HttpSession::handle() {
 }
 
 void HttpSession::handle_api(const std::string& target) {
-  const auto now = std::chrono::steady_clock::now();
+  const auto now = server_->now();
   const bool post = req_.method() == http::verb::post;
   // Every POST and the WebSocket come from this server's own page: the
   // browser's Origin says so (another site's page cannot forge it).
@@ -211,27 +214,7 @@ void HttpSession::handle_api(const std::string& target) {
     out += R"(,"login":")" + server_->login_name + R"("})";
     return send_json(http::status::ok, out);
   }
-  if (target == "/api/login" && post) {
-    const std::string& password = req_.body();
-    bool ok = false;
-    if (password.size() <= kMaxPassword) {
-      if (server_->opt.login == ipc::WebLogin::Hash)
-        ok = verify_password(password, server_->opt.password_hash);
-      else if (server_->opt.login == ipc::WebLogin::Key && server_->opt.key)
-        ok = verify_key_text(password, *server_->opt.key);
-    }
-    if (!ok) {
-      server_->count([](WebCounters& c) { ++c.login_failed; });
-      return refuse(http::status::unauthorized, "wrong password");
-    }
-    server_->count([](WebCounters& c) { ++c.logins; });
-    auto [token, csrf] = server_->sessions.open(now);
-    http::response<http::string_body> res{http::status::ok, req_.version()};
-    res.set(http::field::set_cookie, cookie(token));
-    res.set(http::field::content_type, "application/json");
-    res.body() = R"({"session":true,"csrf":")" + csrf + R"("})";
-    return send(std::move(res));
-  }
+  if (target == "/api/login" && post) return login(now);
   const Session* s = session();
   if (!s) {
     server_->count([](WebCounters& c) { ++c.no_session; });
@@ -292,6 +275,41 @@ void HttpSession::handle_api(const std::string& target) {
     return;
   }
   refuse(http::status::not_found, "no such request");
+}
+
+void HttpSession::login(std::chrono::steady_clock::time_point now) {
+  // A locked-out address is answered before the password is looked at:
+  // neither a right guess nor the hash's cost is there for it to measure.
+  if (const auto wait = server_->login_limiter.locked_for(client_, now); wait.count() > 0) {
+    server_->count([](WebCounters& c) { ++c.login_locked; });
+    http::response<http::string_body> res{http::status::too_many_requests, req_.version()};
+    res.set(http::field::retry_after, std::to_string(wait.count()));
+    res.set(http::field::content_type, "application/json");
+    res.body() = json_refusal("too many failed logins from this address: try again in " +
+                              std::to_string(wait.count()) + " s");
+    return send(std::move(res));
+  }
+  const std::string& password = req_.body();
+  bool ok = false;
+  if (password.size() <= kMaxPassword) {
+    if (server_->opt.login == ipc::WebLogin::Hash)
+      ok = verify_password(password, server_->opt.password_hash);
+    else if (server_->opt.login == ipc::WebLogin::Key && server_->opt.key)
+      ok = verify_key_text(password, *server_->opt.key);
+  }
+  if (!ok) {
+    server_->login_limiter.failed(client_, now);
+    server_->count([](WebCounters& c) { ++c.login_failed; });
+    return refuse(http::status::unauthorized, "wrong password");
+  }
+  server_->login_limiter.succeeded(client_);
+  server_->count([](WebCounters& c) { ++c.logins; });
+  auto [token, csrf] = server_->sessions.open(now);
+  http::response<http::string_body> res{http::status::ok, req_.version()};
+  res.set(http::field::set_cookie, cookie(token));
+  res.set(http::field::content_type, "application/json");
+  res.body() = R"({"session":true,"csrf":")" + csrf + R"("})";
+  send(std::move(res));
 }
 
 }  // namespace plc::hmi::web

@@ -24,6 +24,7 @@
 #include <variant>
 #include <vector>
 
+#include "plc/hmi/web/login_limiter.hpp"
 #include "plc/hmi/web/web_auth.hpp"
 #include "plc/hmi/web/web_server.hpp"
 
@@ -70,8 +71,13 @@ struct WebServer::Impl {
   std::vector<std::string> hosts;  // allowed Host headers
   std::string login_name;          // "none", "key", "password"
 
+  [[nodiscard]] std::chrono::steady_clock::time_point now() const {
+    return opt.clock ? opt.clock() : std::chrono::steady_clock::now();
+  }
+
   // Only on the io thread:
   Sessions sessions;
+  LoginLimiter login_limiter;
   std::set<std::shared_ptr<WsSession>> pages;
   std::set<HttpSession*> connections;                            // open, not upgraded
   std::map<std::int64_t, std::shared_ptr<HttpSession>> waiting;  // request id -> the POST
@@ -141,6 +147,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void on_read(beast::error_code ec);
   void handle();
   void handle_api(const std::string& target);
+  void login(std::chrono::steady_clock::time_point now);
   void send(http::response<http::string_body> res);
   void send_json(http::status status, std::string json);
   void refuse(http::status status, const std::string& why);
@@ -159,6 +166,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   http::request<http::string_body> req_;
   asio::steady_timer reply_timer_;
   std::int64_t waiting_for_ = 0;
+  std::string client_;  // the peer's address_key(), for the login limit
 };
 
 // One page's WebSocket: everything the bridge publishes, in order, through

@@ -59,6 +59,7 @@ std::string WebServer::Impl::counters_json() const {
   f("backlog_dropped", c.backlog_dropped);
   f("logins", c.logins);
   f("login_failed", c.login_failed);
+  f("login_locked", c.login_locked);
   f("no_session", c.no_session);
   f("bad_origin", c.bad_origin);
   f("bad_host", c.bad_host);

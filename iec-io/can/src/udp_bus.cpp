@@ -6,23 +6,17 @@
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
 
+#include "plc/realtime_thread.hpp"
 #include "plc/thread_guard.hpp"
 
 namespace plc::can {
 
 namespace {
-
-std::int64_t mono_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 constexpr std::int64_t kKeepAliveNs = 1'000'000'000;
 constexpr std::int64_t kForgetNs = 5'000'000'000;

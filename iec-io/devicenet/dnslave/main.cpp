@@ -73,12 +73,7 @@ int run(int argc, char** argv) {
   std::unique_ptr<plc::can::PcapWriter> pcap;
   std::unique_ptr<plc::can::FanOut> fan;
   std::vector<Hosted> slaves;
-  try {
-    if (const std::string why = plc::readable_file_problem(file); !why.empty()) {
-      std::fprintf(stderr, "%s: %s\n", file.c_str(), why.c_str());
-      return 2;
-    }
-    const YAML::Node root = YAML::LoadFile(file);
+  const bool loaded = sim_host::load_config("dnslave", file, [&](const YAML::Node& root) {
     reject_unknown(root, {"bus", "hub", "pcap", "slaves"});
     const std::string spec = root["bus"] ? root["bus"].as<std::string>() : "udp:127.0.0.1:47800";
     if (root["hub"] && root["hub"].as<bool>()) {
@@ -167,16 +162,8 @@ int run(int argc, char** argv) {
         if (o.slave->mac() == cfg.mac) throw ConfigError(s["mac"], "MAC ID used twice");
       slaves.push_back(std::move(h));
     }
-  } catch (const ConfigError& e) {
-    std::fprintf(stderr, "%s:%s\n", file.c_str(), e.what());
-    return 2;
-  } catch (const YAML::Exception& e) {
-    std::fprintf(stderr, "%s: %s\n", file.c_str(), e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "dnslave: %s\n", e.what());
-    return 2;
-  }
+  });
+  if (!loaded) return 2;
 
   sim_host::install_signals();
 
@@ -204,15 +191,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-// Nothing ends dnslave with an uncaught exception: what escapes run() (the
-// bus failing while it runs) is a message and exit code 1.
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "dnslave: %s\n", e.what());
-  } catch (...) {
-    std::fprintf(stderr, "dnslave: an unknown error\n");
-  }
-  return 1;
-}
+int main(int argc, char** argv) { return sim_host::guarded_main("dnslave", run, argc, argv); }

@@ -146,12 +146,7 @@ int run(int argc, char** argv) {
   std::unique_ptr<pb::link::Capture> capture;
   std::vector<Hosted> slaves;
   std::string transport;
-  try {
-    if (const std::string why = plc::readable_file_problem(file); !why.empty()) {
-      std::fprintf(stderr, "%s: %s\n", file.c_str(), why.c_str());
-      return 2;
-    }
-    const YAML::Node root = YAML::LoadFile(file);
+  const bool loaded = sim_host::load_config("dpslavesim", file, [&](const YAML::Node& root) {
     reject_unknown(root, {"transport", "baud", "capture", "pcap", "slaves"});
     if (!root["transport"])
       throw ConfigError(root, "key 'transport' missing (serial:PATH or pty:PATH)");
@@ -230,16 +225,8 @@ int run(int argc, char** argv) {
       slaves.push_back(std::move(h));
       ++i;
     }
-  } catch (const ConfigError& e) {
-    std::fprintf(stderr, "%s:%s\n", file.c_str(), e.what());
-    return 2;
-  } catch (const YAML::Exception& e) {
-    std::fprintf(stderr, "%s: %s\n", file.c_str(), e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "dpslavesim: %s\n", e.what());
-    return 2;
-  }
+  });
+  if (!loaded) return 2;
 
   sim_host::install_signals();
 
@@ -286,15 +273,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-// Nothing ends dpslavesim with an uncaught exception: what escapes run()
-// (the line failing while it runs) is a message and exit code 1.
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "dpslavesim: %s\n", e.what());
-  } catch (...) {
-    std::fprintf(stderr, "dpslavesim: unknown error\n");
-  }
-  return 1;
-}
+int main(int argc, char** argv) { return sim_host::guarded_main("dpslavesim", run, argc, argv); }

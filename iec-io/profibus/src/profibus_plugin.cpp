@@ -1,8 +1,6 @@
 #include "plc/profibus/profibus_plugin.hpp"
 
 #include <poll.h>
-#include <pthread.h>
-#include <sched.h>
 #include <time.h>
 
 #include <algorithm>
@@ -13,18 +11,13 @@
 #include "plc/profibus/dp/cfg.hpp"
 #include "plc/profibus/gsd/gsd.hpp"
 #include "plc/profibus/slave/from_gsd.hpp"
+#include "plc/realtime_thread.hpp"
 
 namespace plc::profibus {
 
 namespace {
 using std::chrono::milliseconds;
 using std::chrono::seconds;
-
-std::int64_t mono_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 // The device keys the plugin reads; every other key goes to the device
 // model (simulate: true).
@@ -372,13 +365,8 @@ void ProfibusPlugin::step(TIME now, TIME) {
 }
 
 void ProfibusPlugin::run_realtime() {
-  sched_param sp{};
-  sp.sched_priority = priority_;
-  if (const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp); rc != 0 && log_)
-    std::fprintf(stderr,
-                 "profibus: warning: SCHED_FIFO not permitted (%s); the bus thread runs at normal "
-                 "priority\n",
-                 std::strerror(rc));
+  if (const int rc = set_fifo_priority(priority_); rc != 0 && log_)
+    warn_fifo_refused("profibus", rc, "the bus thread runs at normal priority");
   const std::int64_t t0 = mono_ns();
   while (running_.load(std::memory_order_relaxed)) {
     tick(TIME(mono_ns() - t0));

@@ -28,8 +28,6 @@
 // the config file's folder.
 #include <fcntl.h>
 #include <poll.h>
-#include <pthread.h>
-#include <sched.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
@@ -54,6 +52,7 @@
 #include "plc/profinet/device/pn_device.hpp"
 #include "plc/profinet/link/raw_ethernet_port.hpp"
 #include "plc/profinet/link/socket_udp_port.hpp"
+#include "plc/realtime_thread.hpp"
 #include "plc/thread_guard.hpp"
 
 namespace pn = plc::profinet;
@@ -172,9 +171,8 @@ std::string run_command(const std::string& line, std::vector<Hosted>& hosted) {
 
 void realtime_thread(pn::EthernetPort& eth, std::vector<Hosted>& hosted, Mailbox& mb,
                      nanoseconds period, std::int64_t t0, std::int64_t run_ns) {
-  sched_param sp{};
-  sp.sched_priority = 80;
-  (void)pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);  // where permitted
+  if (const int rc = plc::set_fifo_priority(80); rc != 0)
+    plc::warn_fifo_refused("pndevsim", rc, "the devices' cyclic thread runs at normal priority");
   std::array<std::uint8_t, pn::kMaxFrameLength> buf{};
   int toggles_seen = 0;
   std::int64_t next = mono_ns();
@@ -237,12 +235,7 @@ int run(int argc, char** argv) {
   std::vector<Hosted> hosted;
   nanoseconds period = std::chrono::microseconds(250);
   std::string control = "stdin";
-  try {
-    if (const std::string why = plc::readable_file_problem(file); !why.empty()) {
-      std::fprintf(stderr, "%s: %s\n", file.c_str(), why.c_str());
-      return 2;
-    }
-    const YAML::Node root = YAML::LoadFile(file);
+  const bool loaded = sim_host::load_config("pndevsim", file, [&](const YAML::Node& root) {
     reject_unknown(root, {"interface", "poll", "control", "devices"});
     if (!root["interface"])
       throw ConfigError(root, "key 'interface' missing (a network interface)");
@@ -356,19 +349,8 @@ int run(int argc, char** argv) {
       h.dev->faults() = p.faults;
       hosted.push_back(std::move(h));
     }
-  } catch (const ConfigError& e) {
-    std::fprintf(stderr, "%s:%s\n", file.c_str(), e.what());
-    return 2;
-  } catch (const YAML::Exception& e) {
-    std::fprintf(stderr, "%s: %s\n", file.c_str(), e.what());
-    return 2;
-  } catch (const pn::LinkError& e) {
-    std::fprintf(stderr, "pndevsim: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "pndevsim: %s\n", e.what());
-    return 2;
-  }
+  });
+  if (!loaded) return 2;
 
   Mailbox mb;
   for (auto& h : hosted) {
@@ -457,15 +439,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-// Nothing ends pndevsim with an uncaught exception: what escapes run() once
-// the devices run is a message and exit code 1.
-int main(int argc, char** argv) {
-  try {
-    return run(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "pndevsim: %s\n", e.what());
-  } catch (...) {
-    std::fprintf(stderr, "pndevsim: an unknown error\n");
-  }
-  return 1;
-}
+int main(int argc, char** argv) { return sim_host::guarded_main("pndevsim", run, argc, argv); }

@@ -1,9 +1,5 @@
 #include "plc/profinet/controller/profinet_plugin.hpp"
 
-#include <pthread.h>
-#include <sched.h>
-#include <time.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
@@ -12,6 +8,7 @@
 #include "plc/profinet/controller/device_params.hpp"
 #include "plc/profinet/device/pn_device.hpp"
 #include "plc/profinet/link/open_link.hpp"
+#include "plc/realtime_thread.hpp"
 #include "plc/thread_guard.hpp"
 
 namespace plc::profinet {
@@ -19,18 +16,6 @@ namespace plc::profinet {
 namespace {
 using std::chrono::milliseconds;
 using std::chrono::seconds;
-
-std::int64_t mono_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-void sleep_until_ns(std::int64_t t) {
-  timespec ts{static_cast<time_t>(t / 1'000'000'000), static_cast<long>(t % 1'000'000'000)};
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-  }
-}
 }  // namespace
 
 ProfinetPlugin::ProfinetPlugin() = default;
@@ -210,13 +195,8 @@ void ProfinetPlugin::step(TIME now, TIME) {
 }
 
 void ProfinetPlugin::run_realtime() {
-  sched_param sp{};
-  sp.sched_priority = priority_;
-  if (const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp); rc != 0 && log_)
-    std::fprintf(stderr,
-                 "profinet: warning: SCHED_FIFO not permitted (%s); the cyclic thread runs at "
-                 "normal priority\n",
-                 std::strerror(rc));
+  if (const int rc = set_fifo_priority(priority_); rc != 0 && log_)
+    warn_fifo_refused("profinet", rc, "the cyclic thread runs at normal priority");
   const std::int64_t period = std::chrono::nanoseconds(31250 * cfg_.send_clock_factor).count();
   const std::int64_t t0 = mono_ns();
   std::int64_t k = 0;

@@ -1,8 +1,9 @@
 // What the simulator hosts share (dnslave, dpslavesim, pndevsim: device
 // models behind a fieldbus slave stack, as a process of their own): the
 // command line `TOOL CONFIG.yaml [--for DURATION]`, the YAML config's
-// checks with line:column in every message, the monotonic clock of their
-// loops and the signals that end a run or toggle "silent" on every slave.
+// checks with line:column in every message and its loading, the monotonic clock of their
+// loops, the signals that end a run or toggle "silent" on every slave, and
+// main()'s last word on an exception.
 //
 // Header-only on yaml-cpp: only those executables include it, and they
 // link yaml-cpp themselves (plc_io does not).
@@ -21,15 +22,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "plc/config_path.hpp"
 #include "plc/iec_literal.hpp"
+#include "plc/realtime_thread.hpp"
 
 namespace plc::io::sim_host {
 
-inline std::int64_t mono_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
+using plc::mono_ns;
 
 // A bad config: "LINE:COLUMN: message" (the caller prefixes the file).
 struct ConfigError : std::runtime_error {
@@ -122,6 +121,44 @@ inline void install_signals() {
   std::signal(SIGTERM, [](int) { g_stop = true; });
   std::signal(SIGINT, [](int) { g_stop = true; });
   std::signal(SIGUSR1, [](int) { g_toggle_silent.fetch_add(1); });
+}
+
+// Reads the tool's config FILE and builds what it describes: load(root).
+// Every error of it goes to stderr and gives false (the tool's exit code
+// 2): a file it cannot read ("FILE: why"), a ConfigError
+// ("FILE:LINE:COLUMN: message"), yaml-cpp's own ("FILE: message"), any
+// other ("TOOL: message": a bus, line or interface that cannot be opened).
+template <class Load>
+bool load_config(const char* tool, const std::string& file, Load&& load) {
+  if (const std::string why = plc::readable_file_problem(file); !why.empty()) {
+    std::fprintf(stderr, "%s: %s\n", file.c_str(), why.c_str());
+    return false;
+  }
+  try {
+    load(YAML::LoadFile(file));
+    return true;
+  } catch (const ConfigError& e) {
+    std::fprintf(stderr, "%s:%s\n", file.c_str(), e.what());
+  } catch (const YAML::Exception& e) {
+    std::fprintf(stderr, "%s: %s\n", file.c_str(), e.what());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: %s\n", tool, e.what());
+  }
+  return false;
+}
+
+// The tool's main(): run(argc, argv)'s exit code. Nothing ends the tool
+// with an uncaught exception: what escapes run() (the bus or line failing
+// while it runs) is "TOOL: what" on stderr and exit code 1.
+inline int guarded_main(const char* tool, int (*run)(int, char**), int argc, char** argv) noexcept {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: %s\n", tool, e.what());
+  } catch (...) {
+    std::fprintf(stderr, "%s: an unknown error\n", tool);
+  }
+  return 1;
 }
 
 }  // namespace plc::io::sim_host

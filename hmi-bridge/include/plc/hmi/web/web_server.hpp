@@ -12,10 +12,15 @@
 // what the bridge hands over waits in a backlog of 256 (beyond that values
 // are dropped and counted): the bridge's thread never waits for a browser,
 // and a scan never waits for the bridge.
+//
+// Logins are limited per client address (login_limiter.hpp: 5 failures
+// within a minute, then 429 for a minute).
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -40,6 +45,9 @@ struct WebOptions {
   std::size_t max_queue_messages = 64;
   std::size_t max_queue_bytes = 4u << 20;
   std::size_t max_connections = 64;
+  // The time of sessions and of the login limit (login_limiter.hpp);
+  // empty: std::chrono::steady_clock. Tests give one they advance.
+  std::function<std::chrono::steady_clock::time_point()> clock;
 };
 
 // The options plcrun handed over in the state region (plchmi's main).
@@ -56,12 +64,13 @@ struct WebCounters {
   std::uint64_t slow_pages = 0;           // pages disconnected for it
   std::uint64_t backlog_dropped = 0;      // values the web thread had no time for
   std::uint64_t logins = 0, login_failed = 0;
-  std::uint64_t no_session = 0;  // requests for data or commands without a session
-  std::uint64_t bad_origin = 0;  // a write or a WebSocket from another origin, or without one
-  std::uint64_t bad_host = 0;    // a Host header that is not this server (DNS rebinding)
-  std::uint64_t bad_csrf = 0;    // a write without the session's X-CSRF-Token
-  std::uint64_t too_large = 0;   // headers, body or WebSocket message over the bound
-  std::uint64_t commands = 0;    // handed to the bridge
+  std::uint64_t login_locked = 0;  // logins refused unchecked: too many failures (HTTP 429)
+  std::uint64_t no_session = 0;    // requests for data or commands without a session
+  std::uint64_t bad_origin = 0;    // a write or a WebSocket from another origin, or without one
+  std::uint64_t bad_host = 0;      // a Host header that is not this server (DNS rebinding)
+  std::uint64_t bad_csrf = 0;      // a write without the session's X-CSRF-Token
+  std::uint64_t too_large = 0;     // headers, body or WebSocket message over the bound
+  std::uint64_t commands = 0;      // handed to the bridge
   std::uint64_t read_only_refused = 0;
 };
 
