@@ -17,6 +17,7 @@
 #include <future>
 
 #include "../hmi/hmi_test_cell.hpp"
+#include "plc/hmi/tls_files.hpp"
 #include "plc/hmi/web/web_auth.hpp"
 #include "plc/hmi/web/web_server.hpp"
 #include "web_client.hpp"
@@ -221,4 +222,24 @@ TEST(WebHmiTls, BadFilesAreLocatedConfigErrors) {
   e = error_of(a_crt, crt_as_key);  // nor a certificate a key
   EXPECT_TRUE(has(e, key_at)) << e;
   EXPECT_TRUE(has(e, "holds no unencrypted PEM private key")) << e;
+}
+
+// A certificate outside its validity period (made for 1 day; `now` moved
+// 2 days on or back) loads with a warning, not an error: browsers refuse
+// it, but an HMI certificate never keeps a cell from starting.
+TEST(WebHmiTls, CertificateOutsideItsValidityLoadsWithAWarning) {
+  make_cert("valid");
+  const std::string crt = dir() + "valid.crt", key = dir() + "valid.key";
+  const std::time_t now = std::time(nullptr), two_days = 2 * 24 * 3600;
+  hmi::TlsFilesError err;
+  auto f = hmi::load_tls_files(crt, key, err, now);
+  ASSERT_TRUE(f) << err.message;
+  EXPECT_EQ(f->warning, "");
+  f = hmi::load_tls_files(crt, key, err, now + two_days);
+  ASSERT_TRUE(f) << err.message;
+  EXPECT_TRUE(has(f->warning, "certificate in '" + crt + "' expired on ")) << f->warning;
+  EXPECT_TRUE(has(f->warning, " GMT: browsers will refuse it")) << f->warning;
+  f = hmi::load_tls_files(crt, key, err, now - two_days);
+  ASSERT_TRUE(f) << err.message;
+  EXPECT_TRUE(has(f->warning, "is not valid before ")) << f->warning;
 }

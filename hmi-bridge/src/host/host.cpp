@@ -101,6 +101,7 @@ Host::Host(const HmiConfig& cfg, std::string cell_file, Options options)
       if (!files)
         throw ConfigError(cell_file_, err.in_key ? w.tls_key.mark : w.tls_cert.mark,
                           std::string(err.in_key ? "key 'key': " : "key 'cert': ") + err.message);
+      if (!files->warning.empty()) log("web: tls: " + files->warning);
       // Both fit (load_tls_files' bounds are the fields' sizes less the NUL).
       copy_text(settings_.web_tls_cert, sizeof settings_.web_tls_cert, files->cert_pem);
       copy_text(settings_.web_tls_key, sizeof settings_.web_tls_key, files->key_pem);

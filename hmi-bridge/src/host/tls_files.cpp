@@ -89,10 +89,19 @@ struct KeyFree {
   void operator()(EVP_PKEY* k) const { EVP_PKEY_free(k); }
 };
 
+// An ASN1_TIME as OpenSSL prints it ("Dec  2 10:00:00 2026 GMT").
+std::string asn1_time_text(const ASN1_TIME* t) {
+  std::unique_ptr<BIO, BioFree> b(BIO_new(BIO_s_mem()));
+  if (!b || ASN1_TIME_print(b.get(), t) != 1) return "?";
+  char* data = nullptr;
+  const long n = BIO_get_mem_data(b.get(), &data);
+  return n > 0 ? std::string(data, std::size_t(n)) : "?";
+}
+
 }  // namespace
 
 std::optional<TlsFiles> load_tls_files(const std::string& cert_path, const std::string& key_path,
-                                       TlsFilesError& err) {
+                                       TlsFilesError& err, std::time_t now) {
   TlsFiles t;
   err = {};
   t.cert_pem = read_pem(cert_path, ipc::kMaxTlsCertPem, false, err.message);
@@ -125,6 +134,16 @@ std::optional<TlsFiles> load_tls_files(const std::string& cert_path, const std::
   if (X509_check_private_key(cert.get(), key.get()) != 1)
     return fail(true, "key file '" + key_path + "' is not the key of the certificate in '" +
                           cert_path + "'");
+  // X509_cmp_time: -1 when the time is before `now`, 0 on an error.
+  const ASN1_TIME* not_after = X509_get0_notAfter(cert.get());
+  const ASN1_TIME* not_before = X509_get0_notBefore(cert.get());
+  if (X509_cmp_time(not_after, &now) < 0)
+    t.warning = "certificate in '" + cert_path + "' expired on " + asn1_time_text(not_after) +
+                ": browsers will refuse it";
+  else if (X509_cmp_time(not_before, &now) > 0)
+    t.warning = "certificate in '" + cert_path + "' is not valid before " +
+                asn1_time_text(not_before) + ": browsers will refuse it";
+  ERR_clear_error();
   return t;
 }
 

@@ -4,6 +4,7 @@
 // (ipc::Settings), never the paths.
 #pragma once
 
+#include <ctime>
 #include <optional>
 #include <string>
 
@@ -12,6 +13,10 @@ namespace plc::hmi {
 struct TlsFiles {
   std::string cert_pem;  // the server's certificate first, then its chain
   std::string key_pem;
+  // Not empty when the certificate is outside its validity period at `now`
+  // (expired, or not valid yet): browsers refuse it, but the cell starts
+  // (an HMI certificate never stops a PLC); plcrun logs it.
+  std::string warning;
 };
 
 struct TlsFilesError {
@@ -26,6 +31,6 @@ struct TlsFilesError {
 // (or root) (as the HMI key file, command_auth.hpp load_key); a key that is
 // not the certificate's.
 std::optional<TlsFiles> load_tls_files(const std::string& cert_path, const std::string& key_path,
-                                       TlsFilesError& err);
+                                       TlsFilesError& err, std::time_t now = std::time(nullptr));
 
 }  // namespace plc::hmi
