@@ -93,14 +93,21 @@ ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
       }
     // 1a: the answers to this task's acyclic requests and its devices'
     // states become visible now, so they never change during the scan.
-    for (std::size_t i = 0; i < devices_.size(); ++i) {
-      io::DeviceLink& link = *devices_[i].link;
+    // Pointer loops with their bounds and the scan number read once: the
+    // acquire in tracking() and latch_state() would otherwise make the
+    // compiler reload them for every device, every scan.
+    DeviceRuntime* const first = devices_.data();
+    DeviceRuntime* const last = first + devices_.size();
+    for (DeviceRuntime* d = first; d != last; ++d) {
+      io::DeviceLink& link = *d->link;
       if (!link.tracking()) continue;
+      const auto i = static_cast<std::size_t>(d - first);
       link.deliver_answered(static_cast<int>(t.order), [&](const io::RecordRequest& r) {
         for (ScanHooks* h : hooks_) h->on_answer(t, i, r);
       });
     }
-    for (DeviceRuntime* d : t.devices) d->link->latch_state(t.cycle + 1, now);
+    const std::uint64_t scan_no = t.cycle + 1;
+    for (DeviceRuntime* d : t.devices) d->link->latch_state(scan_no, now);
     io::DeviceLink::set_current_owner(static_cast<int>(t.order));
     for (ScanHooks* h : hooks_) h->after_latch(t, global_);
     if (t.whole_image_scan)
