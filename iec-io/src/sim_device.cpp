@@ -46,7 +46,9 @@ void SimDevice::serve_records(bool reachable) {
 
 void SimDevice::step(TIME now, TIME dt) {
   const bool down = link_down(now);
-  serve_records(!down);
+  // The usual step: nothing asked, and no call (serve_records is exported,
+  // so it is called through the PLT even from here).
+  if (link_.maybe_queued()) serve_records(!down);
   if (down) {
     // The cut link: no new request reaches the model, no answer the PLC.
     if (!was_down_) outputs_at_cut_ = outputs_;

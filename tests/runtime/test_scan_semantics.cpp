@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <string>
+#include <vector>
 
 #include "plc/io/sim_plugin.hpp"
 #include "test_helpers.hpp"
@@ -139,4 +141,52 @@ devices: [{name: echo, plugin: sim, model: loopback, input: "%IB0", output: "%QB
     EXPECT_FALSE(sim->direct_io(0));
     sim->stop();
   }
+}
+
+// Issue 23: the scan copies a direct device's bytes itself, inline for up
+// to 32 bytes (two overlapping fixed-size copies) and with memcpy above.
+// Every size class, and each one's edges, must carry exactly its bytes both
+// ways: %Q -> device at the publish, device -> %I at the next latch, with
+// the gap bytes between the devices left alone.
+TEST(ScanSemantics, DirectDevicesOfEverySizeCarryExactlyTheirBytes) {
+  const std::size_t sizes[] = {1, 2, 3, 4, 5, 7, 8, 9, 15, 16, 17, 24, 31, 32, 33, 40};
+  std::string cell = R"(
+image: {inputs: 512, outputs: 512, memory: 16}
+tasks: [{name: main, period: 1ms, programs: [Loop]}]
+programs: [{name: Loop, type: LoopCounter}]
+plugins: [{name: sim}]
+devices:
+)";
+  std::vector<std::size_t> at;  // byte offset of each device, a zero byte before and after
+  std::size_t next = 8;         // LoopCounter uses %QD0 and %ID0
+  for (std::size_t k = 0; k < std::size(sizes); ++k) {
+    at.push_back(next);
+    cell += "  - {name: d" + std::to_string(k) + ", plugin: sim, model: loopback, input: \"%IB" +
+            std::to_string(next) + "\", output: \"%QB" + std::to_string(next) +
+            "\", params: {size: " + std::to_string(sizes[k]) + "}}\n";
+    next += sizes[k] + 1;
+  }
+  auto rt = plctest::make_runtime(cell);
+  rt->start(io::ClockMode::Virtual);
+  rt->tick();
+  const auto pattern = [](std::size_t k, std::size_t j) {
+    return static_cast<std::uint8_t>(0x80 | ((k * 7 + j) & 0x7F));
+  };
+  auto q = rt->image().area(io::Area::Output);
+  for (std::size_t k = 0; k < std::size(sizes); ++k)
+    for (std::size_t j = 0; j < sizes[k]; ++j) q[at[k] + j] = pattern(k, j);
+  rt->tick();  // the publish hands %Q to the devices
+  rt->tick();  // the loopbacks echo it, the latch brings it into %I
+  auto* sim = static_cast<io::SimPlugin*>(rt->plugin("sim"));
+  const auto in = rt->image().area(io::Area::Input);
+  for (std::size_t k = 0; k < std::size(sizes); ++k) {
+    const auto out = sim->device("d" + std::to_string(k))->outputs();
+    ASSERT_EQ(out.size(), sizes[k]);
+    for (std::size_t j = 0; j < sizes[k]; ++j) {
+      EXPECT_EQ(out[j], pattern(k, j)) << "published, size " << sizes[k] << " byte " << j;
+      EXPECT_EQ(in[at[k] + j], pattern(k, j)) << "latched, size " << sizes[k] << " byte " << j;
+    }
+    EXPECT_EQ(in[at[k] + sizes[k]], 0) << "the gap after the device of size " << sizes[k];
+  }
+  rt->finish();
 }

@@ -17,6 +17,23 @@ constexpr std::uint16_t kWarnOvertravel = 0x09A0;
 constexpr std::uint16_t kFaultSignOfLife = 0xFB1;      // AL.FB1, no. 73
 constexpr std::uint16_t kFaultFollowingError = 0xD00;  // AL.d00, no. 62
 
+// STW1 and POS_STW2 of telegram 111 as their decoded flags' word() would
+// rebuild them: the defined bits of the PLC's words. Taken from the bytes
+// every step instead of reassembling twelve flags (decode_111 keeps the
+// flags for the rest); the asserts hold the shortcut to the flag mapping.
+template <class W>
+consteval bool word_is_defined_bits() {
+  for (unsigned w = 0; w <= 0xFFFF; w += 0x0101)
+    if (W::from(static_cast<std::uint16_t>(w)).word() != (w & W::kDefined)) return false;
+  for (unsigned b = 0; b < 16; ++b) {
+    const auto w = static_cast<std::uint16_t>(1u << b);
+    if (W::from(w).word() != (w & W::kDefined)) return false;
+  }
+  return true;
+}
+static_assert(word_is_defined_bits<Stw1Pos>());
+static_assert(word_is_defined_bits<PosStw2>());
+
 // PNUs used by the model (spec §6.1-§6.3).
 constexpr std::uint16_t kPnuTelegram = 922, kPnuSolTolerance = 925, kPnuOpMode = 930,
                         kPnuFaultMsgCounter = 944, kPnuFaultCode = 945, kPnuFaultNumber = 947,
@@ -827,9 +844,16 @@ void HiwinE1Model::step(TIME /*now*/, TIME dt_ns, std::span<const std::uint8_t> 
     }
     case TelegramType::Hiwin111: {
       const Telegram111Out& t = decode_111(from_plc);
-      stw1 = t.stw1.word();
+      if (from_plc.size() >= Telegram111Out::kBytes) {
+        stw1 = static_cast<std::uint16_t>(wire::u16(from_plc, Telegram111Out::kStw1) &
+                                          Stw1Pos::kDefined);
+        pos_stw2 = static_cast<std::uint16_t>(wire::u16(from_plc, Telegram111Out::kPosStw2) &
+                                              PosStw2::kDefined);
+      } else {
+        stw1 = t.stw1.word();
+        pos_stw2 = t.pos_stw2.word();
+      }
       sol_in = t.stw2.controller_sign_of_life;
-      pos_stw2 = t.pos_stw2.word();
       if (t.stw1.control_by_plc) {
         cmd_ = t;
         mdi_selected_ = t.pos_stw1.activate_mdi;
