@@ -11,30 +11,16 @@
 #include <vector>
 
 #include "bitwise_crc.hpp"
+#include "captured_telegrams.hpp"
 #include "plc/fb/safety/crc2_cache.hpp"
 
 namespace {
 
 using namespace plc::safety;
 
-// profisafe-wire-vectors.md, table "Vectors" (CRC1 0x22FF): cons. no.,
-// F-data, status byte, CRC2 as on the wire.
-struct CaptureRow {
-  std::uint32_t cons_nr;
-  std::array<std::uint8_t, 8> fdata;
-  std::uint8_t status;
-  std::array<std::uint8_t, 3> crc2;
-};
-constexpr std::array<CaptureRow, 8> kCapture = {{
-    {0, {0x41, 0x01, 0x00, 0x04, 0x00, 0x00, 0x00, 0x00}, 0x40, {0xbb, 0x5f, 0xb5}},
-    {1, {0x41, 0x01, 0x00, 0x04, 0x00, 0x00, 0x00, 0x00}, 0x20, {0x81, 0x11, 0x99}},
-    {2, {0x41, 0x4d, 0x00, 0x04, 0x00, 0x00, 0x00, 0x00}, 0x00, {0xe1, 0x8a, 0xa8}},
-    {3, {0x41, 0x4d, 0x00, 0x04, 0x00, 0x00, 0x00, 0x00}, 0x20, {0xb5, 0x47, 0x4a}},
-    {4, {0x41, 0x4d, 0x00, 0x04, 0x00, 0x00, 0x00, 0x00}, 0x00, {0xf5, 0xcf, 0x7d}},
-    {5, {0x41, 0x4d, 0x00, 0x04, 0x00, 0x00, 0x00, 0x00}, 0x20, {0xa1, 0x02, 0x9f}},
-    {6, {0x41, 0x4d, 0x00, 0x04, 0x00, 0x00, 0x00, 0x00}, 0x00, {0x32, 0xd7, 0x77}},
-    {7, {0x41, 0x4d, 0x00, 0x04, 0x00, 0x00, 0x00, 0x00}, 0x20, {0x66, 0x1a, 0x95}},
-}};
+using plctest::profisafe::CaptureRow;
+using plctest::profisafe::kCapture;
+using plctest::profisafe::kCaptureCrc1;
 
 // The capture in its order through one cache: rows 3..7 repeat the heads
 // of rows 2 and 3 (same data, toggle alternating), so they come from the
@@ -43,10 +29,10 @@ TEST(SafetyCrc2Cache, CapturedTelegramsInTheirOrder_RealTraffic) {
   Crc2Cache build, check;
   for (const CaptureRow& r : kCapture) {
     std::array<std::uint8_t, 12> pdu{};
-    build.write_pdu(pdu, r.fdata, r.status, r.cons_nr, 0x22FF);
+    build.write_pdu(pdu, r.fdata, r.status, r.cons_nr, kCaptureCrc1);
     for (std::size_t i = 0; i < 3; ++i) EXPECT_EQ(pdu[9 + i], r.crc2[i]) << "row " << r.cons_nr;
-    EXPECT_TRUE(check.check_pdu(pdu, 8, r.cons_nr, 0x22FF)) << "row " << r.cons_nr;
-    EXPECT_FALSE(check.check_pdu(pdu, 8, r.cons_nr + 1, 0x22FF)) << "row " << r.cons_nr;
+    EXPECT_TRUE(check.check_pdu(pdu, 8, r.cons_nr, kCaptureCrc1)) << "row " << r.cons_nr;
+    EXPECT_FALSE(check.check_pdu(pdu, 8, r.cons_nr + 1, kCaptureCrc1)) << "row " << r.cons_nr;
   }
 }
 

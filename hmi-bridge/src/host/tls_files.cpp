@@ -12,23 +12,11 @@
 #include <memory>
 
 #include "plc/hmi/ipc/layout.hpp"
+#include "plc/hmi/owned_fd.hpp"
 
 namespace plc::hmi {
 
 namespace {
-
-struct Fd {
-  int fd;
-  ~Fd() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
-std::string octal_mode(mode_t m) {
-  char b[8];
-  std::snprintf(b, sizeof b, "%04o", unsigned(m & 07777));
-  return b;
-}
 
 // The file's text, or "" with `err` set. `secret`: the private key's file,
 // which only its owner may read.
@@ -36,7 +24,7 @@ std::string read_pem(const std::string& path, std::size_t max, bool secret, std:
   const char* what = secret ? "key file '" : "certificate file '";
   // O_NONBLOCK: a FIFO in its place must not hang the start; what was
   // opened is what is checked (fstat), so it cannot be swapped in between.
-  Fd f{::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK)};
+  OwnedFd f(::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK));
   struct stat st {};
   if (f.fd < 0 || ::fstat(f.fd, &st) != 0) {
     err = std::string("cannot read ") + what + path + "'";

@@ -11,25 +11,14 @@
 #include <cstdlib>
 #include <vector>
 
+#include "plc/hmi/owned_fd.hpp"
+
 namespace plc::hmi {
 
 namespace {
 
 // Larger files are refused unread: a key file holds 64 hex digits.
 constexpr std::size_t kMaxKeyFileBytes = 4096;
-
-struct Fd {
-  int fd;
-  ~Fd() {
-    if (fd >= 0) ::close(fd);
-  }
-};
-
-std::string octal_mode(mode_t m) {
-  char b[8];
-  std::snprintf(b, sizeof b, "%04o", unsigned(m & 07777));
-  return b;
-}
 
 }  // namespace
 
@@ -40,7 +29,7 @@ std::optional<Key> load_key(const std::string& path, std::string& err) {
   }
   // O_NONBLOCK: a FIFO in its place must not hang the start; what was
   // opened is what is checked (fstat), so it cannot be swapped in between.
-  Fd f{::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK)};
+  OwnedFd f(::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK));
   struct stat st {};
   if (f.fd < 0 || ::fstat(f.fd, &st) != 0) {
     err = "cannot read key file '" + path + "'";
