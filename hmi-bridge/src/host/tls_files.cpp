@@ -1,70 +1,26 @@
 #include "plc/hmi/tls_files.hpp"
 
-#include <fcntl.h>
 #include <openssl/crypto.h>
 #include <openssl/err.h>
 #include <openssl/pem.h>
 #include <openssl/x509.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
-#include <cstdio>
 #include <memory>
 
+#include "plc/hmi/checked_file.hpp"
 #include "plc/hmi/ipc/layout.hpp"
-#include "plc/hmi/owned_fd.hpp"
 
 namespace plc::hmi {
 
 namespace {
 
 // The file's text, or "" with `err` set. `secret`: the private key's file,
-// which only its owner may read.
+// which only its owner may read. `max` counts the NUL of the settings' field.
 std::string read_pem(const std::string& path, std::size_t max, bool secret, std::string& err) {
-  const char* what = secret ? "key file '" : "certificate file '";
-  // O_NONBLOCK: a FIFO in its place must not hang the start; what was
-  // opened is what is checked (fstat), so it cannot be swapped in between.
-  OwnedFd f(::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK));
-  struct stat st {};
-  if (f.fd < 0 || ::fstat(f.fd, &st) != 0) {
-    err = std::string("cannot read ") + what + path + "'";
-    return {};
-  }
-  if (!S_ISREG(st.st_mode)) {
-    err = what + path + "' is not a regular file";
-    return {};
-  }
-  if (secret && (st.st_mode & 077) != 0) {
-    err = what + path + "' is readable or writable by group or others (mode " +
-          octal_mode(st.st_mode) + "): anyone who can read it can pose as this server; chmod 600 " +
-          path;
-    return {};
-  }
-  if (secret && st.st_uid != ::geteuid() && st.st_uid != 0) {
-    err = what + path + "' belongs to uid " + std::to_string(st.st_uid) +
-          ", neither this user (uid " + std::to_string(::geteuid()) +
-          ") nor root: its owner can change its mode";
-    return {};
-  }
-  if (std::size_t(st.st_size) >= max) {
-    err = what + path + "' is " + std::to_string(st.st_size) + " bytes, more than " +
-          std::to_string(max - 1);
-    return {};
-  }
-  std::string text(max, '\0');
-  std::size_t got = 0;
-  for (int i = 0; i < 64 && got < max; ++i) {  // bounded: short reads of a small file
-    const ssize_t n = ::read(f.fd, text.data() + got, max - got);
-    if (n <= 0) break;
-    got += std::size_t(n);
-  }
-  if (got >= max) {  // it grew since fstat
-    OPENSSL_cleanse(text.data(), text.size());
-    err = what + path + "' is more than " + std::to_string(max - 1) + " bytes";
-    return {};
-  }
-  text.resize(got);
-  return text;
+  const FileRules rules{secret ? "key file" : "certificate file", max - 1,
+                        ", more than " + std::to_string(max - 1), secret,
+                        "anyone who can read it can pose as this server"};
+  return read_checked_file(path, rules, err).value_or(std::string());
 }
 
 struct BioFree {

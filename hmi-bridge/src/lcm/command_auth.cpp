@@ -1,17 +1,13 @@
 #include "plc/hmi/command_auth.hpp"
 
-#include <fcntl.h>
 #include <sodium.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
-#include <cstdio>
 #include <cstdlib>
 #include <vector>
 
-#include "plc/hmi/owned_fd.hpp"
+#include "plc/hmi/checked_file.hpp"
 
 namespace plc::hmi {
 
@@ -27,55 +23,25 @@ std::optional<Key> load_key(const std::string& path, std::string& err) {
     err = "libsodium cannot be initialised";
     return std::nullopt;
   }
-  // O_NONBLOCK: a FIFO in its place must not hang the start; what was
-  // opened is what is checked (fstat), so it cannot be swapped in between.
-  OwnedFd f(::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK));
-  struct stat st {};
-  if (f.fd < 0 || ::fstat(f.fd, &st) != 0) {
-    err = "cannot read key file '" + path + "'";
-    return std::nullopt;
-  }
-  if (!S_ISREG(st.st_mode)) {
-    err = "key file '" + path + "' is not a regular file";
-    return std::nullopt;
-  }
-  if ((st.st_mode & 077) != 0) {
-    err = "key file '" + path + "' is readable or writable by group or others (mode " +
-          octal_mode(st.st_mode) + "): anyone who can read it can sign commands; chmod 600 " + path;
-    return std::nullopt;
-  }
-  if (st.st_uid != ::geteuid() && st.st_uid != 0) {
-    err = "key file '" + path + "' belongs to uid " + std::to_string(st.st_uid) +
-          ", neither this user (uid " + std::to_string(::geteuid()) +
-          ") nor root: its owner can change its mode";
-    return std::nullopt;
-  }
-  if (std::size_t(st.st_size) > kMaxKeyFileBytes) {
-    err = "key file '" + path + "' is " + std::to_string(st.st_size) +
-          " bytes: a key file holds 64 hex digits";
-    return std::nullopt;
-  }
-  char buf[kMaxKeyFileBytes + 1];
-  std::size_t got = 0;
-  for (int i = 0; i < 64 && got < sizeof buf; ++i) {  // bounded: short reads of a small file
-    const ssize_t n = ::read(f.fd, buf + got, sizeof buf - got);
-    if (n <= 0) break;
-    got += std::size_t(n);
-  }
+  const FileRules rules{"key file", kMaxKeyFileBytes, ": a key file holds 64 hex digits", true,
+                        "anyone who can read it can sign commands"};
+  std::optional<std::string> text = read_checked_file(path, rules, err);
+  if (!text) return std::nullopt;
   std::string hex;
-  for (std::size_t i = 0; i < got; ++i)
-    if (!std::isspace(static_cast<unsigned char>(buf[i]))) hex += buf[i];
+  hex.reserve(text->size());  // no copies of the digits left in freed memory
+  for (const char c : *text)
+    if (!std::isspace(static_cast<unsigned char>(c))) hex += c;
+  sodium_memzero(text->data(), text->size());
   Key k{};
   std::size_t len = 0;
-  if (got > kMaxKeyFileBytes || hex.size() != 64 ||
+  if (hex.size() != 64 ||
       sodium_hex2bin(k.data(), k.size(), hex.data(), hex.size(), nullptr, &len, nullptr) != 0 ||
       len != k.size()) {
-    sodium_memzero(buf, sizeof buf);
+    sodium_memzero(hex.data(), hex.size());
     err = "key file '" + path +
           "' must hold 64 hex digits (32 bytes; e.g. from `openssl rand -hex 32`)";
     return std::nullopt;
   }
-  sodium_memzero(buf, sizeof buf);
   sodium_memzero(hex.data(), hex.size());
   return k;
 }
