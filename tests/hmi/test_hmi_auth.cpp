@@ -397,6 +397,10 @@ TEST(HmiAuth, KeyFileOthersMayReadIsRefused) {
   EXPECT_TRUE(has(error_of(key_file("short", 0600, "0011")), "64 hex digits"));
   EXPECT_TRUE(has(error_of(key_file("long", 0600, std::string(kKeyHex) + "00")), "64 hex digits"));
   EXPECT_TRUE(has(error_of(key_file("nothex", 0600, std::string(64, 'g'))), "64 hex digits"));
+  // Larger than 4,096 bytes: refused unread; spaces around the digits are fine.
+  EXPECT_TRUE(has(error_of(key_file("huge", 0600, std::string(kKeyHex) + std::string(5000, ' '))),
+                  "bytes: a key file holds 64 hex digits"));
+  EXPECT_EQ(error_of(key_file("spaced", 0600, "  " + std::string(kKeyHex) + "\n\n")), "");
   EXPECT_EQ(error_of(key_file("mode0600", 0600)), "");
   EXPECT_EQ(error_of(key_file("mode0400", 0400)), "");
 
