@@ -17,6 +17,7 @@
 #include "../hmi/hmi_test_cell.hpp"
 #include "plc/hmi/web/web_auth.hpp"
 #include "plc/hmi/web/web_server.hpp"
+#include "served_cell.hpp"
 #include "web_client.hpp"
 
 using namespace plc;
@@ -26,40 +27,13 @@ namespace {
 
 constexpr const char* kPassword = "s3cret-for-test";
 
-struct WebCell {
-  plctest::HmiCell h;
-  std::unique_ptr<hmi::web::WebServer> web;
-  std::string origin, cookie, csrf;
+struct WebCell : webtest::ServedCell {
+  std::string cookie, csrf;
 
   explicit WebCell(hmi::web::WebOptions o = {}) {
-    o.port = 0;
     o.login = hmi::ipc::WebLogin::Hash;
     o.password_hash = hmi::web::hash_password(kPassword, 1000);
-    web = std::make_unique<hmi::web::WebServer>(*h.bridge, o);
-    h.bridge->set_tap(web.get());
-    web->start();
-    origin = "http://127.0.0.1:" + std::to_string(web->port());
-    round();
-  }
-  ~WebCell() {
-    h.bridge->set_tap(nullptr);
-    web->stop();
-  }
-  int port() const { return web->port(); }
-  // One scan of the cell and one bridge round.
-  void round() {
-    ASSERT_TRUE(h.dbg->step(1).ok);
-    h.bridge->service();
-  }
-  // `f` on another thread while this one runs the cell and the bridge (a
-  // command's answer needs both), at most 5,000 rounds.
-  template <class F>
-  auto pump(F f) {
-    auto fut = std::async(std::launch::async, f);
-    for (int i = 0;
-         i < 5000 && fut.wait_for(std::chrono::milliseconds(1)) != std::future_status::ready; ++i)
-      round();
-    return fut.get();
+    serve(o, "http");
   }
   void login() {
     const auto r =

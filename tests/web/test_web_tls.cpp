@@ -20,6 +20,7 @@
 #include "plc/hmi/tls_files.hpp"
 #include "plc/hmi/web/web_auth.hpp"
 #include "plc/hmi/web/web_server.hpp"
+#include "served_cell.hpp"
 #include "web_client.hpp"
 
 using namespace plc;
@@ -53,37 +54,10 @@ std::string tls_section(const std::string& cert, const std::string& key) {
 }
 
 // The server of a cell whose hmi: web: tls: names `name`.crt and .key.
-struct TlsCell {
-  plctest::HmiCell h;
-  std::unique_ptr<hmi::web::WebServer> web;
-  std::string origin;
-
+struct TlsCell : webtest::ServedCell {
   explicit TlsCell(const std::string& name)
-      : h(tls_section(dir() + name + ".crt", dir() + name + ".key")) {
-    hmi::web::WebOptions o = hmi::web::web_options(h.host->regions().settings());
-    o.port = 0;
-    web = std::make_unique<hmi::web::WebServer>(*h.bridge, o);
-    h.bridge->set_tap(web.get());
-    web->start();
-    origin = "https://127.0.0.1:" + std::to_string(web->port());
-    round();
-  }
-  ~TlsCell() {
-    h.bridge->set_tap(nullptr);
-    web->stop();
-  }
-  int port() const { return web->port(); }
-  void round() {
-    ASSERT_TRUE(h.dbg->step(1).ok);
-    h.bridge->service();
-  }
-  template <class F>
-  auto pump(F f) {
-    auto fut = std::async(std::launch::async, f);
-    for (int i = 0;
-         i < 5000 && fut.wait_for(std::chrono::milliseconds(1)) != std::future_status::ready; ++i)
-      round();
-    return fut.get();
+      : ServedCell(tls_section(dir() + name + ".crt", dir() + name + ".key")) {
+    serve(hmi::web::web_options(h.host->regions().settings()), "https");
   }
 };
 
