@@ -44,7 +44,7 @@ bool DeviceLink::submit(RecordRequest& r) {
   queued_.store(true, std::memory_order_release);
   if (deferred_) {
     tracked_[tracked_n_++] = &r;  // room checked above
-    tracking_.store(true, std::memory_order_release);
+    set_tracking(true);
   }
   unlock();
   return true;
@@ -69,7 +69,7 @@ void DeviceLink::untrack(const RecordRequest* r) {
   for (std::size_t i = 0; i < tracked_n_; ++i)
     if (tracked_[i] != r) tracked_[keep++] = tracked_[i];
   tracked_n_ = keep;
-  tracking_.store(keep != 0, std::memory_order_release);
+  set_tracking(keep != 0);
   unlock();
 }
 
@@ -107,8 +107,14 @@ DeviceLink::StateChange DeviceLink::last_change() const {
   return c;
 }
 
-void DeviceLink::set_deferred(bool on) {
+void DeviceLink::set_deferred(bool on, std::atomic<std::uint32_t>* tracking_total) {
   lock();
+  // The total counts this link from now on (as tracking or not).
+  if (tracking_total_ && tracking_.load(std::memory_order_relaxed))
+    tracking_total_->fetch_sub(1, std::memory_order_release);
+  tracking_total_ = tracking_total;
+  if (tracking_total_ && tracking_.load(std::memory_order_relaxed))
+    tracking_total_->fetch_add(1, std::memory_order_release);
   deferred_ = on;
   latched_state_.store(live_state(), std::memory_order_release);
   unlock();

@@ -178,7 +178,7 @@ void Runtime::build(const CellConfig& cfg) {
       fail(dc.mark, "device '" + dc.name.value + "': " + e.what());
     }
     // Answers and device states change only at scan boundaries.
-    d.plugin->link(d.index).set_deferred(true);
+    d.plugin->link(d.index).set_deferred(true, &links_tracking_);
     auto place = [&](const Item<std::string>& addr, std::size_t size, io::Area area,
                      const char* key) -> io::IecAddress {
       io::IecAddress a{area, io::AddrSize::Byte, 0, 0};
@@ -226,6 +226,7 @@ void Runtime::build(const CellConfig& cfg) {
     devices_.push_back(std::move(d));
   }
   for (auto& d : devices_) tasks_[d.task]->devices.push_back(&d);
+  plan_device_io();
   std::vector<bool> device_has_port(devices_.size(), false);
 
   // Programs: instantiate, apply bindings, register fields, bind to images.

@@ -75,7 +75,8 @@ struct MaybeLock {
 // outputs go to their safe values, the other tasks run on.
 bool Runtime::scan(TaskRuntime& t, TIME now) {
   try {
-    return scan_finish(t, scan_latch(t, now));
+    // The latch has made t the current owner; nothing ran since.
+    return run_programs_and_publish(t, scan_latch(t, now));
   } catch (const std::exception& e) {
     scan_failed(t, e.what());
   } catch (...) {
@@ -110,29 +111,31 @@ ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
   {
     // 1: latch this task's devices into the global %I, take a private copy.
     MaybeLock lock(image_mutex_, lock_image_);
-    auto gi = global_.area(io::Area::Input);
-    if (plugins_enabled_)
-      for (DeviceRuntime* d : t.devices) {
-        if (!d->sizes.input_bytes) continue;
-        if (d->direct_in)
-          copy_bytes(gi.data() + d->in.byte, d->direct_in, d->sizes.input_bytes);
-        else
+    if (plugins_enabled_) {
+      for (const TaskRuntime::DirectDevice& c : t.direct)
+        copy_bytes(c.image_in, c.device_in, c.in_bytes);
+      auto gi = global_.area(io::Area::Input);
+      for (DeviceRuntime* d : t.via_plugin)
+        if (d->sizes.input_bytes)
           d->plugin->latch_inputs(d->index, gi.subspan(d->in.byte, d->sizes.input_bytes));
-      }
+    }
     // 1a: the answers to this task's acyclic requests and its devices'
     // states become visible now, so they never change during the scan.
-    // Pointer loops with their bounds and the scan number read once: the
-    // acquire in tracking() and latch_state() would otherwise make the
-    // compiler reload them for every device, every scan.
-    DeviceRuntime* const first = devices_.data();
-    DeviceRuntime* const last = first + devices_.size();
-    for (DeviceRuntime* d = first; d != last; ++d) {
-      io::DeviceLink& link = *d->link;
-      if (!link.tracking()) continue;
-      const auto i = static_cast<std::size_t>(d - first);
-      link.deliver_answered(static_cast<int>(t.order), [&](const io::RecordRequest& r) {
-        for (ScanHooks* h : hooks_) h->on_answer(t, i, r);
-      });
+    // Only while a link tracks a request (most scans: none does). Pointer
+    // loops with their bounds and the scan number read once: the acquire
+    // in tracking() and latch_state() would otherwise make the compiler
+    // reload them for every device, every scan.
+    if (links_tracking_.load(std::memory_order_acquire) != 0) {
+      DeviceRuntime* const first = devices_.data();
+      DeviceRuntime* const last = first + devices_.size();
+      for (DeviceRuntime* d = first; d != last; ++d) {
+        io::DeviceLink& link = *d->link;
+        if (!link.tracking()) continue;
+        const auto i = static_cast<std::size_t>(d - first);
+        link.deliver_answered(static_cast<int>(t.order), [&](const io::RecordRequest& r) {
+          for (ScanHooks* h : hooks_) h->on_answer(t, i, r);
+        });
+      }
     }
     const std::uint64_t scan_no = t.cycle + 1;
     for (DeviceRuntime* d : t.devices) d->link->latch_state(scan_no, now);
@@ -160,7 +163,10 @@ ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
 bool Runtime::scan_finish(TaskRuntime& t, const ScanContext& ctx) {
   // A replay may have latched another task in between (same thread).
   io::DeviceLink::set_current_owner(static_cast<int>(t.order));
+  return run_programs_and_publish(t, ctx);
+}
 
+bool Runtime::run_programs_and_publish(TaskRuntime& t, const ScanContext& ctx) {
   // 3: the programs. A program that the watchdog stopped may come back
   // after the run left its thread behind (or the runtime is gone): then
   // nothing here may be touched any more (TaskThread). Only a real-time
@@ -199,15 +205,14 @@ bool Runtime::scan_finish(TaskRuntime& t, const ScanContext& ctx) {
         copy_spans(t.copy_out);
       }
       for (ScanHooks* h : hooks_) h->before_publish(t, global_);
-      auto gq = global_.area(io::Area::Output);
-      if (plugins_enabled_)
-        for (DeviceRuntime* d : t.devices) {
-          if (!d->sizes.output_bytes) continue;
-          if (d->direct_out)
-            copy_bytes(d->direct_out, gq.data() + d->out.byte, d->sizes.output_bytes);
-          else
+      if (plugins_enabled_) {
+        for (const TaskRuntime::DirectDevice& c : t.direct)
+          copy_bytes(c.device_out, c.image_out, c.out_bytes);
+        auto gq = global_.area(io::Area::Output);
+        for (DeviceRuntime* d : t.via_plugin)
+          if (d->sizes.output_bytes)
             d->plugin->publish_outputs(d->index, gq.subspan(d->out.byte, d->sizes.output_bytes));
-        }
+      }
     }
   }
   io::DeviceLink::set_current_owner(-1);
@@ -276,6 +281,7 @@ void Runtime::start(io::ClockMode mode) {
     d.direct_in = io->in.data();
     d.direct_out = io->out.data();
   }
+  plan_device_io();
   // Devices see the safe outputs until the first scan publishes.
   publish_all();
   started_ = true;
@@ -284,6 +290,28 @@ void Runtime::start(io::ClockMode mode) {
     start_watchdog();
   }
   first_tick_ = true;
+}
+
+// Each task's devices split into the ones the scan copies itself and the
+// ones their plugin exchanges (TaskRuntime::direct, via_plugin).
+void Runtime::plan_device_io() {
+  auto gi = global_.area(io::Area::Input);
+  auto gq = global_.area(io::Area::Output);
+  for (auto& t : tasks_) {
+    t->direct.clear();
+    t->via_plugin.clear();
+    for (DeviceRuntime* d : t->devices) {
+      if (!d->direct_in) {
+        t->via_plugin.push_back(d);
+        continue;
+      }
+      // A direct device of no bytes one way copies nothing that way (its
+      // image offset may then be anything: no pointer is formed from it).
+      const std::size_t ni = d->sizes.input_bytes, no = d->sizes.output_bytes;
+      t->direct.push_back({ni ? gi.data() + d->in.byte : nullptr, d->direct_in, ni, d->direct_out,
+                           no ? gq.data() + d->out.byte : nullptr, no});
+    }
+  }
 }
 
 void Runtime::remove_hooks(ScanHooks* h) {

@@ -12,13 +12,6 @@ void LiveTaskStats::record_scan(std::int64_t scan_ns) {
   help_reader_if_asked();
 }
 
-void LiveTaskStats::count_scan() {
-  seq_.write_begin();
-  ++scans_;
-  seq_.write_end();
-  help_reader_if_asked();
-}
-
 void LiveTaskStats::record_latency(std::int64_t latency_ns) {
   seq_.write_begin();
   latency_ns_.record(latency_ns);

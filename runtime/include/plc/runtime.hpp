@@ -108,6 +108,21 @@ struct TaskRuntime {
   // real time keeps image -> before (keep) and merges into global the bits
   // changed since (merge_out); virtual time copies image -> global (copy_out).
   std::vector<ImageSpan> copy_in, keep, copy_out, merge_out;
+  // The devices' bytes as the scan exchanges them (Runtime::plan_device_io,
+  // at build and at start): `direct` the devices whose bytes the scan copies
+  // itself (Plugin::direct_io, virtual time), with their image and device
+  // pointers resolved, in one flat list; `via_plugin` the others, whose
+  // plugin latches and publishes them. Both in `devices` order.
+  struct DirectDevice {
+    std::uint8_t* image_in;
+    const std::uint8_t* device_in;
+    std::size_t in_bytes;
+    std::uint8_t* device_out;
+    const std::uint8_t* image_out;
+    std::size_t out_bytes;
+  };
+  std::vector<DirectDevice> direct;
+  std::vector<DeviceRuntime*> via_plugin;
   bool whole_image_scan = false;   // this scan copies and merges whole areas (set at its latch)
   std::uint32_t timing_phase = 0;  // virtual time: which scans are timed (Runtime::scan_latch)
   bool scan_timed = false;         // the scan under way is timed
@@ -347,6 +362,10 @@ class Runtime {
   io::ByteOrder order_ = io::ByteOrder::Big;
   io::ProcessImage global_;
   std::vector<std::uint8_t> safe_q_;
+  // How many devices' links track a request (DeviceLink::set_deferred):
+  // while none does, a latch skips looking at every link. Before plugins_,
+  // whose links point here, so that it outlives them.
+  std::atomic<std::uint32_t> links_tracking_{0};
   std::vector<std::pair<std::string, std::unique_ptr<io::Plugin>>> plugins_;
   std::vector<std::pair<std::string, std::unique_ptr<Program>>> programs_;
   // The old programs such a partial change replaced: a reader that followed
@@ -369,6 +388,8 @@ class Runtime {
   std::size_t cursor_ = 0;  // next entry of exec_order_ in the open tick
   void begin_tick();
   void advance_cursor();
+  void plan_device_io();
+  bool run_programs_and_publish(TaskRuntime& t, const ScanContext& ctx);
   [[nodiscard]] bool due(const TaskRuntime& t) const;
 
   io::ClockMode mode_ = io::ClockMode::Virtual;

@@ -12,7 +12,7 @@ Layout::Layout(const VarRegistry& vars, const RetainConfig& cfg, io::ProcessImag
     : global_(&global) {
   for (const VarInfo& v : vars.all()) {
     if (v.retain == RetainClass::None) continue;
-    Entry e;
+    Entry e{};
     e.path = v.path;
     e.type = static_cast<std::uint8_t>(v.type);
     e.cls = v.retain;
@@ -28,7 +28,7 @@ Layout::Layout(const VarRegistry& vars, const RetainConfig& cfg, io::ProcessImag
     entries_.push_back(std::move(e));
   }
   for (const RetainMemoryRange& r : cfg.memory) {
-    Entry e;
+    Entry e{};
     e.path = "%MB" + std::to_string(r.byte) + "..%MB" + std::to_string(r.byte + r.count - 1);
     e.type = kMemoryBytes;
     e.size = r.count;

@@ -57,7 +57,10 @@ class DeviceLink {
   // a scan's latch, never in the middle of a scan (see record_request.hpp).
   // A request remembers the task that submitted it (the scan thread's
   // current owner) and is delivered at that task's next latch.
-  void set_deferred(bool on);
+  // `tracking_total` (optional): a count, shared by the links of one
+  // runtime, of the links whose tracking() is true, so that a latch can
+  // skip looking at every link when none tracks anything (the usual scan).
+  void set_deferred(bool on, std::atomic<std::uint32_t>* tracking_total = nullptr);
   static void set_current_owner(int owner);
   // At a latch of the owning task: copy the plugin's state for FBs. A
   // change is noted with that scan's number (1 = the task's first) and PLC
@@ -104,7 +107,7 @@ class DeviceLink {
       tracked_[keep++] = r;
     }
     tracked_n_ = keep;
-    tracking_.store(keep != 0, std::memory_order_release);
+    set_tracking(keep != 0);
     unlock();
   }
 
@@ -153,6 +156,17 @@ class DeviceLink {
     }
   }
   void unlock() const { lock_.clear(std::memory_order_release); }
+  // Under the lock: tracking_ and the runtime's total with it.
+  void set_tracking(bool on) {
+    if (on == tracking_.load(std::memory_order_relaxed)) return;
+    tracking_.store(on, std::memory_order_release);
+    if (tracking_total_) {
+      if (on)
+        tracking_total_->fetch_add(1, std::memory_order_release);
+      else
+        tracking_total_->fetch_sub(1, std::memory_order_release);
+    }
+  }
 
   std::array<RecordRequest*, kQueueDepth> ring_{};
   std::size_t head_ = 0, count_ = 0;
@@ -164,7 +178,8 @@ class DeviceLink {
   std::array<RecordRequest*, 4 * kQueueDepth> tracked_{};
   std::size_t tracked_n_ = 0;
   std::atomic<bool> tracking_{false};  // tracked_n_ != 0, readable without the lock
-  std::atomic<bool> queued_{false};    // count_ != 0, readable without the lock
+  std::atomic<std::uint32_t>* tracking_total_ = nullptr;  // set_deferred()
+  std::atomic<bool> queued_{false};                       // count_ != 0, readable without the lock
   mutable std::atomic_flag lock_ = ATOMIC_FLAG_INIT;
   std::atomic<DeviceState> state_{DeviceState::Offline};
   std::atomic<DeviceState> latched_state_{DeviceState::Offline};
