@@ -8,6 +8,7 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstring>
 #include <thread>
 
@@ -185,10 +186,16 @@ TEST(HmiIpc, SeqBlockReadsAreNeverTorn) {
     }
   });
   // Reads while the writer keeps writing: until 1000 whole copies were read
-  // during the writes (bounded).
+  // during the writes. Bounded in time, not in tries: on a loaded machine
+  // the writer may lose its core mid-write for longer than any fixed number
+  // of failed reads takes (every read then finds the block being written).
   int whole = 0;
-  for (int i = 0; i < 10'000'000 && whole < 1000; ++i) {
-    if (writes.load() == 0) continue;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (whole < 1000 && std::chrono::steady_clock::now() < deadline) {
+    if (writes.load() == 0) {
+      std::this_thread::yield();
+      continue;
+    }
     if (block.read(out)) {
       ASSERT_EQ(out.size(), 400U);
       ASSERT_TRUE(
