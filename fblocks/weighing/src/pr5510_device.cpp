@@ -8,6 +8,9 @@ constexpr std::uint8_t kFormat = static_cast<std::uint8_t>(ReadCode::Format);
 constexpr std::uint8_t kModel = static_cast<std::uint8_t>(ReadCode::ModelVersion);
 constexpr int kOwnSlot = 0;
 
+// The status cache starts as the bytes 0, 0, 0 (status_raw_) and their decode.
+static_assert(decode_status(std::array<std::uint8_t, kWindowSize>{}) == StatusBits{});
+
 // The status bit that shows a command took effect (spec §5.5 feedback
 // column). Set Zero has no bit of its own that noise cannot flicker
 // (Center Zero is +- 1/4 d), so it is judged by Cmd_Busy/Cmd_Error alone.
@@ -144,7 +147,17 @@ void PR5510_Device::operator()(const ScanContext& ctx) {
   StatusByte = in[r::kStatus];
   CommandByte = in[r::kCommand];
   WeighingByte = in[r::kWeighing];
-  status_ = decode_status(in);
+  // Decoded once per change of the three status bytes: status_ is a
+  // function of them alone, and neither it nor status_raw_ is reflected
+  // (no debugger or HMI write), so the last decode is still exact. Both
+  // start as the bytes 0, 0, 0 and their decode.
+  const std::uint32_t raw = static_cast<std::uint32_t>(in[r::kStatus]) |
+                            static_cast<std::uint32_t>(in[r::kCommand]) << 8 |
+                            static_cast<std::uint32_t>(in[r::kWeighing]) << 16;
+  if (raw != status_raw_) {
+    status_ = decode_status(in);
+    status_raw_ = raw;
+  }
 
   if (!was_online_) {
     // Spec §7.2 start-up: full scale (clears Cal_Changed), format, model.

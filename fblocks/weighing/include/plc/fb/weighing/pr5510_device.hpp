@@ -183,7 +183,8 @@ class PR5510_Device {
   void finish_write(std::uint16_t err);
   void finish_command(std::uint16_t err);
 
-  StatusBits status_{};
+  StatusBits status_{};           // decode_status() of status_raw_
+  std::uint32_t status_raw_ = 0;  // R[5] | R[6] << 8 | R[7] << 16 last decoded
   bool prev_cal_changed_ = false, prev_cmd_error_ = false, was_online_ = false;
   int clients_ = 1;
   float scale_ = 1.0f;
