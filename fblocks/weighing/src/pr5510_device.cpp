@@ -97,14 +97,6 @@ void PR5510_Device::ack_command(int slot) {
   cmd_pending_ = static_cast<std::uint8_t>(cmd_pending_ & ~bit(slot));
 }
 
-void PR5510_Device::set_output(OutputBit b, bool on) {
-  const auto m = static_cast<std::uint8_t>(1U << static_cast<unsigned>(b));
-  outputs_ =
-      on ? static_cast<std::uint8_t>(outputs_ | m) : static_cast<std::uint8_t>(outputs_ & ~m);
-  // Written at once so that a valve closes in the scan that decides it.
-  if (port.bound() && port.out().size() >= kWindowSize) port.out()[w::kOutputs] = outputs_;
-}
-
 void PR5510_Device::go_offline() {
   Online = false;
   Ready = false;

@@ -155,7 +155,17 @@ class PR5510_Device {
   void ack_command(int slot);
 
   // Digital outputs 1..3 (W[6], level).
-  void set_output(OutputBit b, bool on);
+  void set_output(OutputBit b, bool on) {
+    const auto m = static_cast<std::uint8_t>(1U << static_cast<unsigned>(b));
+    set_outputs(m, on ? m : std::uint8_t{0});
+  }
+  // Outputs 1..3 at once: the bits of `mask` take those of `values`, the
+  // others stay (the byte set_output() would leave after one call per bit).
+  void set_outputs(std::uint8_t mask, std::uint8_t values) {
+    outputs_ = static_cast<std::uint8_t>((outputs_ & ~mask) | (values & mask));
+    // Written at once so that a valve closes in the scan that decides it.
+    if (port.bound() && port.out().size() >= kWindowSize) port.out()[w::kOutputs] = outputs_;
+  }
 
   [[nodiscard]] const StatusBits& status() const { return status_; }
   // Weight digits -> display units (kg, g, ...) using code 4's decimals.
