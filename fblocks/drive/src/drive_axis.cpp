@@ -97,8 +97,7 @@ std::uint16_t DriveAxis::axis_error() const {
   return error_;
 }
 
-void DriveAxis::begin(const ScanContext& ctx) {
-  if (begun_ && ctx.cycle == last_cycle_ && ctx.now == now_) return;
+void DriveAxis::begin_scan(const ScanContext& ctx) {
   const TIME dt = begun_ ? ctx.now - now_ : TIME{};
   begun_ = true;
   last_cycle_ = ctx.cycle;

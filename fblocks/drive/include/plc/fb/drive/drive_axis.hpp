@@ -145,8 +145,13 @@ struct DriveAxis {
   BOOL InhibitPower{};         // AbsEncoderInit: force OFF1 whatever PowerRequest says
 
   // ---------------- the scan protocol ----------------
-  void begin(const ScanContext& ctx);  // read inputs once per scan
-  void commit();                       // write outputs (cheap, any number of times)
+  // Read inputs once per scan: every block calls it, the first of a scan
+  // does the work (the check is inline, it is the common case).
+  void begin(const ScanContext& ctx) {
+    if (begun_ && ctx.cycle == last_cycle_ && ctx.now == now_) return;
+    begin_scan(ctx);
+  }
+  void commit();  // write outputs (cheap, any number of times)
   // What every block calls after its work: commit(), unless the program
   // writes the telegram itself.
   void block_done() {
@@ -247,6 +252,7 @@ struct DriveAxis {
   enum class Phase : std::uint8_t { Idle, PreLow, Request, Running, Done, Error, Aborted };
   enum class Kind : std::uint8_t { None, Task, Homing, Stop, Halt, Jog };
   enum class ResetPhase : std::uint8_t { Idle, AckLow, AckHigh, Done, Error };
+  void begin_scan(const ScanContext& ctx);  // begin()'s work, once per scan
   void advance();
   void advance_reset();
   void update_state();
