@@ -46,20 +46,6 @@ int PR5510_Device::attach() {
   return clients_++;
 }
 
-void PR5510_Device::request_read(int slot, std::uint8_t code, bool urgent) {
-  if (!valid(slot)) return;
-  rd_req_ = static_cast<std::uint8_t>(rd_req_ | bit(slot));
-  if (urgent) rd_urgent_ = static_cast<std::uint8_t>(rd_urgent_ | bit(slot));
-  rd_code_[idx(slot)] = code;
-}
-
-bool PR5510_Device::read_valid(int slot, std::uint8_t code) const {
-  // Spec §3.5: the value belongs to `code` once R[4] echoes it; the window
-  // must be ours so that W[4] keeps that code.
-  return Online && holder_ == slot && holder_code_ == code &&
-         port.in()[r::kReadValueSelected] == code;
-}
-
 bool PR5510_Device::request_write(int slot, std::uint8_t code, std::uint32_t raw) {
   if (!valid(slot)) return false;
   const std::size_t i = idx(slot);

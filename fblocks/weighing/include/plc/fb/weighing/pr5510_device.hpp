@@ -120,9 +120,19 @@ class PR5510_Device {
   // Read window: call on every scan while the value is wanted. `urgent`
   // requests (a batch while its valves are open) are served before the
   // others and keep the window while they last.
-  void request_read(int slot, std::uint8_t code, bool urgent = false);
+  void request_read(int slot, std::uint8_t code, bool urgent = false) {
+    if (!valid(slot)) return;
+    rd_req_ = static_cast<std::uint8_t>(rd_req_ | bit(slot));
+    if (urgent) rd_urgent_ = static_cast<std::uint8_t>(rd_urgent_ | bit(slot));
+    rd_code_[idx(slot)] = code;
+  }
   // The read window carries `code` for this slot now (granted, echoed).
-  [[nodiscard]] bool read_valid(int slot, std::uint8_t code) const;
+  [[nodiscard]] bool read_valid(int slot, std::uint8_t code) const {
+    // Spec §3.5: the value belongs to `code` once R[4] echoes it; the window
+    // must be ours so that W[4] keeps that code.
+    return Online && holder_ == slot && holder_code_ == code &&
+           port.in()[r::kReadValueSelected] == code;
+  }
   // Set when this slot's code was not echoed in time; cleared when the slot
   // stops requesting.
   // A slot outside 0..kMaxClients-1 (a block that holds none: kNoSlot) has
