@@ -181,7 +181,11 @@ struct DriveAxis {
   [[nodiscard]] bool target_reached() const { return (ZSW1 & Zsw1Pos::kTargetReached) != 0; }
   // The error every block on this axis reports now (0 = none): comm first,
   // then a drive fault, then a latched axis error (ErrorStop).
-  [[nodiscard]] std::uint16_t axis_error() const;
+  [[nodiscard]] std::uint16_t axis_error() const {
+    if (CommError) return CommError;
+    if (drive_fault()) return kErrDriveFault;
+    return error_;
+  }
   [[nodiscard]] TIME now() const { return now_; }
 
   // ---- command interface for blocks (PLCopen layer) ----
