@@ -322,3 +322,141 @@ TEST(SafetyNordFunctions, FeLedBlinkCode5713_Spec5_6) {
 }
 
 }  // namespace
+
+namespace {
+
+// The device status outputs as NORD_SAFE_IO has always computed them each
+// scan (spec §2.4 bit map), from IN_DATA and QBAD.
+void expect_status_outputs(const plc::safety::NORD_SAFE_IO& io, int scan) {
+  namespace out = plc::safety::nord::out;
+  std::uint8_t d[plc::safety::nord::kFDataBytes];
+  for (std::size_t i = 0; i < plc::safety::nord::kFDataBytes; ++i) d[i] = io.FMOD.IN_DATA[i];
+  auto get = [&d](plc::safety::nord::Bit b) { return plc::safety::nord::get(d, b); };
+  SCOPED_TRACE(scan);
+  ASSERT_EQ(io.OSSD1_OFF, get(out::kOssd1Off));
+  ASSERT_EQ(io.OSSD2_OFF, get(out::kOssd2Off));
+  ASSERT_EQ(io.OSSD3_OFF, get(out::kOssd3Off));
+  ASSERT_EQ(io.CLOCK1_OFF, get(out::kClock1Off));
+  ASSERT_EQ(io.CLOCK2_OFF, get(out::kClock2Off));
+  ASSERT_EQ(io.OSSD1_ON, !io.QBAD && !get(out::kOssd1Off));
+  ASSERT_EQ(io.OSSD2_ON, !io.QBAD && !get(out::kOssd2Off));
+  ASSERT_EQ(io.OSSD3_ON, !io.QBAD && !get(out::kOssd3Off));
+  ASSERT_EQ(io.SI1, get(out::kSi1));
+  ASSERT_EQ(io.SI2, get(out::kSi2));
+  ASSERT_EQ(io.SOS_OK, get(out::kSosOk));
+  ASSERT_EQ(io.SLS_OK, get(out::kSlsOk));
+  ASSERT_EQ(io.SLS_LEVEL_ACT, (get(out::kSlsLevel1) ? 2 : 0) | (get(out::kSlsLevel0) ? 1 : 0));
+  ASSERT_EQ(io.SDI_P_OK, get(out::kSdiPOk));
+  ASSERT_EQ(io.SDI_N_OK, get(out::kSdiNOk));
+  ASSERT_EQ(io.SSM, get(out::kSsm));
+  ASSERT_EQ(io.SSR_OK, get(out::kSsrOk));
+}
+
+}  // namespace
+
+// The status outputs are decoded once per change of IN_DATA and QBAD and
+// written every scan: over random commands, speeds, positions, device
+// faults and silences (QBAD both ways, acknowledged), each scan's outputs
+// are those of its F-data, also after a write between scans (debugger) to
+// any of them.
+TEST(SafetyNordFunctions, StatusOutputsFollowEveryScansFData_Spec2_4) {
+  Rig r;
+  r.start();
+  Random rng{0x5DEECE66Dull};
+  bool saw_qbad = false, saw_good = false, ack_req_prev = false;
+  long resume_at = -1, clear_at = -1, ack_at = -1;
+  for (int i = 0; i < 30000; ++i) {
+    switch (rng.below(40)) {
+      case 0:
+        r.io.OSSD1 = !r.io.OSSD1;
+        break;
+      case 1:
+        r.io.OSSD2 = !r.io.OSSD2;
+        break;
+      case 2:
+        r.io.OSSD3 = !r.io.OSSD3;
+        break;
+      case 3:
+        r.io.SLS = !r.io.SLS;
+        r.io.SLS_LEVEL = static_cast<plc::USINT>(rng.below(4));
+        break;
+      case 4:
+        r.io.SDI_P = !r.io.SDI_P;
+        break;
+      case 5:
+        r.io.SDI_N = !r.io.SDI_N;
+        break;
+      case 6:
+        r.io.SSR = !r.io.SSR;
+        break;
+      case 7:
+        r.io.SOS = !r.io.SOS;
+        break;
+      case 8:
+        r.model->set_speed_rpm(rng.below(1200) - 600);
+        break;
+      case 9:
+        r.model->set_position_inc(rng.below(300));
+        break;
+      case 10:
+        if (rng.below(20) == 0 && clear_at < 0) {
+          r.model->inject_device_fault(err::kEncoder);
+          clear_at = i + 1 + rng.below(300);
+        }
+        break;
+      case 11:
+        if (rng.below(20) == 0 && resume_at < 0) {
+          r.model->stop(true);
+          resume_at = i + 1 + rng.below(300);
+        }
+        break;
+      case 12: {  // the debugger writes an output between scans
+        plc::BOOL* outs[] = {&r.io.OSSD1_OFF, &r.io.OSSD2_ON, &r.io.SI1,       &r.io.SLS_OK,
+                             &r.io.SSM,       &r.io.SSR_OK,   &r.io.CLOCK2_OFF};
+        plc::BOOL* o = outs[rng.below(7)];
+        *o = !*o;
+        r.io.SLS_LEVEL_ACT = static_cast<plc::USINT>(rng.below(4));
+        break;
+      }
+      default:
+        break;
+    }
+    if (i == resume_at) {
+      r.model->stop(false);
+      resume_at = -1;
+    }
+    if (i == clear_at) {
+      r.model->clear_device_fault();
+      clear_at = -1;
+    }
+    if (r.io.ACK_REQ && !ack_req_prev) ack_at = i + rng.below(20);
+    ack_req_prev = r.io.ACK_REQ;
+    r.io.FMOD.ACK_REI = (i == ack_at);
+    r.scan();
+    (r.io.QBAD ? saw_qbad : saw_good) = true;
+    expect_status_outputs(r.io, i);
+    if (HasFatalFailure()) return;
+  }
+  EXPECT_TRUE(saw_qbad);
+  EXPECT_TRUE(saw_good);
+
+  // F-data 0 both good and passivated (all SOs on, 100 rpm: no SSM), so
+  // only QBAD tells OSSDn_ON: the device falls silent and comes back.
+  Rig q;
+  q.io.OSSD1 = q.io.OSSD2 = q.io.OSSD3 = true;
+  q.model->set_speed_rpm(100);
+  int zero_good = 0, zero_bad = 0;
+  for (int i = 0; i < 1500; ++i) {
+    if (i == 300) q.model->stop(true);
+    if (i == 600) q.model->stop(false);
+    q.io.FMOD.ACK_REI = q.io.ACK_REQ && i % 2 == 0;
+    q.scan();
+    expect_status_outputs(q.io, i);
+    if (HasFatalFailure()) return;
+    const bool zero = q.io.FMOD.IN_DATA == std::array<plc::BYTE, 4>{};
+    if (zero) ++(q.io.QBAD ? zero_bad : zero_good);
+  }
+  EXPECT_GT(zero_good, 100);
+  EXPECT_GT(zero_bad, 100);
+  EXPECT_TRUE(q.io.OSSD1_ON);
+}

@@ -131,3 +131,45 @@ TEST(Pr5510Faults, Spec72_StartUpReadsRetryAfterTimeout) {
   for (int i = 0; i < 100; ++i) s.scan([] {});
   EXPECT_TRUE(s.dev.Ready);
 }
+
+// R[5..7] are decoded once per change of the three bytes (the device
+// block's cache): after every scan status() is decode_status() of this
+// scan's bytes, over runs where one byte changes, bytes repeat, the device
+// goes off line and back, and all 24 bits move one at a time.
+TEST(Pr5510Faults, Spec34_StatusDecodedEveryScanOfItsBytes) {
+  Scripted s;
+  std::uint32_t x = 0x2545F491U;  // xorshift: the same bytes every run
+  auto next = [&x] {
+    x ^= x << 13;
+    x ^= x >> 17;
+    x ^= x << 5;
+    return x;
+  };
+  const std::array<std::uint8_t, 3> at{wg::r::kStatus, wg::r::kCommand, wg::r::kWeighing};
+  for (int i = 0; i < 20000; ++i) {
+    const std::uint32_t v = next();
+    switch (v % 5) {
+      case 0:  // one bit of one byte flips
+        s.in[at[(v >> 8) % 3]] ^= static_cast<std::uint8_t>(1U << ((v >> 12) % 8));
+        break;
+      case 1:  // all three new
+        for (std::size_t k = 0; k < 3; ++k) s.in[at[k]] = static_cast<std::uint8_t>(v >> (8 * k));
+        break;
+      case 2:  // off line for a scan
+        s.link.set_state(plc::io::DeviceState::Offline);
+        break;
+      default:  // the same bytes again
+        break;
+    }
+    s.scan([] {});
+    s.link.set_state(plc::io::DeviceState::Online);
+    ASSERT_EQ(wg::decode_status(s.in), s.dev.status()) << "scan " << i;
+  }
+  for (std::size_t k = 0; k < 3; ++k)
+    for (unsigned b = 0; b < 8; ++b) {
+      s.in[at[k]] = static_cast<std::uint8_t>(1U << b);
+      s.scan([] {});
+      ASSERT_EQ(wg::decode_status(s.in), s.dev.status()) << "byte " << k << " bit " << b;
+      s.in[at[k]] = 0;
+    }
+}

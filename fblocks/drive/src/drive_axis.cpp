@@ -91,14 +91,7 @@ DriveState drive_state_from_zsw1(std::uint16_t z) {
   return DriveState::SwitchingOff;  // OFF3 branch: bits 0-2 = 0, bit 6 = 0
 }
 
-std::uint16_t DriveAxis::axis_error() const {
-  if (CommError) return CommError;
-  if (drive_fault()) return kErrDriveFault;
-  return error_;
-}
-
-void DriveAxis::begin(const ScanContext& ctx) {
-  if (begun_ && ctx.cycle == last_cycle_ && ctx.now == now_) return;
+void DriveAxis::begin_scan(const ScanContext& ctx) {
   const TIME dt = begun_ ? ctx.now - now_ : TIME{};
   begun_ = true;
   last_cycle_ = ctx.cycle;

@@ -18,9 +18,15 @@ void PR5510_BatchWeigh::set_valves(bool coarse, bool fine, bool discharge) {
   FineFeed = fine;
   Discharge = discharge;
   if (DriveDeviceOutputs && Device != nullptr) {
-    Device->set_output(OutputBit::Out1, coarse);
-    Device->set_output(OutputBit::Out2, fine);
-    Device->set_output(OutputBit::Out3, discharge);
+    // The three in one write of W[6], the byte three set_output() calls give.
+    constexpr auto bit = [](OutputBit b) {
+      return static_cast<std::uint8_t>(1U << static_cast<unsigned>(b));
+    };
+    constexpr std::uint8_t kValves =
+        bit(OutputBit::Out1) | bit(OutputBit::Out2) | bit(OutputBit::Out3);
+    Device->set_outputs(kValves, static_cast<std::uint8_t>((coarse ? bit(OutputBit::Out1) : 0) |
+                                                           (fine ? bit(OutputBit::Out2) : 0) |
+                                                           (discharge ? bit(OutputBit::Out3) : 0)));
   }
 }
 

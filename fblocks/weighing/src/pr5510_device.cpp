@@ -8,6 +8,9 @@ constexpr std::uint8_t kFormat = static_cast<std::uint8_t>(ReadCode::Format);
 constexpr std::uint8_t kModel = static_cast<std::uint8_t>(ReadCode::ModelVersion);
 constexpr int kOwnSlot = 0;
 
+// The status cache starts as the bytes 0, 0, 0 (status_raw_) and their decode.
+static_assert(decode_status(std::array<std::uint8_t, kWindowSize>{}) == StatusBits{});
+
 // The status bit that shows a command took effect (spec §5.5 feedback
 // column). Set Zero has no bit of its own that noise cannot flicker
 // (Center Zero is +- 1/4 d), so it is judged by Cmd_Busy/Cmd_Error alone.
@@ -41,20 +44,6 @@ int PR5510_Device::next_in(std::uint8_t mask, int from) {
 int PR5510_Device::attach() {
   if (clients_ >= kMaxClients) return kNoSlot;
   return clients_++;
-}
-
-void PR5510_Device::request_read(int slot, std::uint8_t code, bool urgent) {
-  if (!valid(slot)) return;
-  rd_req_ = static_cast<std::uint8_t>(rd_req_ | bit(slot));
-  if (urgent) rd_urgent_ = static_cast<std::uint8_t>(rd_urgent_ | bit(slot));
-  rd_code_[idx(slot)] = code;
-}
-
-bool PR5510_Device::read_valid(int slot, std::uint8_t code) const {
-  // Spec §3.5: the value belongs to `code` once R[4] echoes it; the window
-  // must be ours so that W[4] keeps that code.
-  return Online && holder_ == slot && holder_code_ == code &&
-         port.in()[r::kReadValueSelected] == code;
 }
 
 bool PR5510_Device::request_write(int slot, std::uint8_t code, std::uint32_t raw) {
@@ -92,14 +81,6 @@ void PR5510_Device::ack_command(int slot) {
   if (!valid(slot)) return;
   if (cmd_status_[idx(slot)] != CommandStatus::Active) cmd_status_[idx(slot)] = CommandStatus::Idle;
   cmd_pending_ = static_cast<std::uint8_t>(cmd_pending_ & ~bit(slot));
-}
-
-void PR5510_Device::set_output(OutputBit b, bool on) {
-  const auto m = static_cast<std::uint8_t>(1U << static_cast<unsigned>(b));
-  outputs_ =
-      on ? static_cast<std::uint8_t>(outputs_ | m) : static_cast<std::uint8_t>(outputs_ & ~m);
-  // Written at once so that a valve closes in the scan that decides it.
-  if (port.bound() && port.out().size() >= kWindowSize) port.out()[w::kOutputs] = outputs_;
 }
 
 void PR5510_Device::go_offline() {
@@ -144,7 +125,17 @@ void PR5510_Device::operator()(const ScanContext& ctx) {
   StatusByte = in[r::kStatus];
   CommandByte = in[r::kCommand];
   WeighingByte = in[r::kWeighing];
-  status_ = decode_status(in);
+  // Decoded once per change of the three status bytes: status_ is a
+  // function of them alone, and neither it nor status_raw_ is reflected
+  // (no debugger or HMI write), so the last decode is still exact. Both
+  // start as the bytes 0, 0, 0 and their decode.
+  const std::uint32_t raw = static_cast<std::uint32_t>(in[r::kStatus]) |
+                            static_cast<std::uint32_t>(in[r::kCommand]) << 8 |
+                            static_cast<std::uint32_t>(in[r::kWeighing]) << 16;
+  if (raw != status_raw_) {
+    status_ = decode_status(in);
+    status_raw_ = raw;
+  }
 
   if (!was_online_) {
     // Spec §7.2 start-up: full scale (clears Cal_Changed), format, model.

@@ -145,8 +145,13 @@ struct DriveAxis {
   BOOL InhibitPower{};         // AbsEncoderInit: force OFF1 whatever PowerRequest says
 
   // ---------------- the scan protocol ----------------
-  void begin(const ScanContext& ctx);  // read inputs once per scan
-  void commit();                       // write outputs (cheap, any number of times)
+  // Read inputs once per scan: every block calls it, the first of a scan
+  // does the work (the check is inline, it is the common case).
+  void begin(const ScanContext& ctx) {
+    if (begun_ && ctx.cycle == last_cycle_ && ctx.now == now_) return;
+    begin_scan(ctx);
+  }
+  void commit();  // write outputs (cheap, any number of times)
   // What every block calls after its work: commit(), unless the program
   // writes the telegram itself.
   void block_done() {
@@ -176,7 +181,11 @@ struct DriveAxis {
   [[nodiscard]] bool target_reached() const { return (ZSW1 & Zsw1Pos::kTargetReached) != 0; }
   // The error every block on this axis reports now (0 = none): comm first,
   // then a drive fault, then a latched axis error (ErrorStop).
-  [[nodiscard]] std::uint16_t axis_error() const;
+  [[nodiscard]] std::uint16_t axis_error() const {
+    if (CommError) return CommError;
+    if (drive_fault()) return kErrDriveFault;
+    return error_;
+  }
   [[nodiscard]] TIME now() const { return now_; }
 
   // ---- command interface for blocks (PLCopen layer) ----
@@ -247,6 +256,7 @@ struct DriveAxis {
   enum class Phase : std::uint8_t { Idle, PreLow, Request, Running, Done, Error, Aborted };
   enum class Kind : std::uint8_t { None, Task, Homing, Stop, Halt, Jog };
   enum class ResetPhase : std::uint8_t { Idle, AckLow, AckHigh, Done, Error };
+  void begin_scan(const ScanContext& ctx);  // begin()'s work, once per scan
   void advance();
   void advance_reset();
   void update_state();

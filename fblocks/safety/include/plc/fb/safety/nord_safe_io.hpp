@@ -89,37 +89,90 @@ class NORD_SAFE_IO {
     FMOD(ctx);
     if (ack_hold_ && FMOD.protocol().cons_nr() != ack_cn_) ack_hold_ = false;
 
-    std::uint8_t d[nord::kFDataBytes];
-    for (std::size_t i = 0; i < nord::kFDataBytes; ++i) d[i] = FMOD.IN_DATA[i];
     QBAD = FMOD.QBAD;
     PASS_OUT = FMOD.PASS_OUT;
     ACK_REQ = FMOD.ACK_REQ;
     DIAG = FMOD.DIAG;
     DIAG_CODE = FMOD.DIAG_CODE;
-    OSSD1_OFF = nord::get(d, nord::out::kOssd1Off);
-    OSSD2_OFF = nord::get(d, nord::out::kOssd2Off);
-    OSSD3_OFF = nord::get(d, nord::out::kOssd3Off);
-    CLOCK1_OFF = nord::get(d, nord::out::kClock1Off);
-    CLOCK2_OFF = nord::get(d, nord::out::kClock2Off);
-    OSSD1_ON = !QBAD && !OSSD1_OFF;
-    OSSD2_ON = !QBAD && !OSSD2_OFF;
-    OSSD3_ON = !QBAD && !OSSD3_OFF;
-    SI1 = nord::get(d, nord::out::kSi1);
-    SI2 = nord::get(d, nord::out::kSi2);
-    SOS_OK = nord::get(d, nord::out::kSosOk);
-    SLS_OK = nord::get(d, nord::out::kSlsOk);
-    SLS_LEVEL_ACT = static_cast<USINT>((nord::get(d, nord::out::kSlsLevel1) ? 2 : 0) |
-                                       (nord::get(d, nord::out::kSlsLevel0) ? 1 : 0));
-    SDI_P_OK = nord::get(d, nord::out::kSdiPOk);
-    SDI_N_OK = nord::get(d, nord::out::kSdiNOk);
-    SSM = nord::get(d, nord::out::kSsm);
-    SSR_OK = nord::get(d, nord::out::kSsrOk);
+    // The device status outputs are a function of IN_DATA and QBAD alone:
+    // decoded once per change of those (status_key_), and written from the
+    // decode every scan, so a value written between scans (debugger, HMI)
+    // is overwritten as it always was.
+    std::uint8_t d[nord::kFDataBytes];
+    for (std::size_t i = 0; i < nord::kFDataBytes; ++i) d[i] = FMOD.IN_DATA[i];
+    const std::uint64_t key =
+        static_cast<std::uint64_t>(d[0]) | static_cast<std::uint64_t>(d[1]) << 8 |
+        static_cast<std::uint64_t>(d[2]) << 16 | static_cast<std::uint64_t>(d[3]) << 24 |
+        static_cast<std::uint64_t>(QBAD) << 32;
+    if (key != status_key_) {
+      status_ = decode_status(d, QBAD);
+      status_key_ = key;
+    }
+    const DeviceStatus& st = status_;
+    OSSD1_OFF = st.ossd1_off;
+    OSSD2_OFF = st.ossd2_off;
+    OSSD3_OFF = st.ossd3_off;
+    CLOCK1_OFF = st.clock1_off;
+    CLOCK2_OFF = st.clock2_off;
+    OSSD1_ON = st.ossd1_on;
+    OSSD2_ON = st.ossd2_on;
+    OSSD3_ON = st.ossd3_on;
+    SI1 = st.si1;
+    SI2 = st.si2;
+    SOS_OK = st.sos_ok;
+    SLS_OK = st.sls_ok;
+    SLS_LEVEL_ACT = st.sls_level_act;
+    SDI_P_OK = st.sdi_p_ok;
+    SDI_N_OK = st.sdi_n_ok;
+    SSM = st.ssm;
+    SSR_OK = st.ssr_ok;
+  }
+
+  // The device status outputs, in their order, from the F-data the device
+  // sent (IN_DATA) and QBAD: what every scan writes.
+  struct DeviceStatus {
+    BOOL ossd1_off = false, ossd2_off = false, ossd3_off = false;
+    BOOL clock1_off = false, clock2_off = false;
+    BOOL ossd1_on = false, ossd2_on = false, ossd3_on = false;
+    BOOL si1 = false, si2 = false;
+    BOOL sos_ok = false, sls_ok = false;
+    USINT sls_level_act = 0;
+    BOOL sdi_p_ok = false, sdi_n_ok = false, ssm = false, ssr_ok = false;
+
+    friend bool operator==(const DeviceStatus&, const DeviceStatus&) = default;
+  };
+  static constexpr DeviceStatus decode_status(const std::uint8_t* d, bool qbad) {
+    DeviceStatus s;
+    s.ossd1_off = nord::get(d, nord::out::kOssd1Off);
+    s.ossd2_off = nord::get(d, nord::out::kOssd2Off);
+    s.ossd3_off = nord::get(d, nord::out::kOssd3Off);
+    s.clock1_off = nord::get(d, nord::out::kClock1Off);
+    s.clock2_off = nord::get(d, nord::out::kClock2Off);
+    s.ossd1_on = !qbad && !s.ossd1_off;
+    s.ossd2_on = !qbad && !s.ossd2_off;
+    s.ossd3_on = !qbad && !s.ossd3_off;
+    s.si1 = nord::get(d, nord::out::kSi1);
+    s.si2 = nord::get(d, nord::out::kSi2);
+    s.sos_ok = nord::get(d, nord::out::kSosOk);
+    s.sls_ok = nord::get(d, nord::out::kSlsOk);
+    s.sls_level_act = static_cast<USINT>((nord::get(d, nord::out::kSlsLevel1) ? 2 : 0) |
+                                         (nord::get(d, nord::out::kSlsLevel0) ? 1 : 0));
+    s.sdi_p_ok = nord::get(d, nord::out::kSdiPOk);
+    s.sdi_n_ok = nord::get(d, nord::out::kSdiNOk);
+    s.ssm = nord::get(d, nord::out::kSsm);
+    s.ssr_ok = nord::get(d, nord::out::kSsrOk);
+    return s;
   }
 
  private:
   bool ack_prev_ = false;
   bool ack_hold_ = false;
   std::uint32_t ack_cn_ = 0;
+  // Cache of decode_status(): its key is IN_DATA[0..3] | QBAD << 32, and no
+  // F-data and QBAD give ~0 (the first scan decodes). Not reflected: the
+  // debugger cannot write either, so status_ is always the key's decode.
+  std::uint64_t status_key_ = ~std::uint64_t{0};
+  DeviceStatus status_{};
 };
 
 }  // namespace plc::safety

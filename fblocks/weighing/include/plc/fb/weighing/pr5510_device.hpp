@@ -120,9 +120,19 @@ class PR5510_Device {
   // Read window: call on every scan while the value is wanted. `urgent`
   // requests (a batch while its valves are open) are served before the
   // others and keep the window while they last.
-  void request_read(int slot, std::uint8_t code, bool urgent = false);
+  void request_read(int slot, std::uint8_t code, bool urgent = false) {
+    if (!valid(slot)) return;
+    rd_req_ = static_cast<std::uint8_t>(rd_req_ | bit(slot));
+    if (urgent) rd_urgent_ = static_cast<std::uint8_t>(rd_urgent_ | bit(slot));
+    rd_code_[idx(slot)] = code;
+  }
   // The read window carries `code` for this slot now (granted, echoed).
-  [[nodiscard]] bool read_valid(int slot, std::uint8_t code) const;
+  [[nodiscard]] bool read_valid(int slot, std::uint8_t code) const {
+    // Spec §3.5: the value belongs to `code` once R[4] echoes it; the window
+    // must be ours so that W[4] keeps that code.
+    return Online && holder_ == slot && holder_code_ == code &&
+           port.in()[r::kReadValueSelected] == code;
+  }
   // Set when this slot's code was not echoed in time; cleared when the slot
   // stops requesting.
   // A slot outside 0..kMaxClients-1 (a block that holds none: kNoSlot) has
@@ -155,7 +165,17 @@ class PR5510_Device {
   void ack_command(int slot);
 
   // Digital outputs 1..3 (W[6], level).
-  void set_output(OutputBit b, bool on);
+  void set_output(OutputBit b, bool on) {
+    const auto m = static_cast<std::uint8_t>(1U << static_cast<unsigned>(b));
+    set_outputs(m, on ? m : std::uint8_t{0});
+  }
+  // Outputs 1..3 at once: the bits of `mask` take those of `values`, the
+  // others stay (the byte set_output() would leave after one call per bit).
+  void set_outputs(std::uint8_t mask, std::uint8_t values) {
+    outputs_ = static_cast<std::uint8_t>((outputs_ & ~mask) | (values & mask));
+    // Written at once so that a valve closes in the scan that decides it.
+    if (port.bound() && port.out().size() >= kWindowSize) port.out()[w::kOutputs] = outputs_;
+  }
 
   [[nodiscard]] const StatusBits& status() const { return status_; }
   // Weight digits -> display units (kg, g, ...) using code 4's decimals.
@@ -183,7 +203,8 @@ class PR5510_Device {
   void finish_write(std::uint16_t err);
   void finish_command(std::uint16_t err);
 
-  StatusBits status_{};
+  StatusBits status_{};           // decode_status() of status_raw_
+  std::uint32_t status_raw_ = 0;  // R[5] | R[6] << 8 | R[7] << 16 last decoded
   bool prev_cal_changed_ = false, prev_cmd_error_ = false, was_online_ = false;
   int clients_ = 1;
   float scale_ = 1.0f;

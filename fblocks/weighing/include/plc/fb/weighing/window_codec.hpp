@@ -136,7 +136,7 @@ struct StatusBits {
   [[nodiscard]] bool weight_invalid() const { return AduError || Overload || Dimmed; }
 };
 
-inline StatusBits decode_status(std::span<const std::uint8_t> rd) {
+constexpr StatusBits decode_status(std::span<const std::uint8_t> rd) {
   const std::uint8_t b5 = rd[r::kStatus], b6 = rd[r::kCommand], b7 = rd[r::kWeighing];
   auto bit = [](std::uint8_t b, unsigned i) { return ((b >> i) & 1U) != 0; };
   StatusBits s;
