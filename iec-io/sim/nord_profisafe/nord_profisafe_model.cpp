@@ -28,6 +28,7 @@ NordProfisafeModel::NordProfisafeModel(const io::ModelParams& p)
   si_raw_ = {p.get_bool("si1", false), p.get_bool("si2", false)};
   si_ = si_raw_;
   p.reject_unknown();
+  refresh_inc_per_s();
   power_cycle();
 }
 
@@ -475,10 +476,8 @@ void NordProfisafeModel::build_response() {
 void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
                               std::span<std::uint8_t> to_plc) {
   now_ = now;
-  if (ip_.p811 > 0.0) {
-    const double revs_per_s = speed_rpm_ / 60.0 / ip_.p811;
-    position_inc_ += revs_per_s * ip_.pulses() * std::chrono::duration<double>(dt).count();
-  }
+  // revs_per_s * pulses * dt, as (speed / 60 / P811 * pulses) * dt.
+  if (ip_.p811 > 0.0) position_inc_ += inc_per_s_ * std::chrono::duration<double>(dt).count();
   if (drop_start_pending_) {
     drop_until_ = now + drop_for_;
     drop_start_pending_ = false;
@@ -490,8 +489,11 @@ void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> f
     respond_pending_ = false;
   }
   channel_.deliver(now);
-  const std::size_t n = std::min(to_plc.size(), kPdu);
-  std::copy_n(channel_.shown().begin(), n, to_plc.begin());
+  if (to_plc.size() >= kPdu) {  // the usual buffer: a constant size, copied inline
+    std::copy_n(channel_.shown().begin(), kPdu, to_plc.begin());
+  } else {
+    std::copy_n(channel_.shown().begin(), to_plc.size(), to_plc.begin());
+  }
 }
 
 io::RecordError NordProfisafeModel::read_record(std::uint16_t index, std::span<std::uint8_t> out,

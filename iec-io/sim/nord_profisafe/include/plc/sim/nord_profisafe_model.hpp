@@ -79,7 +79,10 @@ class NordProfisafeModel : public io::DeviceModel {
   void power_cycle() override;
 
   // ---- drive and field inputs ----
-  void set_speed_rpm(double n) { speed_rpm_ = n; }
+  void set_speed_rpm(double n) {
+    speed_rpm_ = n;
+    refresh_inc_per_s();
+  }
   void set_position_inc(double p) { position_inc_ = p; }
   // Raw SI1/SI2 levels; the device sees them through the P805 filter.
   void set_si(bool si1, bool si2) { si_raw_ = {si1, si2}; }
@@ -200,6 +203,11 @@ class NordProfisafeModel : public io::DeviceModel {
   bool address_valid_ = true;  // F-address read at power-on is usable (else 5726)
   int max_sil_ = 3;
   double speed_rpm_ = 0.0, position_inc_ = 0.0;
+  // Encoder increments per second at speed_rpm_ (step() integrates it):
+  // the first two factors of step()'s product, derived once per change of
+  // the speed (the i-parameters are fixed).
+  double inc_per_s_ = 0.0;
+  void refresh_inc_per_s() { inc_per_s_ = speed_rpm_ / 60.0 / ip_.p811 * ip_.pulses(); }
   std::array<bool, 2> si_raw_{};  // as wired
   std::array<bool, 2> si_{};      // after the P805 filter
   std::array<bool, 2> si_changing_{};
