@@ -31,7 +31,10 @@ class NordSafetyFunctions {
     std::uint8_t sls_level = 0;     // 0..3
   };
 
-  explicit NordSafetyFunctions(const NordIParams& ip) : ip_(ip) {}
+  explicit NordSafetyFunctions(const NordIParams& ip) : ip_(ip) {
+    for (int fn = 0; fn < kCount; ++fn)
+      if (ip_.p820[fn] == 1) enabled_ |= static_cast<std::uint8_t>(1u << fn);
+  }
 
   // Advance by dt; position in encoder increments.
   void step(TIME now, TIME dt, const Request& rq, double speed_rpm, double position_inc);
@@ -67,6 +70,13 @@ class NordSafetyFunctions {
   std::array<bool, kCount> ok_{};
   std::uint8_t trip_level_ = 0;
   bool ssm_ = false;
+  // Bit fn: P820 enables function fn (the i-parameters are fixed for the
+  // device's life, so once at construction).
+  std::uint8_t enabled_ = 0;
+  // Every function sits as an inactive one leaves it (not requested, not
+  // monitoring, no count, status 0): true after reset() and after a step in
+  // which none was active. Such a step again changes nothing but SSM.
+  bool idle_ = true;
 };
 
 }  // namespace plc::sim
