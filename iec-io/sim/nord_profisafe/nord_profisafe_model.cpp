@@ -1,6 +1,7 @@
 #include "plc/sim/nord_profisafe_model.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 
 #include "plc/fb/safety/control_status_byte.hpp"
@@ -233,19 +234,29 @@ bool NordProfisafeModel::q_cause(int q) const {
 }
 
 // q_cause() of every q error at once, bit i for error i.
-std::uint32_t NordProfisafeModel::q_causes() const {
-  std::uint32_t m = 0;
+inline std::uint32_t NordProfisafeModel::q_causes() {
+  // The causes that are a function of the last valid request's F-data
+  // alone (P820/P802 are fixed): once per change of those 4 bytes, which
+  // stay put while the host's consecutive number counts on.
+  const auto req = std::bit_cast<std::uint32_t>(requested_);
+  if (req != request_causes_of_) {
+    request_causes_of_ = req;
+    std::uint32_t rm = 0;
+    auto set = [&rm](int q, bool on) { rm |= static_cast<std::uint32_t>(on) << q; };
+    const std::uint8_t* r = requested_.data();
+    set(kQSlsOff, get(r, nin::kSls) && ip_.p820[0] == 0);
+    set(kQSsrOff, get(r, nin::kSsr) && ip_.p820[1] == 0);
+    set(kQSdiPOff, get(r, nin::kSdiP) && ip_.p820[2] == 0);
+    set(kQSdiNOff, get(r, nin::kSdiN) && ip_.p820[3] == 0);
+    set(kQSosOff, get(r, nin::kSos) && ip_.p820[4] == 0);
+    set(kQSo1Off, get(r, nin::kOssd1) && ip_.p802[2] == 0);
+    set(kQSo2Off, get(r, nin::kOssd2) && ip_.p802[3] == 0);
+    set(kQSo3Off, get(r, nin::kOssd3) && ip_.p802[4] == 0);
+    request_causes_ = rm;
+  }
+  std::uint32_t m = request_causes_;
   auto set = [&m](int q, bool on) { m |= static_cast<std::uint32_t>(on) << q; };
   for (int f = 0; f < NordSafetyFunctions::kCount; ++f) set(kQSls + f, fn_.tripped(f));
-  const std::uint8_t* r = requested_.data();
-  set(kQSlsOff, get(r, nin::kSls) && ip_.p820[0] == 0);
-  set(kQSsrOff, get(r, nin::kSsr) && ip_.p820[1] == 0);
-  set(kQSdiPOff, get(r, nin::kSdiP) && ip_.p820[2] == 0);
-  set(kQSdiNOff, get(r, nin::kSdiN) && ip_.p820[3] == 0);
-  set(kQSosOff, get(r, nin::kSos) && ip_.p820[4] == 0);
-  set(kQSo1Off, get(r, nin::kOssd1) && ip_.p802[2] == 0);
-  set(kQSo2Off, get(r, nin::kOssd2) && ip_.p802[3] == 0);
-  set(kQSo3Off, get(r, nin::kOssd3) && ip_.p802[4] == 0);
   set(kQSi1Off, si_[0] && ip_.p802[0] == 0);
   set(kQSi2Off, si_[1] && ip_.p802[1] == 0);
   for (int in = 0; in < 2; ++in)

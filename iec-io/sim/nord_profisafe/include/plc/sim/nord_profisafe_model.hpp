@@ -195,7 +195,7 @@ class NordProfisafeModel : public io::DeviceModel {
   bool module_fault() const { return module_fault_; }
   void refresh_module_fault();
   bool q_cause(int q) const;
-  std::uint32_t q_causes() const;
+  std::uint32_t q_causes();
 
   NordIParams ip_;
   NordSafetyFunctions fn_;
@@ -227,7 +227,10 @@ class NordProfisafeModel : public io::DeviceModel {
   bool host_fv_ = true;   // host's activate_FV
   TIME t_valid_{};
   std::array<std::uint8_t, 4> requested_{};  // F-data of the last valid request
-  std::array<std::uint8_t, 4> applied_{};    // what acts (0 while passivated)
+  // q_causes(): the causes given by requested_ alone, for requested_ ==
+  // request_causes_of_ (its bytes; all-zero F-data cause none).
+  std::uint32_t request_causes_of_ = 0, request_causes_ = 0;
+  std::array<std::uint8_t, 4> applied_{};  // what acts (0 while passivated)
   bool chan_ack_prev_ = false;
 
   // Errors
