@@ -661,6 +661,23 @@ void HiwinE1Model::update_position_mode(double dt, bool rise_task, bool rise_hom
   }
   // S4
   const bool jog1 = has(stw1_, Stw1Pos::kJog1), jog2 = has(stw1_, Stw1Pos::kJog2);
+  if (shortcuts_ && !rise_homing && !rise_task && !homing_ && !task_active_ && !task_rejecting_ &&
+      !jog_active_ && jog1 == jog2 && v_set_ == 0 && p_set_ == enc_ && std::isfinite(enc_) &&
+      dt > 0) {
+    // At rest with nothing to start (the conveyor between two indexes):
+    // what the general path below computes for it. No homing, task, jog or
+    // reject starts or runs and nothing moves into a limit, so it would
+    // ramp_velocity(0, ...): from a zero setpoint speed the new one is
+    // 0 * max(0, -d * dt) = +0 (d >= 0, dt > 0), and p_set_ moves by
+    // 0.5 * (+0) * dt = +0. follow(): p_set_ == enc_ (finite), so the lag
+    // moves enc_ by +-0 * alpha, which is within 1e-6 of p_set_ and snaps to
+    // it. The following error is 0.
+    v_set_ = 0.0;
+    p_set_ += 0.0;
+    v_act_ = (p_set_ - enc_) / dt;
+    enc_ = p_set_;
+    return;
+  }
   if (rise_homing && !task_active_ && !jog1 && !jog2) {
     homing_ = true;
     homing_found_ = false;
@@ -943,7 +960,7 @@ void HiwinE1Model::write_inputs(std::span<std::uint8_t> to_plc) {
   if (!encoded_valid_ || diff != 0) {
     encode_inputs(encoded_);
     encoded_key_ = key;
-    encoded_valid_ = telegram_cache_;
+    encoded_valid_ = shortcuts_;
   }
   Zsw2 zsw2;
   zsw2.drive_sign_of_life = sol_;

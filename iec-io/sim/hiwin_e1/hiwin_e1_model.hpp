@@ -132,9 +132,10 @@ class HiwinE1Model : public io::DeviceModel {
   // servo-on from the Thunder tool, which the PLC cannot see).
   void refuse_next_multiturn_clear() { refuse_next_clear_ = true; }
   void set_warning(std::uint16_t warn_code) { injected_warning_ = warn_code; }
-  // Off: the drive's telegram is encoded from the state every step, as
-  // without the cache (tests compare the two).
-  void set_telegram_cache(bool on) { telegram_cache_ = on; }
+  // Off: the drive's telegram is encoded from the state every step, and a
+  // drive at rest takes the full motion update, as without the shortcuts
+  // (tests compare the two).
+  void set_shortcuts(bool on) { shortcuts_ = on; }
 
   // ---- inspection (tests, benchmarks) ----
   [[nodiscard]] State state() const { return state_; }
@@ -258,7 +259,7 @@ class HiwinE1Model : public io::DeviceModel {
   [[nodiscard]] InputsKey inputs_key() const;
   InputsKey encoded_key_{};
   bool encoded_valid_ = false;
-  bool telegram_cache_ = true;
+  bool shortcuts_ = true;  // set_shortcuts()
   std::array<std::uint8_t, drive::Telegram111In::kBytes> encoded_{};
 
   // parameter channel: the pending response
