@@ -406,11 +406,13 @@ void NordProfisafeModel::evaluate(TIME now, TIME dt) {
     applied_ = requested_;
   }
   const std::uint8_t* a = applied_.data();
-  NordSafetyFunctions::Request rq;
-  rq.on = {get(a, nin::kSls), get(a, nin::kSsr), get(a, nin::kSdiP), get(a, nin::kSdiN),
-           get(a, nin::kSos)};
-  rq.sls_level =
-      static_cast<std::uint8_t>((get(a, nin::kSlsLevel1) << 1) | get(a, nin::kSlsLevel0));
+  NordSafetyFunctions::Request rq;  // read by fn_ only for a function P820 enables
+  if (fn_.any_enabled()) {
+    rq.on = {get(a, nin::kSls), get(a, nin::kSsr), get(a, nin::kSdiP), get(a, nin::kSdiN),
+             get(a, nin::kSos)};
+    rq.sls_level =
+        static_cast<std::uint8_t>((get(a, nin::kSlsLevel1) << 1) | get(a, nin::kSlsLevel0));
+  }
   fn_.step(now, dt, rq, speed_rpm_, position_inc_);
   update_q(now);
   if (fatal_code_ != 0 || module_fault()) fault_fv_ = true;

@@ -31,8 +31,8 @@ bool NordSafetyFunctions::cause_present(int fn, double speed_rpm) const {
   }
 }
 
-void NordSafetyFunctions::step(TIME now, TIME dt, const Request& rq, double speed_rpm,
-                               double position_inc) {
+void NordSafetyFunctions::step_functions(TIME now, TIME dt, const Request& rq, double speed_rpm,
+                                         double position_inc) {
   const double n = std::abs(speed_rpm);
   bool any_active = false;
   for (int fn = 0; fn < kCount; ++fn) any_active |= ((enabled_ >> fn) & 1u) != 0 && rq.on[fn];

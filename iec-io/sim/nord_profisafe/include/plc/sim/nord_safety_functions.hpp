@@ -15,6 +15,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "plc/sim/nord_iparams.hpp"
@@ -36,8 +37,18 @@ class NordSafetyFunctions {
       if (ip_.p820[fn] == 1) enabled_ |= static_cast<std::uint8_t>(1u << fn);
   }
 
-  // Advance by dt; position in encoder increments.
-  void step(TIME now, TIME dt, const Request& rq, double speed_rpm, double position_inc);
+  // Advance by dt; position in encoder increments. Inline for a device
+  // with no function enabled (P820 all 0, the usual one), where only SSM is
+  // evaluated and the request is not read.
+  void step(TIME now, TIME dt, const Request& rq, double speed_rpm, double position_inc) {
+    if (enabled_ == 0 && idle_) {
+      ssm_ = std::abs(speed_rpm) <= static_cast<double>(ip_.p823[6]);
+      return;
+    }
+    step_functions(now, dt, rq, speed_rpm, position_inc);
+  }
+  // P820 enables at least one function (else step() does not read rq).
+  [[nodiscard]] bool any_enabled() const { return enabled_ != 0; }
 
   // A violation tripped this function (latched until clear_trip()).
   [[nodiscard]] bool tripped(int fn) const { return trip_[fn]; }
@@ -63,6 +74,8 @@ class NordSafetyFunctions {
     double last_pos = 0.0;
     double wrong_way = 0.0;
   };
+
+  void step_functions(TIME now, TIME dt, const Request& rq, double speed_rpm, double position_inc);
 
   const NordIParams& ip_;
   std::array<State, kCount> st_{};
