@@ -44,30 +44,12 @@ void SimDevice::serve_records(bool reachable) {
   }
 }
 
-void SimDevice::step(TIME now, TIME dt) {
-  const bool down = link_down(now);
-  // The usual step: nothing asked, and no call (serve_records is exported,
-  // so it is called through the PLT even from here).
-  if (link_.maybe_queued()) serve_records(!down);
-  if (down) {
-    // The cut link: no new request reaches the model, no answer the PLC.
-    if (!was_down_) outputs_at_cut_ = outputs_;
-    was_down_ = true;
-    model_->step(now, dt, outputs_at_cut_, silent_sink_);
-    link_.set_state(DeviceState::Offline);
-    return;
-  }
-  was_down_ = false;
-  if (model_->answering()) {
-    model_->step(now, dt, outputs_, inputs_);
-    link_.set_state(DeviceState::Online);
-  } else {
-    // A silent device: the model still runs its physics, but its answer is
-    // not delivered. The PLC keeps the last valid inputs (as a bus master
-    // keeps the last valid frame) and sees the device Offline.
-    model_->step(now, dt, outputs_, silent_sink_);
-    link_.set_state(DeviceState::Offline);
-  }
+// The cut link: no new request reaches the model, no answer the PLC.
+void SimDevice::step_cut(TIME now, TIME dt) {
+  if (!was_down_) outputs_at_cut_ = outputs_;
+  was_down_ = true;
+  model_->step(now, dt, outputs_at_cut_, silent_sink_);
+  link_.set_state(DeviceState::Offline);
 }
 
 }  // namespace plc::io

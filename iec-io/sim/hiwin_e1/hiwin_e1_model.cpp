@@ -1,6 +1,7 @@
 #include "hiwin_e1/hiwin_e1_model.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -496,10 +497,6 @@ void HiwinE1Model::enter_fault(std::uint16_t code) {
   ++fault_msg_counter_;
 }
 
-bool HiwinE1Model::pulses_enabled() const {
-  return state_ == State::S4 || state_ == State::S5Off1 || state_ == State::S5Off3;
-}
-
 // ------------------------------------------------------------ kinematics
 double HiwinE1Model::ref_speed() const { return rpm_to_cu_per_s(act_.pt317, cfg_.cu_per_rev); }
 
@@ -664,6 +661,23 @@ void HiwinE1Model::update_position_mode(double dt, bool rise_task, bool rise_hom
   }
   // S4
   const bool jog1 = has(stw1_, Stw1Pos::kJog1), jog2 = has(stw1_, Stw1Pos::kJog2);
+  if (shortcuts_ && !rise_homing && !rise_task && !homing_ && !task_active_ && !task_rejecting_ &&
+      !jog_active_ && jog1 == jog2 && v_set_ == 0 && p_set_ == enc_ && std::isfinite(enc_) &&
+      dt > 0) {
+    // At rest with nothing to start (the conveyor between two indexes):
+    // what the general path below computes for it. No homing, task, jog or
+    // reject starts or runs and nothing moves into a limit, so it would
+    // ramp_velocity(0, ...): from a zero setpoint speed the new one is
+    // 0 * max(0, -d * dt) = +0 (d >= 0, dt > 0), and p_set_ moves by
+    // 0.5 * (+0) * dt = +0. follow(): p_set_ == enc_ (finite), so the lag
+    // moves enc_ by +-0 * alpha, which is within 1e-6 of p_set_ and snaps to
+    // it. The following error is 0.
+    v_set_ = 0.0;
+    p_set_ += 0.0;
+    v_act_ = (p_set_ - enc_) / dt;
+    enc_ = p_set_;
+    return;
+  }
   if (rise_homing && !task_active_ && !jog1 && !jog2) {
     homing_ = true;
     homing_found_ = false;
@@ -914,7 +928,62 @@ const Telegram111Out& HiwinE1Model::decode_111(std::span<const std::uint8_t> b) 
   return decoded_;
 }
 
+// Everything encode_inputs() reads but the sign-of-life and the
+// configuration (fixed at construction), the doubles as their bits: equal
+// keys give equal telegrams (ZSW2 aside).
+inline HiwinE1Model::InputsKey HiwinE1Model::inputs_key() const {
+  const auto bits = [](double d) { return std::bit_cast<std::uint64_t>(d); };
+  const auto flag = [](bool f, unsigned at) { return static_cast<std::uint64_t>(f) << at; };
+  const std::uint64_t words =
+      static_cast<std::uint64_t>(stw1_ & (Stw1Pos::kNoCoastStop | Stw1Pos::kNoQuickStop)) |
+      static_cast<std::uint64_t>(injected_warning_) << 16 |
+      static_cast<std::uint64_t>(fault_code_) << 32 | static_cast<std::uint64_t>(g1_stw_) << 48;
+  const std::uint64_t flags = static_cast<std::uint64_t>(state_) | flag(overtravel_neg_, 8) |
+                              flag(overtravel_pos_, 9) | flag(task_done_, 10) |
+                              flag(task_active_, 11) | flag(homing_, 12) | flag(jog_active_, 13) |
+                              flag(task_rejecting_, 14) | flag(homed_, 15) | flag(task_ack_, 16) |
+                              flag(mdi_selected_, 17) | flag(g1_ack_in_progress_, 18);
+  return {bits(v_act_),        bits(v_set_),     bits(p_set_), bits(enc_), bits(offset_),
+          bits(speed_target_), bits(act_.pt317), words,        flags};
+}
+
+static_assert(Telegram3In::kBytes <= Telegram111In::kBytes &&
+              Telegram9In::kBytes <= Telegram111In::kBytes);
+
+// The telegram encoded once per change of its key; every step copies it
+// and puts in ZSW2 with this step's sign-of-life (the word encode_inputs()
+// would write there).
 void HiwinE1Model::write_inputs(std::span<std::uint8_t> to_plc) {
+  const InputsKey key = inputs_key();
+  std::uint64_t diff = 0;  // no memcmp call
+  for (std::size_t i = 0; i < key.size(); ++i) diff |= key[i] ^ encoded_key_[i];
+  if (!encoded_valid_ || diff != 0) {
+    encode_inputs(encoded_);
+    encoded_key_ = key;
+    encoded_valid_ = shortcuts_;
+  }
+  Zsw2 zsw2;
+  zsw2.drive_sign_of_life = sol_;
+  zsw2.pulses_enabled = pulses_enabled();
+  // Whole telegrams: constant sizes, so the copies are inline.
+  switch (cfg_.telegram) {
+    case TelegramType::Standard3:
+      std::memcpy(to_plc.first<Telegram3In::kBytes>().data(), encoded_.data(), Telegram3In::kBytes);
+      wire::put16(to_plc, Telegram3In::kZsw2, zsw2.word(false));
+      break;
+    case TelegramType::Standard9:
+      std::memcpy(to_plc.first<Telegram9In::kBytes>().data(), encoded_.data(), Telegram9In::kBytes);
+      wire::put16(to_plc, Telegram9In::kZsw2, zsw2.word());
+      break;
+    case TelegramType::Hiwin111:
+      std::memcpy(to_plc.first<Telegram111In::kBytes>().data(), encoded_.data(),
+                  Telegram111In::kBytes);
+      wire::put16(to_plc, Telegram111In::kZsw2, zsw2.word());
+      break;
+  }
+}
+
+void HiwinE1Model::encode_inputs(std::span<std::uint8_t> to_plc) const {
   const bool fault = state_ == State::Fault;
   const bool pulses = pulses_enabled();
   std::uint16_t z = 0;

@@ -132,6 +132,10 @@ class HiwinE1Model : public io::DeviceModel {
   // servo-on from the Thunder tool, which the PLC cannot see).
   void refuse_next_multiturn_clear() { refuse_next_clear_ = true; }
   void set_warning(std::uint16_t warn_code) { injected_warning_ = warn_code; }
+  // Off: the drive's telegram is encoded from the state every step, and a
+  // drive at rest takes the full motion update, as without the shortcuts
+  // (tests compare the two).
+  void set_shortcuts(bool on) { shortcuts_ = on; }
 
   // ---- inspection (tests, benchmarks) ----
   [[nodiscard]] State state() const { return state_; }
@@ -141,7 +145,9 @@ class HiwinE1Model : public io::DeviceModel {
   [[nodiscard]] double velocity() const { return v_act_; }  // CU/s
   [[nodiscard]] std::uint16_t fault_code() const { return fault_code_; }
   [[nodiscard]] bool homed() const { return homed_; }
-  [[nodiscard]] bool pulses_enabled() const;
+  [[nodiscard]] bool pulses_enabled() const {
+    return state_ == State::S4 || state_ == State::S5Off1 || state_ == State::S5Off3;
+  }
   [[nodiscard]] std::int32_t abs_init_value() const { return abs_init_; }
   [[nodiscard]] const HiwinE1Config& config() const { return cfg_; }
   // Parameter value (active one for "after power cycle" parameters); NaN if
@@ -176,6 +182,7 @@ class HiwinE1Model : public io::DeviceModel {
   void follow(double dt);
   void enter_fault(std::uint16_t code);
   void write_inputs(std::span<std::uint8_t> to_plc);
+  void encode_inputs(std::span<std::uint8_t> to_plc) const;
   bool move_to(double target, double vmax, double a, double d, double dt);
   void ramp_velocity(double vt, double a, double d, double dt);
   double ref_speed() const;             // CU/s at 100 % (Pt317)
@@ -243,6 +250,17 @@ class HiwinE1Model : public io::DeviceModel {
   bool fail_next_clear_ = false;
   bool refuse_next_clear_ = false;
   bool clear_will_fail_ = false;
+
+  // The drive's telegram as last encoded (encode_inputs), and everything it
+  // was encoded from but the sign-of-life (doubles as their bits): the
+  // conveyor stands still most of the time, so most steps only copy it and
+  // put the new ZSW2 in.
+  using InputsKey = std::array<std::uint64_t, 9>;
+  [[nodiscard]] InputsKey inputs_key() const;
+  InputsKey encoded_key_{};
+  bool encoded_valid_ = false;
+  bool shortcuts_ = true;  // set_shortcuts()
+  std::array<std::uint8_t, drive::Telegram111In::kBytes> encoded_{};
 
   // parameter channel: the pending response
   std::array<std::uint8_t, io::kRecordMaxBytes> response_{};

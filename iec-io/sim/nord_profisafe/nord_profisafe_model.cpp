@@ -1,6 +1,7 @@
 #include "plc/sim/nord_profisafe_model.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 
 #include "plc/fb/safety/control_status_byte.hpp"
@@ -28,6 +29,7 @@ NordProfisafeModel::NordProfisafeModel(const io::ModelParams& p)
   si_raw_ = {p.get_bool("si1", false), p.get_bool("si2", false)};
   si_ = si_raw_;
   p.reject_unknown();
+  refresh_inc_per_s();
   power_cycle();
 }
 
@@ -232,19 +234,29 @@ bool NordProfisafeModel::q_cause(int q) const {
 }
 
 // q_cause() of every q error at once, bit i for error i.
-std::uint32_t NordProfisafeModel::q_causes() const {
-  std::uint32_t m = 0;
+inline std::uint32_t NordProfisafeModel::q_causes() {
+  // The causes that are a function of the last valid request's F-data
+  // alone (P820/P802 are fixed): once per change of those 4 bytes, which
+  // stay put while the host's consecutive number counts on.
+  const auto req = std::bit_cast<std::uint32_t>(requested_);
+  if (req != request_causes_of_) {
+    request_causes_of_ = req;
+    std::uint32_t rm = 0;
+    auto set = [&rm](int q, bool on) { rm |= static_cast<std::uint32_t>(on) << q; };
+    const std::uint8_t* r = requested_.data();
+    set(kQSlsOff, get(r, nin::kSls) && ip_.p820[0] == 0);
+    set(kQSsrOff, get(r, nin::kSsr) && ip_.p820[1] == 0);
+    set(kQSdiPOff, get(r, nin::kSdiP) && ip_.p820[2] == 0);
+    set(kQSdiNOff, get(r, nin::kSdiN) && ip_.p820[3] == 0);
+    set(kQSosOff, get(r, nin::kSos) && ip_.p820[4] == 0);
+    set(kQSo1Off, get(r, nin::kOssd1) && ip_.p802[2] == 0);
+    set(kQSo2Off, get(r, nin::kOssd2) && ip_.p802[3] == 0);
+    set(kQSo3Off, get(r, nin::kOssd3) && ip_.p802[4] == 0);
+    request_causes_ = rm;
+  }
+  std::uint32_t m = request_causes_;
   auto set = [&m](int q, bool on) { m |= static_cast<std::uint32_t>(on) << q; };
   for (int f = 0; f < NordSafetyFunctions::kCount; ++f) set(kQSls + f, fn_.tripped(f));
-  const std::uint8_t* r = requested_.data();
-  set(kQSlsOff, get(r, nin::kSls) && ip_.p820[0] == 0);
-  set(kQSsrOff, get(r, nin::kSsr) && ip_.p820[1] == 0);
-  set(kQSdiPOff, get(r, nin::kSdiP) && ip_.p820[2] == 0);
-  set(kQSdiNOff, get(r, nin::kSdiN) && ip_.p820[3] == 0);
-  set(kQSosOff, get(r, nin::kSos) && ip_.p820[4] == 0);
-  set(kQSo1Off, get(r, nin::kOssd1) && ip_.p802[2] == 0);
-  set(kQSo2Off, get(r, nin::kOssd2) && ip_.p802[3] == 0);
-  set(kQSo3Off, get(r, nin::kOssd3) && ip_.p802[4] == 0);
   set(kQSi1Off, si_[0] && ip_.p802[0] == 0);
   set(kQSi2Off, si_[1] && ip_.p802[1] == 0);
   for (int in = 0; in < 2; ++in)
@@ -394,11 +406,13 @@ void NordProfisafeModel::evaluate(TIME now, TIME dt) {
     applied_ = requested_;
   }
   const std::uint8_t* a = applied_.data();
-  NordSafetyFunctions::Request rq;
-  rq.on = {get(a, nin::kSls), get(a, nin::kSsr), get(a, nin::kSdiP), get(a, nin::kSdiN),
-           get(a, nin::kSos)};
-  rq.sls_level =
-      static_cast<std::uint8_t>((get(a, nin::kSlsLevel1) << 1) | get(a, nin::kSlsLevel0));
+  NordSafetyFunctions::Request rq;  // read by fn_ only for a function P820 enables
+  if (fn_.any_enabled()) {
+    rq.on = {get(a, nin::kSls), get(a, nin::kSsr), get(a, nin::kSdiP), get(a, nin::kSdiN),
+             get(a, nin::kSos)};
+    rq.sls_level =
+        static_cast<std::uint8_t>((get(a, nin::kSlsLevel1) << 1) | get(a, nin::kSlsLevel0));
+  }
   fn_.step(now, dt, rq, speed_rpm_, position_inc_);
   update_q(now);
   if (fatal_code_ != 0 || module_fault()) fault_fv_ = true;
@@ -475,10 +489,8 @@ void NordProfisafeModel::build_response() {
 void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
                               std::span<std::uint8_t> to_plc) {
   now_ = now;
-  if (ip_.p811 > 0.0) {
-    const double revs_per_s = speed_rpm_ / 60.0 / ip_.p811;
-    position_inc_ += revs_per_s * ip_.pulses() * std::chrono::duration<double>(dt).count();
-  }
+  // revs_per_s * pulses * dt, as (speed / 60 / P811 * pulses) * dt.
+  if (ip_.p811 > 0.0) position_inc_ += inc_per_s_ * std::chrono::duration<double>(dt).count();
   if (drop_start_pending_) {
     drop_until_ = now + drop_for_;
     drop_start_pending_ = false;
@@ -490,8 +502,11 @@ void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> f
     respond_pending_ = false;
   }
   channel_.deliver(now);
-  const std::size_t n = std::min(to_plc.size(), kPdu);
-  std::copy_n(channel_.shown().begin(), n, to_plc.begin());
+  if (to_plc.size() >= kPdu) {  // the usual buffer: a constant size, copied inline
+    std::copy_n(channel_.shown().begin(), kPdu, to_plc.begin());
+  } else {
+    std::copy_n(channel_.shown().begin(), to_plc.size(), to_plc.begin());
+  }
 }
 
 io::RecordError NordProfisafeModel::read_record(std::uint16_t index, std::span<std::uint8_t> out,

@@ -16,6 +16,7 @@ void NordSafetyFunctions::reset() {
   trip_ = {};
   ok_ = {};
   ssm_ = false;
+  idle_ = true;
 }
 
 bool NordSafetyFunctions::cause_present(int fn, double speed_rpm) const {
@@ -30,9 +31,16 @@ bool NordSafetyFunctions::cause_present(int fn, double speed_rpm) const {
   }
 }
 
-void NordSafetyFunctions::step(TIME now, TIME dt, const Request& rq, double speed_rpm,
-                               double position_inc) {
+void NordSafetyFunctions::step_functions(TIME now, TIME dt, const Request& rq, double speed_rpm,
+                                         double position_inc) {
   const double n = std::abs(speed_rpm);
+  bool any_active = false;
+  for (int fn = 0; fn < kCount; ++fn) any_active |= ((enabled_ >> fn) & 1u) != 0 && rq.on[fn];
+  if (!any_active && idle_) {  // the loop below would only write what is there
+    ssm_ = n <= static_cast<double>(ip_.p823[6]);
+    return;
+  }
+  idle_ = !any_active;  // each function takes the inactive branch below
   const std::uint8_t lvl = rq.sls_level & 3u;
   // P821 / P822 element per function (SLS by level).
   const int act_idx[kCount] = {lvl, 4, 5, 6, 7};

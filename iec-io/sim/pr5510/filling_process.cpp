@@ -12,10 +12,7 @@ FillingProcess::FillingProcess(const FillingConfig& c)
       load_(c.initial_load),
       valve_step_(c.valve_time_s > 0.0 ? std::min(1.0, 0.001 / c.valve_time_s) : 1.0) {}
 
-void FillingProcess::drive(Valve& v, bool cmd) {
-  // A closed valve that stays closed: nothing moves (most steps, for most
-  // valves), and no noise is drawn.
-  if (!cmd && !v.cmd && v.open == 0.0) return;
+void FillingProcess::move(Valve& v, bool cmd) {
   if (cmd && !v.cmd) v.factor = 1.0 + cfg_.flow_variation * noise_.uniform_pm1();
   v.cmd = cmd;
   if (cmd) v.factor *= 1.0 + cfg_.flow_wander * 0.0316227766 * noise_.uniform_pm1();

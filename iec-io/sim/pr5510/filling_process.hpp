@@ -54,7 +54,13 @@ class FillingProcess {
     double open = 0.0;    // 0..1
     double factor = 1.0;  // this opening's rate factor
   };
-  void drive(Valve& v, bool cmd);
+  // A closed valve that stays closed: nothing moves (most steps, for most
+  // valves), and no noise is drawn. Inline, so such a valve costs no call.
+  void drive(Valve& v, bool cmd) {
+    if (!cmd && !v.cmd && v.open == 0.0) return;
+    move(v, cmd);
+  }
+  void move(Valve& v, bool cmd);
   [[nodiscard]] double sigma() const { return cfg_.noise_kg + cfg_.impact_noise * landing_rate_; }
 
   FillingConfig cfg_;

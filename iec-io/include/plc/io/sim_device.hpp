@@ -24,7 +24,28 @@ class SimDevice {
   explicit SimDevice(std::unique_ptr<DeviceModel> model);
 
   // Answer queued records, then step the model with the PLC's outputs.
-  void step(TIME now, TIME dt);
+  // Inline: the sim plugin steps every device every cycle, and the usual
+  // step is two tests, answering() and the model's step.
+  void step(TIME now, TIME dt) {
+    const bool down = link_down(now);
+    // The usual step: nothing asked, and no call.
+    if (link_.maybe_queued()) serve_records(!down);
+    if (down) {
+      step_cut(now, dt);
+      return;
+    }
+    was_down_ = false;
+    if (model_->answering()) {
+      model_->step(now, dt, outputs_, inputs_);
+      link_.set_state(DeviceState::Online);
+    } else {
+      // A silent device: the model still runs its physics, but its answer
+      // is not delivered. The PLC keeps the last valid inputs (as a bus
+      // master keeps the last valid frame) and sees the device Offline.
+      model_->step(now, dt, outputs_, silent_sink_);
+      link_.set_state(DeviceState::Offline);
+    }
+  }
 
   // Bind an FB's port straight to this device's buffers (tests).
   void bind(DevicePort& port) { port.bind(inputs_, outputs_, &link_); }
@@ -49,6 +70,7 @@ class SimDevice {
 
  private:
   void serve_records(bool reachable);
+  void step_cut(TIME now, TIME dt);  // step() while the link is down
 
   std::unique_ptr<DeviceModel> model_;
   std::vector<std::uint8_t> inputs_, outputs_, silent_sink_;

@@ -79,7 +79,10 @@ class NordProfisafeModel : public io::DeviceModel {
   void power_cycle() override;
 
   // ---- drive and field inputs ----
-  void set_speed_rpm(double n) { speed_rpm_ = n; }
+  void set_speed_rpm(double n) {
+    speed_rpm_ = n;
+    refresh_inc_per_s();
+  }
   void set_position_inc(double p) { position_inc_ = p; }
   // Raw SI1/SI2 levels; the device sees them through the P805 filter.
   void set_si(bool si1, bool si2) { si_raw_ = {si1, si2}; }
@@ -192,7 +195,7 @@ class NordProfisafeModel : public io::DeviceModel {
   bool module_fault() const { return module_fault_; }
   void refresh_module_fault();
   bool q_cause(int q) const;
-  std::uint32_t q_causes() const;
+  std::uint32_t q_causes();
 
   NordIParams ip_;
   NordSafetyFunctions fn_;
@@ -200,6 +203,11 @@ class NordProfisafeModel : public io::DeviceModel {
   bool address_valid_ = true;  // F-address read at power-on is usable (else 5726)
   int max_sil_ = 3;
   double speed_rpm_ = 0.0, position_inc_ = 0.0;
+  // Encoder increments per second at speed_rpm_ (step() integrates it):
+  // the first two factors of step()'s product, derived once per change of
+  // the speed (the i-parameters are fixed).
+  double inc_per_s_ = 0.0;
+  void refresh_inc_per_s() { inc_per_s_ = speed_rpm_ / 60.0 / ip_.p811 * ip_.pulses(); }
   std::array<bool, 2> si_raw_{};  // as wired
   std::array<bool, 2> si_{};      // after the P805 filter
   std::array<bool, 2> si_changing_{};
@@ -219,7 +227,10 @@ class NordProfisafeModel : public io::DeviceModel {
   bool host_fv_ = true;   // host's activate_FV
   TIME t_valid_{};
   std::array<std::uint8_t, 4> requested_{};  // F-data of the last valid request
-  std::array<std::uint8_t, 4> applied_{};    // what acts (0 while passivated)
+  // q_causes(): the causes given by requested_ alone, for requested_ ==
+  // request_causes_of_ (its bytes; all-zero F-data cause none).
+  std::uint32_t request_causes_of_ = 0, request_causes_ = 0;
+  std::array<std::uint8_t, 4> applied_{};  // what acts (0 while passivated)
   bool chan_ack_prev_ = false;
 
   // Errors

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "plc/sim/nord_iparams.hpp"
@@ -31,10 +32,23 @@ class NordSafetyFunctions {
     std::uint8_t sls_level = 0;     // 0..3
   };
 
-  explicit NordSafetyFunctions(const NordIParams& ip) : ip_(ip) {}
+  explicit NordSafetyFunctions(const NordIParams& ip) : ip_(ip) {
+    for (int fn = 0; fn < kCount; ++fn)
+      if (ip_.p820[fn] == 1) enabled_ |= static_cast<std::uint8_t>(1u << fn);
+  }
 
-  // Advance by dt; position in encoder increments.
-  void step(TIME now, TIME dt, const Request& rq, double speed_rpm, double position_inc);
+  // Advance by dt; position in encoder increments. Inline for a device
+  // with no function enabled (P820 all 0, the usual one), where only SSM is
+  // evaluated and the request is not read.
+  void step(TIME now, TIME dt, const Request& rq, double speed_rpm, double position_inc) {
+    if (enabled_ == 0 && idle_) {
+      ssm_ = std::abs(speed_rpm) <= static_cast<double>(ip_.p823[6]);
+      return;
+    }
+    step_functions(now, dt, rq, speed_rpm, position_inc);
+  }
+  // P820 enables at least one function (else step() does not read rq).
+  [[nodiscard]] bool any_enabled() const { return enabled_ != 0; }
 
   // A violation tripped this function (latched until clear_trip()).
   [[nodiscard]] bool tripped(int fn) const { return trip_[fn]; }
@@ -61,12 +75,21 @@ class NordSafetyFunctions {
     double wrong_way = 0.0;
   };
 
+  void step_functions(TIME now, TIME dt, const Request& rq, double speed_rpm, double position_inc);
+
   const NordIParams& ip_;
   std::array<State, kCount> st_{};
   std::array<bool, kCount> trip_{};
   std::array<bool, kCount> ok_{};
   std::uint8_t trip_level_ = 0;
   bool ssm_ = false;
+  // Bit fn: P820 enables function fn (the i-parameters are fixed for the
+  // device's life, so once at construction).
+  std::uint8_t enabled_ = 0;
+  // Every function sits as an inactive one leaves it (not requested, not
+  // monitoring, no count, status 0): true after reset() and after a step in
+  // which none was active. Such a step again changes nothing but SSM.
+  bool idle_ = true;
 };
 
 }  // namespace plc::sim

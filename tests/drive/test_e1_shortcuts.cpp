@@ -1,0 +1,149 @@
+// The E1 model's shortcuts (issue 23): the drive's telegram is encoded once
+// per change of what it shows (only ZSW2's sign-of-life is put in every
+// step), and a drive at rest with nothing to start skips the general motion
+// update. A model with the shortcuts and one without them
+// (set_shortcuts(false)) get the same PLC telegrams, faults, warnings and
+// parameter writes for many steps in each telegram (3, 9, 111); their
+// telegrams (Tables 3.1.1, 3.3.1, 3.4.1 of the spec: every byte) and their
+// encoder position, position and speed (every bit) must be equal at every
+// step. A shortcut that missed one of its inputs or conditions fails here.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <bit>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "hiwin_e1/hiwin_e1_model.hpp"
+#include "plc/fb/drive/scaling.hpp"
+#include "plc/fb/drive/sign_of_life.hpp"
+#include "plc/fb/drive/telegrams.hpp"
+
+namespace plc::sim {
+namespace {
+
+using namespace plc::drive;
+using namespace std::chrono_literals;
+
+void run_pair(TelegramType tg, std::uint32_t seed) {
+  HiwinE1Config c;
+  c.telegram = tg;
+  c.neg_limit = -400000;  // overtravel reachable
+  c.pos_limit = 400000;
+  c.home_switch = 20000;
+  c.following_error_limit = 150000;
+  HiwinE1Model fast(c), full(c);
+  full.set_shortcuts(false);
+  std::vector<std::uint8_t> out(fast.output_size()), in_fast(fast.input_size()),
+      in_full(full.input_size());
+  std::mt19937 rng(seed);
+  auto pick = [&rng](std::uint32_t n) { return static_cast<std::uint32_t>(rng() % n); };
+  const std::size_t stw2 = tg == TelegramType::Standard3   ? Telegram3Out::kStw2
+                           : tg == TelegramType::Standard9 ? Telegram9Out::kStw2
+                                                           : Telegram111Out::kStw2;
+  // Control words held for a while, so the drive gets to move and to stand.
+  // (0x043F: S4; 0x047F: S4 with a task (STW1.6) or, telegram 3, the
+  // setpoint enabled.)
+  static constexpr std::array<std::uint16_t, 16> kStw1 = {
+      0x043E,
+      0x043F,
+      0x043F,
+      0x047F,
+      0x047F,
+      0x047F,
+      0x043F | Stw1Pos::kJog1,
+      0x043F | Stw1Pos::kJog2,
+      0x043F | Stw1Pos::kStartHoming,
+      0x045F,  // intermediate stop
+      0x046F,  // reject task
+      0x043D,  // OFF2
+      0x043B,  // OFF3
+      0x04BE,  // fault acknowledge
+      0x003F,  // no control by PLC
+      0x047E,
+  };
+
+  TIME now{};
+  std::uint8_t sol = 0;
+  int hold = 0, changed = 0, same = 0;
+  std::vector<std::uint8_t> prev(in_fast.size());
+  for (int step = 0; step < 200000; ++step) {
+    if (hold-- <= 0) {
+      hold = static_cast<int>(pick(400));
+      std::uint16_t stw1 = kStw1[pick(kStw1.size())];
+      if (pick(3) == 0) {  // new setpoints: random bytes behind STW1 and STW2
+        for (auto& b : out) b = static_cast<std::uint8_t>(rng());
+        if (tg == TelegramType::Hiwin111) {  // mostly sane MDI tasks
+          io::store_be<std::uint32_t>(out, Telegram111Out::kMdiTarpos,
+                                      static_cast<std::uint32_t>(pick(40000)) - 20000u);
+          io::store_be<std::uint32_t>(out, Telegram111Out::kMdiVelocity, pick(400000));
+          io::store_be<std::uint16_t>(out, Telegram111Out::kOverride,
+                                      static_cast<std::uint16_t>(pick(0x6000)));
+        }
+      }
+      io::store_be<std::uint16_t>(out, 0, stw1);
+      switch (pick(40)) {  // now and then something besides the telegram
+        case 0:
+          fast.trip_alarm(0xFB1);
+          full.trip_alarm(0xFB1);
+          break;
+        case 1: {
+          const std::uint16_t w = pick(2) ? 0x0123 : 0;
+          fast.set_warning(w);
+          full.set_warning(w);
+          break;
+        }
+        case 2: {
+          const double pt317 = 1000 + pick(4000);
+          ASSERT_EQ(fast.set_parameter(pt_pnu(0x317), pt317),
+                    full.set_parameter(pt_pnu(0x317), pt317));
+          break;
+        }
+        case 3:
+          fast.power_cycle();
+          full.power_cycle();
+          break;
+        case 4: {
+          const bool frozen = pick(2) == 0;
+          fast.freeze_sign_of_life(frozen);
+          full.freeze_sign_of_life(frozen);
+          break;
+        }
+        default:
+          break;
+      }
+    }
+    sol = next_sign_of_life(sol);
+    io::store_be<std::uint16_t>(out, stw2, static_cast<std::uint16_t>(sol << 12));
+    now += 1ms;
+    fast.step(now, 1ms, out, in_fast);
+    full.step(now, 1ms, out, in_full);
+    ASSERT_EQ(in_fast, in_full) << "telegram " << static_cast<int>(tg) << ", step " << step;
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(fast.encoder_position()),
+              std::bit_cast<std::uint64_t>(full.encoder_position()))
+        << "telegram " << static_cast<int>(tg) << ", step " << step;
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(fast.position()),
+              std::bit_cast<std::uint64_t>(full.position()))
+        << "telegram " << static_cast<int>(tg) << ", step " << step;
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(fast.velocity()),
+              std::bit_cast<std::uint64_t>(full.velocity()))
+        << "telegram " << static_cast<int>(tg) << ", step " << step;
+    ASSERT_EQ(fast.state(), full.state()) << "step " << step;
+    // The telegram but ZSW2 (sign-of-life): how often the cache was used.
+    in_fast[Telegram111In::kZsw2] = in_fast[Telegram111In::kZsw2 + 1] = 0;
+    in_fast[Telegram9In::kZsw2] = in_fast[Telegram9In::kZsw2 + 1] = 0;
+    (in_fast == prev ? same : changed)++;
+    prev = in_fast;
+  }
+  // Both paths ran many times: the drive moved and stood still.
+  EXPECT_GT(changed, 5000) << static_cast<int>(tg);
+  EXPECT_GT(same, 20000) << static_cast<int>(tg);
+}
+
+TEST(E1Shortcuts, Telegram3SameAsWithoutShortcuts) { run_pair(TelegramType::Standard3, 3); }
+TEST(E1Shortcuts, Telegram9SameAsWithoutShortcuts) { run_pair(TelegramType::Standard9, 9); }
+TEST(E1Shortcuts, Telegram111SameAsWithoutShortcuts) { run_pair(TelegramType::Hiwin111, 111); }
+
+}  // namespace
+}  // namespace plc::sim
