@@ -134,10 +134,12 @@ bool Controller::releasing() const {
 
 void Controller::poll(TIME now) {
   if (!eth_ || !udp_) return;
+  // Each frame read where the port holds it (the memory hub's buffer: no
+  // copy), valid until the next receive.
   for (int n = 0; n < 4096; ++n) {
-    const std::size_t len = eth_->receive(rx_, TIME(0));
-    if (len == 0) break;
-    on_ethernet(std::span<const std::uint8_t>(rx_).first(len), now);
+    const std::span<const std::uint8_t> frame = eth_->receive_view(rx_, TIME(0));
+    if (frame.empty()) break;
+    on_ethernet(frame, now);
   }
   for (int n = 0; n < 256; ++n) {
     Ipv4 ip;

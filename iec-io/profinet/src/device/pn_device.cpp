@@ -214,10 +214,12 @@ void PnDevice::poll(nanoseconds now) {
 }
 
 void PnDevice::read_ethernet(nanoseconds now) {
+  // Each frame read where the port holds it (the memory hub's buffer: no
+  // copy), valid until the next receive.
   for (int i = 0; i < kMaxFramesPerPoll; ++i) {
-    const std::size_t n = eth_.receive(rx_, nanoseconds(0));
-    if (n == 0) break;
-    on_frame(std::span<const std::uint8_t>(rx_.data(), n), now);
+    const std::span<const std::uint8_t> frame = eth_.receive_view(rx_, nanoseconds(0));
+    if (frame.empty()) break;
+    on_frame(frame, now);
   }
 }
 

@@ -1,5 +1,6 @@
 #include "plc/profinet/link/memory_ethernet.hpp"
 
+#include <bit>
 #include <cstring>
 
 #include "memory_segment.hpp"
@@ -12,6 +13,15 @@ std::uint64_t key_of(const Mac& m) {
   std::uint64_t k = 0;
   for (auto b : m) k = k << 8 | b;
   return k;
+}
+
+// key_of() of the destination MAC at the start of a frame (frame.size() >=
+// 14: eight bytes can be read): one load, not six.
+std::uint64_t destination_key(std::span<const std::uint8_t> frame) {
+  std::uint64_t v = 0;
+  std::memcpy(&v, frame.data(), 8);
+  if constexpr (std::endian::native == std::endian::little) return __builtin_bswap64(v) >> 16;
+  return v >> 16;
 }
 
 struct NoExtra {};
@@ -45,7 +55,7 @@ class MemoryEthernetPort final : public EthernetPort {
     if (hub_->endpoints.count(key_) != 0)
       throw LinkError("memory hub: MAC " + to_string(mac) + " is already on the hub");
     ep_ = &hub_->add(key_, mac, &counters_);
-    ep_->own_only = !promiscuous;
+    hub_->set_own_only(*ep_, !promiscuous);
   }
   ~MemoryEthernetPort() override {
     std::lock_guard lock(hub_->mutex);
@@ -64,12 +74,20 @@ class MemoryEthernetPort final : public EthernetPort {
     const auto to = [&](std::uint64_t, const Seg::Endpoint& ep) {
       return deliver && (!ep.own_only || group || addressed_to(frame, ep.address));
     };
-    const bool ok = hub_->send(mac_, key_, frame, NoExtra{}, to);
+    // A unicast PROFINET frame: an own_only port takes it only under its
+    // destination's key (addressed_to() is key equality).
+    const std::uint64_t target = deliver && !group ? destination_key(frame) : Seg::kEveryone;
+    const bool ok = hub_->send(mac_, key_, frame, NoExtra{}, target, to);
     (ok ? counters_.sent : counters_.send_failed).fetch_add(1, std::memory_order_relaxed);
     return ok;
   }
   std::size_t receive(std::span<std::uint8_t> buf, std::chrono::nanoseconds timeout) override {
     return hub_->take(*ep_, buf, timeout, nullptr);
+  }
+  // The frame in the hub's buffer, no copy (memory_segment.hpp view()).
+  std::span<const std::uint8_t> receive_view(std::span<std::uint8_t> buf,
+                                             std::chrono::nanoseconds timeout) override {
+    return hub_->view(*ep_, buf.size(), timeout, nullptr);
   }
 
  private:
