@@ -543,14 +543,16 @@ void Controller::run_device(Device& d, TIME now) {
     }
   }
   // Alarm acknowledgements without the device's ACK-RTA: repeat, then give up.
-  for (auto& ch : d.alarm) {
-    if (!ch.ack_pending || now < ch.ack_deadline) continue;
-    if (ch.ack_tries > d.plan.request.alarm_cr.rta_retries)
-      return lose(d, now, "the device does not acknowledge our AlarmAck");
-    ++ch.ack_tries;
-    ch.ack_deadline =
-        now + std::chrono::milliseconds(100) * d.plan.request.alarm_cr.rta_timeout_factor;
-    eth_->send(ch.ack_frame);
+  if (d.alarm[0].ack_pending || d.alarm[1].ack_pending) {  // mostly: none out
+    for (auto& ch : d.alarm) {
+      if (!ch.ack_pending || now < ch.ack_deadline) continue;
+      if (ch.ack_tries > d.plan.request.alarm_cr.rta_retries)
+        return lose(d, now, "the device does not acknowledge our AlarmAck");
+      ++ch.ack_tries;
+      ch.ack_deadline =
+          now + std::chrono::milliseconds(100) * d.plan.request.alarm_cr.rta_timeout_factor;
+      eth_->send(ch.ack_frame);
+    }
   }
   switch (d.state) {
     case ArState::Waiting:
@@ -598,7 +600,8 @@ void Controller::run_device(Device& d, TIME now) {
     return lose(d, now, b);
   }
   if (d.state != ArState::Online || d.call != RpcCall::None) return;
-  if (io::RecordRequest* r = d.link.pop()) {
+  // maybe_queued(): most steps have no request, and pop() takes a lock.
+  if (io::RecordRequest* r = d.link.maybe_queued() ? d.link.pop() : nullptr) {
     d.record = r;
     if (r->kind() == io::RecordKind::Read) {
       RecordRequestHeader h;
@@ -753,6 +756,8 @@ void Controller::start_cyclic(Device& d, TIME now) {
   // the header around it. IOCS of every input-CR submodule: good, from the
   // first frame on (a layout is at most 1440 bytes: the span is there).
   const std::span<std::uint8_t> c_sdu = cyclic_c_sdu(d.tx, length, true);
+  d.tx_c_sdu = c_sdu;
+  d.tx_c_sdu_length = length;
   if (!c_sdu.empty()) {
     for (const IocsSlot& s : d.plan.layout.output.iocs) c_sdu[s.offset] = iocr::kIoxsGood;
     for (const IoDataObject& o : d.plan.layout.output.data)
@@ -782,7 +787,13 @@ void Controller::send_cyclic(Device& d, TIME now) {
     d.cycle_counter = static_cast<std::uint16_t>(d.cycle_counter + missed * d.counter_step);
   }
   const std::size_t length = d.plan.layout.output.c_sdu_length;
-  const std::span<std::uint8_t> c_sdu = cyclic_c_sdu(d.tx, length, true);
+  // The C_SDU's place in tx, from start_cyclic() (tx and the layout are the
+  // AR's); computed again should the layout differ.
+  if (d.tx_c_sdu_length != length) {
+    d.tx_c_sdu = cyclic_c_sdu(d.tx, length, true);
+    d.tx_c_sdu_length = length;
+  }
+  const std::span<std::uint8_t> c_sdu = d.tx_c_sdu;
   for (const auto& u : d.plan.outputs)
     put_io_data(c_sdu, u.object,
                 std::span<const std::uint8_t>(d.out).subspan(u.user_offset, u.object.length),

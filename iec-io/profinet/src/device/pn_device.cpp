@@ -171,8 +171,6 @@ void PnDevice::emit(PnDeviceEvent e) {
   if (sink_) sink_(e);
 }
 
-bool PnDevice::quiet() const { return faults_.silent || !model_->answering(); }
-
 void PnDevice::send_eth(std::span<const std::uint8_t> frame) {
   if (!quiet()) (void)eth_.send(frame);
 }
@@ -809,7 +807,7 @@ void PnDevice::send_cyclic(nanoseconds now) {
     ++delayed_tail_;
     return;
   }
-  send_eth(std::span<const std::uint8_t>(tx_.data(), n));
+  (void)eth_.send(std::span<const std::uint8_t>(tx_.data(), n));  // not quiet(): asked above
   ++counters_.frames_sent;
 }
 
@@ -846,6 +844,7 @@ void PnDevice::timers(nanoseconds now) {
     ++counters_.app_ready_sent;
     ar.app_ready_next = now + cfg_.app_ready_retry;
   }
+  if (!ar.alarm_low.pending && !ar.alarm_high.pending) return;  // mostly: no alarm out
   for (AlarmChannel* ch : {&ar.alarm_low, &ar.alarm_high}) {
     if (!ch->pending || ch->transport_acked || now < ch->next_retry) continue;
     if (ch->retries_left-- <= 0) {

@@ -185,7 +185,9 @@ class PnDevice {
     std::array<std::uint8_t, kMaxFrameLength> frame{};
   };
 
-  [[nodiscard]] bool quiet() const;
+  // A pulled plug or a model that does not answer: asked for every frame
+  // in and out, so inline.
+  [[nodiscard]] bool quiet() const { return faults_.silent || !model_->answering(); }
   [[nodiscard]] DcpIdentity identity() const;
   void read_ethernet(std::chrono::nanoseconds now);
   void read_udp(std::chrono::nanoseconds now);
