@@ -71,13 +71,11 @@ class MemoryEthernetPort final : public EthernetPort {
     // does): others are carried but reach nobody.
     const bool deliver = is_profinet(frame);
     const bool group = (frame[0] & 0x01) != 0;  // multicast or broadcast
-    const auto to = [&](std::uint64_t, const Seg::Endpoint& ep) {
-      return deliver && (!ep.own_only || group || addressed_to(frame, ep.address));
-    };
     // A unicast PROFINET frame: an own_only port takes it only under its
     // destination's key (addressed_to() is key equality).
     const std::uint64_t target = deliver && !group ? destination_key(frame) : Seg::kEveryone;
-    const bool ok = hub_->send(mac_, key_, frame, NoExtra{}, target, to);
+    const bool ok = hub_->send_short(key_, frame, NoExtra{}, target) ||
+                    send_locked(frame, deliver, group, target);
     (ok ? counters_.sent : counters_.send_failed).fetch_add(1, std::memory_order_relaxed);
     return ok;
   }
@@ -92,6 +90,15 @@ class MemoryEthernetPort final : public EthernetPort {
 
  private:
   using Seg = detail::MemorySegment<Mac, NoExtra>;
+  // The rest of send() (MemorySegment::send_locked()), out of line: the
+  // short path then builds no filter.
+  [[gnu::noinline]] bool send_locked(std::span<const std::uint8_t> frame, bool deliver, bool group,
+                                     std::uint64_t target) {
+    const auto to = [&](std::uint64_t, const Seg::Endpoint& ep) {
+      return deliver && (!ep.own_only || group || addressed_to(frame, ep.address));
+    };
+    return hub_->send_locked(mac_, key_, frame, NoExtra{}, target, to);
+  }
   static bool is_profinet(std::span<const std::uint8_t> f) {  // f.size() >= 14
     auto type_at = [&](std::size_t o) { return std::uint16_t(f[o] << 8 | f[o + 1]); };
     if (type_at(12) == kEtherTypeProfinet) return true;

@@ -164,16 +164,21 @@ class MemorySegment {
   template <class Accept>
   bool send(const Sender& from, std::uint64_t self, std::span<const std::uint8_t> bytes,
             const Extra& extra, std::uint64_t target, Accept to) {
-    if (single_threaded.load(std::memory_order_relaxed) && faults.empty() && target != kEveryone &&
-        open_endpoints == 0) {
-      // The common case in virtual time, in short: no lock, no fault ever
-      // set (so nothing delayed either), nobody waiting, one receiver.
-      ++carried;
-      if (target != self)
-        if (Endpoint* ep = find(target)) enqueue(*ep, pool.put(bytes, extra));
-      return true;
-    }
-    return send_locked(from, self, bytes, extra, target, to);
+    return send_short(self, bytes, extra, target) ||
+           send_locked(from, self, bytes, extra, target, to);
+  }
+  // The common case in virtual time, in short: single-threaded (no lock),
+  // no fault ever set (so nothing delayed either, no link down), nobody
+  // waiting, one receiver at most. false: not this case, nothing done.
+  bool send_short(std::uint64_t self, std::span<const std::uint8_t> bytes, const Extra& extra,
+                  std::uint64_t target) {
+    if (!single_threaded.load(std::memory_order_relaxed) || !faults.empty() ||
+        target == kEveryone || open_endpoints != 0)
+      return false;
+    ++carried;
+    if (target != self)
+      if (Endpoint* ep = find(target)) enqueue(*ep, pool.put(bytes, extra));
+    return true;
   }
   // The rest of send(), out of line: the short path above then saves no
   // registers for it.
