@@ -365,3 +365,44 @@ TEST(LinkMemoryEthernet, UnicastDeliveryMatchesTheContractOnEveryPath) {
     EXPECT_EQ(hub.frames_carried(), 2000u);
   }
 }
+
+// queued_count() of an in-memory port is the number of messages a receive
+// would find (the controller and PnDevice skip a port whose count is 0):
+// it follows every send, receive, drop and link-down loss.
+TEST(LinkMemory, QueuedCountIsWhatReceiveFinds) {
+  for (const bool single : {true, false}) {
+    pn::MemoryEthernet hub;
+    hub.set_single_threaded(single);
+    auto a = hub.port(pn::Mac{}, false), b = hub.port(pn::Mac{}, false);
+    const std::atomic<std::size_t>* q = b->queued_count();
+    ASSERT_NE(q, nullptr);
+    std::vector<std::uint8_t> buf(pn::kMaxFrameLength);
+    for (int round = 0; round < 3; ++round) {
+      for (std::uint8_t i = 0; i < 5; ++i) ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), i)));
+      EXPECT_EQ(q->load(), 5u);
+      EXPECT_EQ(b->receive(buf, 0ns), 60u);
+      EXPECT_EQ(q->load(), 4u);
+      EXPECT_FALSE(b->receive_view(buf, 0ns).empty());
+      EXPECT_EQ(q->load(), 3u);
+      std::size_t left = 3;
+      while (!b->receive_view(buf, 0ns).empty()) EXPECT_EQ(q->load(), --left);
+      EXPECT_EQ(q->load(), 0u);
+    }
+    ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 9)));
+    hub.set_link_up(b->mac(), false);
+    EXPECT_TRUE(b->receive_view(buf, 0ns).empty());  // lost with the link
+    EXPECT_EQ(q->load(), 0u);
+    pn::MemoryUdp net;
+    net.set_single_threaded(single);
+    auto u = net.port(pn::Ipv4{0x0A000001}, 1000), v = net.port(pn::Ipv4{0x0A000002}, 1000);
+    ASSERT_NE(v->queued_count(), nullptr);
+    const std::vector<std::uint8_t> d{1, 2, 3};
+    ASSERT_TRUE(u->send_to(pn::Ipv4{0x0A000002}, 1000, d));
+    EXPECT_EQ(v->queued_count()->load(), 1u);
+    pn::Ipv4 ip;
+    std::uint16_t port = 0;
+    EXPECT_EQ(v->receive_from(buf, ip, port, 0ns), 3u);
+    EXPECT_EQ(v->queued_count()->load(), 0u);
+    EXPECT_EQ(u->queued_count()->load(), 0u);
+  }
+}

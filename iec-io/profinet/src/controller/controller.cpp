@@ -86,6 +86,8 @@ Controller::Controller(const ControllerConfig& cfg, EthernetPort* eth, UdpPort* 
       eth_(eth),
       mac_(eth ? eth->mac() : Mac{}),
       udp_(udp),
+      eth_queued_(eth ? eth->queued_count() : nullptr),
+      udp_queued_(udp ? udp->queued_count() : nullptr),
       rx_(std::max(kMaxFrameLength, kMaxDatagram)) {}
 Controller::~Controller() = default;
 
@@ -93,6 +95,8 @@ void Controller::attach(EthernetPort* eth, UdpPort* udp) {
   eth_ = eth;
   mac_ = eth ? eth->mac() : Mac{};
   udp_ = udp;
+  eth_queued_ = eth ? eth->queued_count() : nullptr;
+  udp_queued_ = udp ? udp->queued_count() : nullptr;
 }
 
 std::size_t Controller::add(const ControllerDevice& cfg) {
@@ -136,12 +140,15 @@ void Controller::poll(TIME now) {
   if (!eth_ || !udp_) return;
   // Each frame read where the port holds it (the memory hub's buffer: no
   // copy), valid until the next receive.
-  for (int n = 0; n < 4096; ++n) {
+  const auto may_hold = [](const std::atomic<std::size_t>* q) {
+    return !q || q->load(std::memory_order_relaxed) != 0;
+  };
+  for (int n = 0; n < 4096 && may_hold(eth_queued_); ++n) {
     const std::span<const std::uint8_t> frame = eth_->receive_view(rx_, TIME(0));
     if (frame.empty()) break;
     on_ethernet(frame, now);
   }
-  for (int n = 0; n < 256; ++n) {
+  for (int n = 0; n < 256 && may_hold(udp_queued_); ++n) {
     Ipv4 ip;
     std::uint16_t port = 0;
     const std::size_t len = udp_->receive_from(rx_, ip, port, TIME(0));

@@ -156,16 +156,22 @@ PnDevice::PnDevice(PnDeviceConfig cfg, std::unique_ptr<io::DeviceModel> model, E
   netmask_ = cfg_.description.netmask;
   gateway_ = cfg_.description.gateway;
   mac_ = cfg_.mac ? *cfg_.mac : eth_.mac();
+  eth_queued_ = eth_.queued_count();
   from_plc_.assign(model_->output_size(), 0);
   to_plc_.assign(model_->input_size(), 0);
   udp_rx_.resize(kMaxDatagram);
   // Opened here, so that a missing address is an error of the host's set-up
   // (pndevsim: exit 2 with the reason), not of a poll.
-  udp_ = open_udp_(ip_);
+  set_udp(open_udp_(ip_));
   delayed_.resize(kDelayRing);
 }
 
 PnDevice::~PnDevice() = default;
+
+void PnDevice::set_udp(std::unique_ptr<UdpPort> port) {
+  udp_ = std::move(port);
+  udp_queued_ = udp_ ? udp_->queued_count() : nullptr;
+}
 
 void PnDevice::emit(PnDeviceEvent e) {
   if (sink_) sink_(e);
@@ -214,7 +220,7 @@ void PnDevice::poll(nanoseconds now) {
 void PnDevice::read_ethernet(nanoseconds now) {
   // Each frame read where the port holds it (the memory hub's buffer: no
   // copy), valid until the next receive.
-  for (int i = 0; i < kMaxFramesPerPoll; ++i) {
+  for (int i = 0; i < kMaxFramesPerPoll && may_hold(eth_queued_); ++i) {
     const std::span<const std::uint8_t> frame = eth_.receive_view(rx_, nanoseconds(0));
     if (frame.empty()) break;
     on_frame(frame, now);
@@ -223,7 +229,7 @@ void PnDevice::read_ethernet(nanoseconds now) {
 
 void PnDevice::read_udp(nanoseconds now) {
   if (!udp_) return;
-  for (int i = 0; i < kMaxDatagramsPerPoll; ++i) {
+  for (int i = 0; i < kMaxDatagramsPerPoll && may_hold(udp_queued_); ++i) {
     Ipv4 from;
     std::uint16_t port = 0;
     const std::size_t n = udp_->receive_from(udp_rx_, from, port, nanoseconds(0));
@@ -324,14 +330,14 @@ void PnDevice::on_dcp(std::uint16_t frame_id, const Mac& src, std::span<const st
         bool ok = !locked;
         if (ok && req.ip->ip != ip_.host_order) {
           try {
-            udp_.reset();  // unbind first: a Memory network allows one owner per ip:port
-            udp_ = open_udp_(Ipv4{req.ip->ip});
+            set_udp(nullptr);  // unbind first: a Memory network allows one owner per ip:port
+            set_udp(open_udp_(Ipv4{req.ip->ip}));
           } catch (const std::exception&) {
             ok = false;
             try {
-              udp_ = open_udp_(ip_);
+              set_udp(open_udp_(ip_));
             } catch (const std::exception&) {
-              udp_.reset();  // no RPC until the next successful Set IP
+              set_udp(nullptr);  // no RPC until the next successful Set IP
             }
           }
         }

@@ -82,6 +82,7 @@ class MemoryEthernetPort final : public EthernetPort {
   std::size_t receive(std::span<std::uint8_t> buf, std::chrono::nanoseconds timeout) override {
     return hub_->take(*ep_, buf, timeout, nullptr);
   }
+  const std::atomic<std::size_t>* queued_count() const override { return &ep_->queued; }
   // The frame in the hub's buffer, no copy (memory_segment.hpp view()).
   std::span<const std::uint8_t> receive_view(std::span<std::uint8_t> buf,
                                              std::chrono::nanoseconds timeout) override {

@@ -43,6 +43,7 @@ class MemoryUdpPort final : public UdpPort {
     net_->remove(key_);
   }
   Ipv4 local_ip() const override { return ip_; }
+  const std::atomic<std::size_t>* queued_count() const override { return &ep_->queued; }
   std::uint16_t local_port() const override { return port_; }
   bool send_to(Ipv4 ip, std::uint16_t port, std::span<const std::uint8_t> data) override {
     if (data.size() > kMaxDatagram) {

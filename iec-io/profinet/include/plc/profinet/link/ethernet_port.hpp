@@ -48,6 +48,10 @@ class EthernetPort {
   // A descriptor that becomes readable when a frame may be there (poll()),
   // or -1 (in-memory ports).
   [[nodiscard]] virtual int fd() const { return -1; }
+  // Where an in-memory port counts the messages queued for it, or null: a
+  // poll that reads 0 there may skip receive with timeout 0, which looks at
+  // the same count first and would return nothing.
+  [[nodiscard]] virtual const std::atomic<std::size_t>* queued_count() const { return nullptr; }
   [[nodiscard]] const LinkCounters& counters() const { return counters_; }
 
  protected:
