@@ -319,22 +319,16 @@ class MemorySegment {
                                      std::chrono::nanoseconds timeout, Extra* extra) {
     if (timeout.count() <= 0) {
       if (ep.queued.load(std::memory_order_relaxed) == 0) return {};
+      // Single-threaded and no fault ever set: no lock to take, nothing to
+      // wait for, no link down. Inline: the controller and PnDevice call
+      // only when queued_count() says a frame is there.
+      if (single_threaded.load(std::memory_order_relaxed) && faults.empty())
+        return next_ready(ep, max, extra);
     }
-    return view_queued(ep, max, timeout, extra);
+    return next_queued(ep, max, timeout, extra);
   }
 
  private:
-  // The rest of view(), out of line (the look above then saves no
-  // registers for it).
-  [[gnu::noinline]] std::span<const std::uint8_t> view_queued(Endpoint& ep, std::size_t max,
-                                                              std::chrono::nanoseconds timeout,
-                                                              Extra* extra) {
-    // Single-threaded and no fault ever set: no lock to take, nothing to
-    // wait for, no link down.
-    if (timeout.count() <= 0 && single_threaded.load(std::memory_order_relaxed) && faults.empty())
-      return next_ready(ep, max, extra);
-    return next_queued(ep, max, timeout, extra);
-  }
   // The rest of take() and view(), out of line: most polls find nothing
   // and return above without paying for this part's frame. Gives back the
   // buffer held since the last call and holds the next message's; its
