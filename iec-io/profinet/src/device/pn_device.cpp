@@ -196,7 +196,7 @@ void PnDevice::poll(nanoseconds now) {
     if (cfg_.hello_at_start) send_eth(encode_dcp_hello(mac_, 1, identity()));
   }
   if (!shared_port_) read_ethernet(now);
-  read_udp(now);
+  if (may_hold(udp_queued_)) read_udp(now);  // mostly nothing there: no call
   timers(now);
   if (ar_) {
     send_cyclic(now);
