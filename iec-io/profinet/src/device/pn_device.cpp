@@ -831,6 +831,16 @@ void PnDevice::flush_delayed(nanoseconds now) {
 
 void PnDevice::timers(nanoseconds now) {
   if (!ar_) return;
+  const Ar& ar = *ar_;
+  // In data exchange with no alarm out and the data hold not expired,
+  // none of the timers below acts: no call (once per poll).
+  if (state_ == PnDeviceState::DataExchange && !ar.alarm_low.pending && !ar.alarm_high.pending &&
+      !(ar.last_valid.count() >= 0 && now - ar.last_valid > ar.data_hold))
+    return;
+  timers_due(now);
+}
+
+void PnDevice::timers_due(nanoseconds now) {
   Ar& ar = *ar_;
   if (ar.last_valid.count() >= 0 && now - ar.last_valid > ar.data_hold) {
     ++counters_.data_hold_expired;
@@ -850,7 +860,6 @@ void PnDevice::timers(nanoseconds now) {
     ++counters_.app_ready_sent;
     ar.app_ready_next = now + cfg_.app_ready_retry;
   }
-  if (!ar.alarm_low.pending && !ar.alarm_high.pending) return;  // mostly: no alarm out
   for (AlarmChannel* ch : {&ar.alarm_low, &ar.alarm_high}) {
     if (!ch->pending || ch->transport_acked || now < ch->next_retry) continue;
     if (ch->retries_left-- <= 0) {

@@ -217,6 +217,7 @@ class PnDevice {
   [[nodiscard]] bool ar_matches(const Uuid& ar_uuid) const;
   void maybe_enter_data_exchange(std::chrono::nanoseconds now);
   void timers(std::chrono::nanoseconds now);
+  [[gnu::noinline]] void timers_due(std::chrono::nanoseconds now);  // the rest of timers()
   void send_cyclic(std::chrono::nanoseconds now);
   void build_cyclic_frame(Ar& ar);
   void flush_delayed(std::chrono::nanoseconds now);
