@@ -406,3 +406,27 @@ TEST(LinkMemory, QueuedCountIsWhatReceiveFinds) {
     EXPECT_EQ(u->queued_count()->load(), 0u);
   }
 }
+
+// The per-port limit holds on the short path too (single-threaded hub,
+// ports that take only their own): the excess is dropped and counted, the
+// frames kept come out in order, and the port takes frames again after.
+TEST(LinkMemoryEthernet, QueueLimitOnTheSingleThreadedUnicastPath) {
+  pn::MemoryEthernet hub;
+  hub.set_single_threaded(true);
+  auto a = hub.port(pn::Mac{}, false), b = hub.port(pn::Mac{}, false);
+  const std::size_t limit = pn::kMemoryQueueLimit;
+  for (std::size_t i = 0; i < limit + 3; ++i)
+    ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), static_cast<std::uint8_t>(i))));
+  EXPECT_EQ(b->counters().rx_dropped.load(), 3u);
+  EXPECT_EQ(b->queued_count()->load(), limit);
+  std::vector<std::uint8_t> buf(pn::kMaxFrameLength);
+  for (std::size_t i = 0; i < limit; ++i) {
+    const auto v = b->receive_view(buf, 0ns);
+    ASSERT_EQ(v.size(), 60u);
+    EXPECT_EQ(v[16], static_cast<std::uint8_t>(i));
+  }
+  EXPECT_TRUE(b->receive_view(buf, 0ns).empty());
+  ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 42)));
+  EXPECT_EQ(take(*b)[16], 42);
+  EXPECT_EQ(b->counters().rx_dropped.load(), 3u);
+}

@@ -176,8 +176,17 @@ class MemorySegment {
         target == kEveryone || open_endpoints != 0)
       return false;
     ++carried;
-    if (target != self)
-      if (Endpoint* ep = find(target)) enqueue(*ep, pool.put(bytes, extra));
+    if (target == self) return true;
+    Endpoint* ep = find(target);
+    if (!ep) return true;
+    // enqueue() without its link-down look (no fault set), and no buffer
+    // taken for a full queue.
+    if (ep->queue.size() >= kMemoryQueueLimit) {
+      ep->counters->rx_dropped.fetch_add(1, std::memory_order_relaxed);
+      return true;
+    }
+    ep->queue.push_back(pool.put(bytes, extra));
+    ep->queued.store(ep->queue.size(), std::memory_order_relaxed);
     return true;
   }
   // The rest of send(), out of line: the short path above then saves no
