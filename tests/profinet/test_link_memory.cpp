@@ -267,3 +267,166 @@ TEST(LinkMemoryEthernet, SingleThreadedHubKeepsTheContract) {
   ASSERT_TRUE(a->send(f));
   EXPECT_EQ(take(*b), f);
 }
+
+// receive_view() hands out the frame in the hub's buffer, no copy: the view
+// stays intact while more frames are sent (the pool grows past its first
+// buffers meanwhile) until the port's next receive; a frame longer than the
+// caller's buffer is dropped and counted, as by receive().
+TEST(LinkMemoryEthernet, ReceiveViewIsTheFrameInPlaceUntilTheNextReceive) {
+  for (const bool single : {true, false}) {
+    pn::MemoryEthernet hub;
+    hub.set_single_threaded(single);
+    auto a = hub.port(pn::Mac{}, false), b = hub.port(pn::Mac{}, false);
+    std::vector<std::uint8_t> buf(pn::kMaxFrameLength);
+    ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 0)));
+    for (std::uint8_t i = 1; i < 100; ++i) {
+      const auto v = b->receive_view(buf, 0ns);
+      ASSERT_EQ(v.size(), 60u);
+      EXPECT_TRUE(v.data() < buf.data() || v.data() >= buf.data() + buf.size());  // not copied
+      const std::vector<std::uint8_t> seen(v.begin(), v.end());
+      EXPECT_EQ(seen, frame(b->mac(), a->mac(), static_cast<std::uint8_t>(i - 1)));
+      // More frames while the view is held: the next for b, and 39 that a
+      // leaves queued (the pool grows past its first 16 buffers).
+      ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), i)));
+      if (i < 40) {
+        ASSERT_TRUE(b->send(frame(a->mac(), b->mac(), i)));
+      }
+      EXPECT_EQ(std::vector<std::uint8_t>(v.begin(), v.end()), seen) << int(i);
+    }
+    EXPECT_EQ(b->counters().received.load(), 99u);
+    std::vector<std::uint8_t> small(59);
+    ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 7)));
+    while (!b->receive_view(buf, 0ns).empty()) {
+    }
+    ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 8)));
+    EXPECT_TRUE(b->receive_view(small, 0ns).empty());
+    EXPECT_EQ(b->counters().rx_dropped.load(), 1u);
+  }
+}
+
+// Unicast frames among ports that take only their own (the profinet
+// plugin's ports) go straight to the destination's queue, without asking
+// every port: the delivery is the hub's contract all the same. Random
+// traffic (unicast to each port, to the sender itself, to nobody, group
+// frames) on hubs single- and multi-threaded, with and without a
+// promiscuous tap, against a model of the contract; read by receive() and
+// receive_view() in turn.
+TEST(LinkMemoryEthernet, UnicastDeliveryMatchesTheContractOnEveryPath) {
+  for (int variant = 0; variant < 4; ++variant) {
+    const bool single = variant & 1, tap = variant & 2;
+    pn::MemoryEthernet hub;
+    hub.set_single_threaded(single);
+    std::vector<std::unique_ptr<pn::EthernetPort>> ports;
+    for (int i = 0; i < 4; ++i) ports.push_back(hub.port(pn::Mac{}, false));
+    if (tap) ports.push_back(hub.port(pn::Mac{}, true));
+    std::vector<std::vector<std::vector<std::uint8_t>>> expected(ports.size());
+    std::vector<std::size_t> next(ports.size(), 0);
+    std::uint32_t seed = 12345;
+    auto rnd = [&](std::uint32_t n) {
+      seed = seed * 1103515245u + 12345u;
+      return (seed >> 16) % n;
+    };
+    std::vector<std::uint8_t> buf(pn::kMaxFrameLength);
+    for (int step = 0; step < 2000; ++step) {
+      const std::size_t from = rnd(4);
+      const std::uint32_t pick = rnd(7);
+      pn::Mac dst = pick < 4    ? ports[pick]->mac()
+                    : pick == 4 ? pn::Mac{0x02, 0x00, 0x00, 0x00, 0x77, 0x77}  // nobody
+                    : pick == 5 ? pn::kDcpIdentifyMulticast
+                                : ports[from]->mac();  // itself
+      const auto f = frame(dst, ports[from]->mac(), static_cast<std::uint8_t>(step));
+      ASSERT_TRUE(ports[from]->send(f));
+      for (std::size_t p = 0; p < ports.size(); ++p) {
+        if (p == from) continue;
+        const bool promiscuous = tap && p == 4;
+        if (promiscuous || pick == 5 || ports[p]->mac() == dst) expected[p].push_back(f);
+      }
+      const std::size_t reader = rnd(static_cast<std::uint32_t>(ports.size()));
+      for (std::uint32_t n = rnd(3); n > 0; --n) {
+        std::vector<std::uint8_t> got;
+        if (step & 1) {
+          const auto v = ports[reader]->receive_view(buf, 0ns);
+          got.assign(v.begin(), v.end());
+        } else {
+          got.assign(buf.begin(),
+                     buf.begin() + static_cast<std::ptrdiff_t>(ports[reader]->receive(buf, 0ns)));
+        }
+        if (next[reader] == expected[reader].size()) {
+          EXPECT_TRUE(got.empty()) << variant << " " << step;
+        } else {
+          EXPECT_EQ(got, expected[reader][next[reader]++]) << variant << " " << step;
+        }
+      }
+    }
+    for (std::size_t p = 0; p < ports.size(); ++p) {
+      while (next[p] < expected[p].size()) EXPECT_EQ(take(*ports[p]), expected[p][next[p]++]);
+      EXPECT_TRUE(take(*ports[p]).empty());
+    }
+    EXPECT_EQ(hub.frames_carried(), 2000u);
+  }
+}
+
+// queued_count() of an in-memory port is the number of messages a receive
+// would find (the controller and PnDevice skip a port whose count is 0):
+// it follows every send, receive, drop and link-down loss.
+TEST(LinkMemory, QueuedCountIsWhatReceiveFinds) {
+  for (const bool single : {true, false}) {
+    pn::MemoryEthernet hub;
+    hub.set_single_threaded(single);
+    auto a = hub.port(pn::Mac{}, false), b = hub.port(pn::Mac{}, false);
+    const std::atomic<std::size_t>* q = b->queued_count();
+    ASSERT_NE(q, nullptr);
+    std::vector<std::uint8_t> buf(pn::kMaxFrameLength);
+    for (int round = 0; round < 3; ++round) {
+      for (std::uint8_t i = 0; i < 5; ++i) ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), i)));
+      EXPECT_EQ(q->load(), 5u);
+      EXPECT_EQ(b->receive(buf, 0ns), 60u);
+      EXPECT_EQ(q->load(), 4u);
+      EXPECT_FALSE(b->receive_view(buf, 0ns).empty());
+      EXPECT_EQ(q->load(), 3u);
+      std::size_t left = 3;
+      while (!b->receive_view(buf, 0ns).empty()) EXPECT_EQ(q->load(), --left);
+      EXPECT_EQ(q->load(), 0u);
+    }
+    ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 9)));
+    hub.set_link_up(b->mac(), false);
+    EXPECT_TRUE(b->receive_view(buf, 0ns).empty());  // lost with the link
+    EXPECT_EQ(q->load(), 0u);
+    pn::MemoryUdp net;
+    net.set_single_threaded(single);
+    auto u = net.port(pn::Ipv4{0x0A000001}, 1000), v = net.port(pn::Ipv4{0x0A000002}, 1000);
+    ASSERT_NE(v->queued_count(), nullptr);
+    const std::vector<std::uint8_t> d{1, 2, 3};
+    ASSERT_TRUE(u->send_to(pn::Ipv4{0x0A000002}, 1000, d));
+    EXPECT_EQ(v->queued_count()->load(), 1u);
+    pn::Ipv4 ip;
+    std::uint16_t port = 0;
+    EXPECT_EQ(v->receive_from(buf, ip, port, 0ns), 3u);
+    EXPECT_EQ(v->queued_count()->load(), 0u);
+    EXPECT_EQ(u->queued_count()->load(), 0u);
+  }
+}
+
+// The per-port limit holds on the short path too (single-threaded hub,
+// ports that take only their own): the excess is dropped and counted, the
+// frames kept come out in order, and the port takes frames again after.
+TEST(LinkMemoryEthernet, QueueLimitOnTheSingleThreadedUnicastPath) {
+  pn::MemoryEthernet hub;
+  hub.set_single_threaded(true);
+  auto a = hub.port(pn::Mac{}, false), b = hub.port(pn::Mac{}, false);
+  const std::size_t limit = pn::kMemoryQueueLimit;
+  for (std::size_t i = 0; i < limit + 3; ++i)
+    ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), static_cast<std::uint8_t>(i))));
+  EXPECT_EQ(b->counters().rx_dropped.load(), 3u);
+  EXPECT_EQ(b->queued_count()->load(), limit);
+  std::vector<std::uint8_t> buf(pn::kMaxFrameLength);
+  for (std::size_t i = 0; i < limit; ++i) {
+    const auto v = b->receive_view(buf, 0ns);
+    ASSERT_EQ(v.size(), 60u);
+    EXPECT_EQ(v[16], static_cast<std::uint8_t>(i));
+  }
+  EXPECT_TRUE(b->receive_view(buf, 0ns).empty());
+  ASSERT_TRUE(a->send(frame(b->mac(), a->mac(), 42)));
+  EXPECT_EQ(take(*b)[16], 42);
+  EXPECT_EQ(b->counters().rx_dropped.load(), 3u);
+}

@@ -223,17 +223,23 @@ void ProfinetPlugin::run_realtime() {
 // diagnostics() from other threads reads neither staging buffer, so the
 // copies need no mutex (as the sim plugin's).
 void ProfinetPlugin::latch_inputs(std::size_t device, std::span<std::uint8_t> dst) {
-  std::unique_lock<std::mutex> lock(mutex_, std::defer_lock);
-  if (mode_ == io::ClockMode::RealTime) lock.lock();
-  const auto src = controller_->inputs(device);
-  std::copy_n(src.data(), std::min(src.size(), dst.size()), dst.data());
+  const auto copy = [&] {
+    const auto src = controller_->inputs(device);
+    std::copy_n(src.data(), std::min(src.size(), dst.size()), dst.data());
+  };
+  if (mode_ != io::ClockMode::RealTime) return copy();  // no lock object to build either
+  std::lock_guard<std::mutex> lock(mutex_);
+  copy();
 }
 
 void ProfinetPlugin::publish_outputs(std::size_t device, std::span<const std::uint8_t> src) {
-  std::unique_lock<std::mutex> lock(mutex_, std::defer_lock);
-  if (mode_ == io::ClockMode::RealTime) lock.lock();
-  auto dst = controller_->outputs(device);
-  std::copy_n(src.data(), std::min(src.size(), dst.size()), dst.data());
+  const auto copy = [&] {
+    auto dst = controller_->outputs(device);
+    std::copy_n(src.data(), std::min(src.size(), dst.size()), dst.data());
+  };
+  if (mode_ != io::ClockMode::RealTime) return copy();
+  std::lock_guard<std::mutex> lock(mutex_);
+  copy();
 }
 
 PnDevice* ProfinetPlugin::simulated(std::size_t device) {

@@ -86,6 +86,8 @@ Controller::Controller(const ControllerConfig& cfg, EthernetPort* eth, UdpPort* 
       eth_(eth),
       mac_(eth ? eth->mac() : Mac{}),
       udp_(udp),
+      eth_queued_(eth ? eth->queued_count() : nullptr),
+      udp_queued_(udp ? udp->queued_count() : nullptr),
       rx_(std::max(kMaxFrameLength, kMaxDatagram)) {}
 Controller::~Controller() = default;
 
@@ -93,6 +95,8 @@ void Controller::attach(EthernetPort* eth, UdpPort* udp) {
   eth_ = eth;
   mac_ = eth ? eth->mac() : Mac{};
   udp_ = udp;
+  eth_queued_ = eth ? eth->queued_count() : nullptr;
+  udp_queued_ = udp ? udp->queued_count() : nullptr;
 }
 
 std::size_t Controller::add(const ControllerDevice& cfg) {
@@ -134,12 +138,17 @@ bool Controller::releasing() const {
 
 void Controller::poll(TIME now) {
   if (!eth_ || !udp_) return;
-  for (int n = 0; n < 4096; ++n) {
-    const std::size_t len = eth_->receive(rx_, TIME(0));
-    if (len == 0) break;
-    on_ethernet(std::span<const std::uint8_t>(rx_).first(len), now);
+  // Each frame read where the port holds it (the memory hub's buffer: no
+  // copy), valid until the next receive.
+  const auto may_hold = [](const std::atomic<std::size_t>* q) {
+    return !q || q->load(std::memory_order_relaxed) != 0;
+  };
+  for (int n = 0; n < 4096 && may_hold(eth_queued_); ++n) {
+    const std::span<const std::uint8_t> frame = eth_->receive_view(rx_, TIME(0));
+    if (frame.empty()) break;
+    on_ethernet(frame, now);
   }
-  for (int n = 0; n < 256; ++n) {
+  for (int n = 0; n < 256 && may_hold(udp_queued_); ++n) {
     Ipv4 ip;
     std::uint16_t port = 0;
     const std::size_t len = udp_->receive_from(rx_, ip, port, TIME(0));
@@ -541,14 +550,16 @@ void Controller::run_device(Device& d, TIME now) {
     }
   }
   // Alarm acknowledgements without the device's ACK-RTA: repeat, then give up.
-  for (auto& ch : d.alarm) {
-    if (!ch.ack_pending || now < ch.ack_deadline) continue;
-    if (ch.ack_tries > d.plan.request.alarm_cr.rta_retries)
-      return lose(d, now, "the device does not acknowledge our AlarmAck");
-    ++ch.ack_tries;
-    ch.ack_deadline =
-        now + std::chrono::milliseconds(100) * d.plan.request.alarm_cr.rta_timeout_factor;
-    eth_->send(ch.ack_frame);
+  if (d.alarm[0].ack_pending || d.alarm[1].ack_pending) {  // mostly: none out
+    for (auto& ch : d.alarm) {
+      if (!ch.ack_pending || now < ch.ack_deadline) continue;
+      if (ch.ack_tries > d.plan.request.alarm_cr.rta_retries)
+        return lose(d, now, "the device does not acknowledge our AlarmAck");
+      ++ch.ack_tries;
+      ch.ack_deadline =
+          now + std::chrono::milliseconds(100) * d.plan.request.alarm_cr.rta_timeout_factor;
+      eth_->send(ch.ack_frame);
+    }
   }
   switch (d.state) {
     case ArState::Waiting:
@@ -596,7 +607,8 @@ void Controller::run_device(Device& d, TIME now) {
     return lose(d, now, b);
   }
   if (d.state != ArState::Online || d.call != RpcCall::None) return;
-  if (io::RecordRequest* r = d.link.pop()) {
+  // maybe_queued(): most steps have no request, and pop() takes a lock.
+  if (io::RecordRequest* r = d.link.maybe_queued() ? d.link.pop() : nullptr) {
     d.record = r;
     if (r->kind() == io::RecordKind::Read) {
       RecordRequestHeader h;
@@ -751,6 +763,8 @@ void Controller::start_cyclic(Device& d, TIME now) {
   // the header around it. IOCS of every input-CR submodule: good, from the
   // first frame on (a layout is at most 1440 bytes: the span is there).
   const std::span<std::uint8_t> c_sdu = cyclic_c_sdu(d.tx, length, true);
+  d.tx_c_sdu = c_sdu;
+  d.tx_c_sdu_length = length;
   if (!c_sdu.empty()) {
     for (const IocsSlot& s : d.plan.layout.output.iocs) c_sdu[s.offset] = iocr::kIoxsGood;
     for (const IoDataObject& o : d.plan.layout.output.data)
@@ -780,7 +794,13 @@ void Controller::send_cyclic(Device& d, TIME now) {
     d.cycle_counter = static_cast<std::uint16_t>(d.cycle_counter + missed * d.counter_step);
   }
   const std::size_t length = d.plan.layout.output.c_sdu_length;
-  const std::span<std::uint8_t> c_sdu = cyclic_c_sdu(d.tx, length, true);
+  // The C_SDU's place in tx, from start_cyclic() (tx and the layout are the
+  // AR's); computed again should the layout differ.
+  if (d.tx_c_sdu_length != length) {
+    d.tx_c_sdu = cyclic_c_sdu(d.tx, length, true);
+    d.tx_c_sdu_length = length;
+  }
+  const std::span<std::uint8_t> c_sdu = d.tx_c_sdu;
   for (const auto& u : d.plan.outputs)
     put_io_data(c_sdu, u.object,
                 std::span<const std::uint8_t>(d.out).subspan(u.user_offset, u.object.length),

@@ -47,8 +47,10 @@ struct Controller::Device {
   bool app_ready = false;
   TIME next_send{0};
   std::uint16_t cycle_counter = 0;
-  std::vector<std::uint8_t> tx;  // one output frame, its C_SDU kept in place between sends
-  std::size_t tx_length = 0;     // its length once its header is written (0: cannot be built)
+  std::vector<std::uint8_t> tx;      // one output frame, its C_SDU kept in place between sends
+  std::size_t tx_length = 0;         // its length once its header is written (0: cannot be built)
+  std::span<std::uint8_t> tx_c_sdu;  // cyclic_c_sdu(tx, tx_c_sdu_length, true), set with tx
+  std::size_t tx_c_sdu_length = 0;
   bool rx_seen = false;
   TIME last_input{0};
   std::uint16_t last_rx_counter = 0;

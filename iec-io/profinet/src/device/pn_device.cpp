@@ -156,22 +156,26 @@ PnDevice::PnDevice(PnDeviceConfig cfg, std::unique_ptr<io::DeviceModel> model, E
   netmask_ = cfg_.description.netmask;
   gateway_ = cfg_.description.gateway;
   mac_ = cfg_.mac ? *cfg_.mac : eth_.mac();
+  eth_queued_ = eth_.queued_count();
   from_plc_.assign(model_->output_size(), 0);
   to_plc_.assign(model_->input_size(), 0);
   udp_rx_.resize(kMaxDatagram);
   // Opened here, so that a missing address is an error of the host's set-up
   // (pndevsim: exit 2 with the reason), not of a poll.
-  udp_ = open_udp_(ip_);
+  set_udp(open_udp_(ip_));
   delayed_.resize(kDelayRing);
 }
 
 PnDevice::~PnDevice() = default;
 
+void PnDevice::set_udp(std::unique_ptr<UdpPort> port) {
+  udp_ = std::move(port);
+  udp_queued_ = udp_ ? udp_->queued_count() : nullptr;
+}
+
 void PnDevice::emit(PnDeviceEvent e) {
   if (sink_) sink_(e);
 }
-
-bool PnDevice::quiet() const { return faults_.silent || !model_->answering(); }
 
 void PnDevice::send_eth(std::span<const std::uint8_t> frame) {
   if (!quiet()) (void)eth_.send(frame);
@@ -192,7 +196,7 @@ void PnDevice::poll(nanoseconds now) {
     if (cfg_.hello_at_start) send_eth(encode_dcp_hello(mac_, 1, identity()));
   }
   if (!shared_port_) read_ethernet(now);
-  read_udp(now);
+  if (may_hold(udp_queued_)) read_udp(now);  // mostly nothing there: no call
   timers(now);
   if (ar_) {
     send_cyclic(now);
@@ -214,16 +218,18 @@ void PnDevice::poll(nanoseconds now) {
 }
 
 void PnDevice::read_ethernet(nanoseconds now) {
-  for (int i = 0; i < kMaxFramesPerPoll; ++i) {
-    const std::size_t n = eth_.receive(rx_, nanoseconds(0));
-    if (n == 0) break;
-    on_frame(std::span<const std::uint8_t>(rx_.data(), n), now);
+  // Each frame read where the port holds it (the memory hub's buffer: no
+  // copy), valid until the next receive.
+  for (int i = 0; i < kMaxFramesPerPoll && may_hold(eth_queued_); ++i) {
+    const std::span<const std::uint8_t> frame = eth_.receive_view(rx_, nanoseconds(0));
+    if (frame.empty()) break;
+    on_frame(frame, now);
   }
 }
 
 void PnDevice::read_udp(nanoseconds now) {
   if (!udp_) return;
-  for (int i = 0; i < kMaxDatagramsPerPoll; ++i) {
+  for (int i = 0; i < kMaxDatagramsPerPoll && may_hold(udp_queued_); ++i) {
     Ipv4 from;
     std::uint16_t port = 0;
     const std::size_t n = udp_->receive_from(udp_rx_, from, port, nanoseconds(0));
@@ -324,14 +330,14 @@ void PnDevice::on_dcp(std::uint16_t frame_id, const Mac& src, std::span<const st
         bool ok = !locked;
         if (ok && req.ip->ip != ip_.host_order) {
           try {
-            udp_.reset();  // unbind first: a Memory network allows one owner per ip:port
-            udp_ = open_udp_(Ipv4{req.ip->ip});
+            set_udp(nullptr);  // unbind first: a Memory network allows one owner per ip:port
+            set_udp(open_udp_(Ipv4{req.ip->ip}));
           } catch (const std::exception&) {
             ok = false;
             try {
-              udp_ = open_udp_(ip_);
+              set_udp(open_udp_(ip_));
             } catch (const std::exception&) {
-              udp_.reset();  // no RPC until the next successful Set IP
+              set_udp(nullptr);  // no RPC until the next successful Set IP
             }
           }
         }
@@ -807,7 +813,7 @@ void PnDevice::send_cyclic(nanoseconds now) {
     ++delayed_tail_;
     return;
   }
-  send_eth(std::span<const std::uint8_t>(tx_.data(), n));
+  (void)eth_.send(std::span<const std::uint8_t>(tx_.data(), n));  // not quiet(): asked above
   ++counters_.frames_sent;
 }
 
@@ -825,6 +831,16 @@ void PnDevice::flush_delayed(nanoseconds now) {
 
 void PnDevice::timers(nanoseconds now) {
   if (!ar_) return;
+  const Ar& ar = *ar_;
+  // In data exchange with no alarm out and the data hold not expired,
+  // none of the timers below acts: no call (once per poll).
+  if (state_ == PnDeviceState::DataExchange && !ar.alarm_low.pending && !ar.alarm_high.pending &&
+      !(ar.last_valid.count() >= 0 && now - ar.last_valid > ar.data_hold))
+    return;
+  timers_due(now);
+}
+
+void PnDevice::timers_due(nanoseconds now) {
   Ar& ar = *ar_;
   if (ar.last_valid.count() >= 0 && now - ar.last_valid > ar.data_hold) {
     ++counters_.data_hold_expired;

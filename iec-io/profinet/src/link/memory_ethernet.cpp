@@ -1,5 +1,6 @@
 #include "plc/profinet/link/memory_ethernet.hpp"
 
+#include <bit>
 #include <cstring>
 
 #include "memory_segment.hpp"
@@ -12,6 +13,15 @@ std::uint64_t key_of(const Mac& m) {
   std::uint64_t k = 0;
   for (auto b : m) k = k << 8 | b;
   return k;
+}
+
+// key_of() of the destination MAC at the start of a frame (frame.size() >=
+// 14: eight bytes can be read): one load, not six.
+std::uint64_t destination_key(std::span<const std::uint8_t> frame) {
+  std::uint64_t v = 0;
+  std::memcpy(&v, frame.data(), 8);
+  if constexpr (std::endian::native == std::endian::little) return __builtin_bswap64(v) >> 16;
+  return v >> 16;
 }
 
 struct NoExtra {};
@@ -45,7 +55,7 @@ class MemoryEthernetPort final : public EthernetPort {
     if (hub_->endpoints.count(key_) != 0)
       throw LinkError("memory hub: MAC " + to_string(mac) + " is already on the hub");
     ep_ = &hub_->add(key_, mac, &counters_);
-    ep_->own_only = !promiscuous;
+    hub_->set_own_only(*ep_, !promiscuous);
   }
   ~MemoryEthernetPort() override {
     std::lock_guard lock(hub_->mutex);
@@ -61,19 +71,35 @@ class MemoryEthernetPort final : public EthernetPort {
     // does): others are carried but reach nobody.
     const bool deliver = is_profinet(frame);
     const bool group = (frame[0] & 0x01) != 0;  // multicast or broadcast
-    const auto to = [&](std::uint64_t, const Seg::Endpoint& ep) {
-      return deliver && (!ep.own_only || group || addressed_to(frame, ep.address));
-    };
-    const bool ok = hub_->send(mac_, key_, frame, NoExtra{}, to);
+    // A unicast PROFINET frame: an own_only port takes it only under its
+    // destination's key (addressed_to() is key equality).
+    const std::uint64_t target = deliver && !group ? destination_key(frame) : Seg::kEveryone;
+    const bool ok = hub_->send_short(key_, frame, NoExtra{}, target) ||
+                    send_locked(frame, deliver, group, target);
     (ok ? counters_.sent : counters_.send_failed).fetch_add(1, std::memory_order_relaxed);
     return ok;
   }
   std::size_t receive(std::span<std::uint8_t> buf, std::chrono::nanoseconds timeout) override {
     return hub_->take(*ep_, buf, timeout, nullptr);
   }
+  const std::atomic<std::size_t>* queued_count() const override { return &ep_->queued; }
+  // The frame in the hub's buffer, no copy (memory_segment.hpp view()).
+  std::span<const std::uint8_t> receive_view(std::span<std::uint8_t> buf,
+                                             std::chrono::nanoseconds timeout) override {
+    return hub_->view(*ep_, buf.size(), timeout, nullptr);
+  }
 
  private:
   using Seg = detail::MemorySegment<Mac, NoExtra>;
+  // The rest of send() (MemorySegment::send_locked()), out of line: the
+  // short path then builds no filter.
+  [[gnu::noinline]] bool send_locked(std::span<const std::uint8_t> frame, bool deliver, bool group,
+                                     std::uint64_t target) {
+    const auto to = [&](std::uint64_t, const Seg::Endpoint& ep) {
+      return deliver && (!ep.own_only || group || addressed_to(frame, ep.address));
+    };
+    return hub_->send_locked(mac_, key_, frame, NoExtra{}, target, to);
+  }
   static bool is_profinet(std::span<const std::uint8_t> f) {  // f.size() >= 14
     auto type_at = [&](std::size_t o) { return std::uint16_t(f[o] << 8 | f[o + 1]); };
     if (type_at(12) == kEtherTypeProfinet) return true;

@@ -36,12 +36,14 @@ class MemoryUdpPort final : public UdpPort {
       throw LinkError("memory UDP network: " + to_string(ip) + ":" + std::to_string(port) +
                       " is already bound");
     ep_ = &net_->add(key_, ip, &counters_);
+    net_->set_own_only(*ep_, true);  // datagrams to its ip:port only
   }
   ~MemoryUdpPort() override {
     std::lock_guard lock(net_->mutex);
     net_->remove(key_);
   }
   Ipv4 local_ip() const override { return ip_; }
+  const std::atomic<std::size_t>* queued_count() const override { return &ep_->queued; }
   std::uint16_t local_port() const override { return port_; }
   bool send_to(Ipv4 ip, std::uint16_t port, std::span<const std::uint8_t> data) override {
     if (data.size() > kMaxDatagram) {
@@ -56,13 +58,22 @@ class MemoryUdpPort final : public UdpPort {
       has_exact = net_->endpoints.count(exact) != 0;
     }
     const std::uint64_t target = has_exact ? exact : any;
-    const bool ok = net_->send(ip_, key_, data, Source{ip_, port_},
+    const bool ok = net_->send(ip_, key_, data, Source{ip_, port_}, target,
                                [&](std::uint64_t k, auto&) { return k == target; });
     (ok ? counters_.sent : counters_.send_failed).fetch_add(1, std::memory_order_relaxed);
     return ok;
   }
   std::size_t receive_from(std::span<std::uint8_t> buf, Ipv4& ip, std::uint16_t& port,
                            std::chrono::nanoseconds timeout) override {
+    // Polled every tick, and mostly nothing is there: the look first, the
+    // rest out of line.
+    if (timeout.count() <= 0 && ep_->queued.load(std::memory_order_relaxed) == 0) return 0;
+    return take_from(buf, ip, port, timeout);
+  }
+
+ private:
+  [[gnu::noinline]] std::size_t take_from(std::span<std::uint8_t> buf, Ipv4& ip,
+                                          std::uint16_t& port, std::chrono::nanoseconds timeout) {
     Source src;
     const std::size_t n = net_->take(*ep_, buf, timeout, &src);
     if (n > 0) {
@@ -71,8 +82,6 @@ class MemoryUdpPort final : public UdpPort {
     }
     return n;
   }
-
- private:
   using Seg = detail::MemorySegment<Ipv4, Source, IpLess>;
   std::shared_ptr<MemoryUdp::Impl> net_;
   Ipv4 ip_;

@@ -1,15 +1,19 @@
 // The message buffers of an in-memory link: each holds one message (up to
 // the link's largest, e.g. one Ethernet frame) and a small extra (the UDP
 // source), shared by every receiver it goes to through a reference count.
-// Buffers are numbered and kept in one block; the block doubles when every
-// buffer is in use, so after the most messages a link has had in flight at
-// once, sending and receiving allocate nothing. Private to src/link.
+// Buffers are numbered and kept in blocks of kBlockBuffers that never move:
+// a receiver may read a buffer it holds a reference to in place
+// (MemorySegment::view()) while more buffers are added. The pool doubles
+// when every buffer is in use, so after the most messages a link has had in
+// flight at once, sending and receiving allocate nothing. Private to
+// src/link.
 #pragma once
 
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -18,6 +22,8 @@ namespace plc::profinet::detail {
 template <class Extra>
 class MessagePool {
  public:
+  static constexpr std::uint32_t kNone = 0xFFFFFFFFu;  // no buffer
+
   explicit MessagePool(std::size_t max_bytes) : stride_(max_bytes) {}
 
   // A buffer with a copy of `bytes` (at most max_bytes) and `extra`, with
@@ -27,8 +33,11 @@ class MessagePool {
     const std::uint32_t id = free_.back();
     free_.pop_back();
     const std::size_t n = std::min(bytes.size(), stride_);
-    if (n > 0) std::memcpy(storage_.data() + std::size_t{id} * stride_, bytes.data(), n);
-    slots_[id] = Slot{static_cast<std::uint32_t>(n), 1, extra};
+    Slot& slot = slots_[id];
+    if (n > 0) std::memcpy(slot.data, bytes.data(), n);
+    slot.length = static_cast<std::uint32_t>(n);
+    slot.refs = 1;
+    slot.extra = extra;
     return id;
   }
   void add_ref(std::uint32_t id) { ++slots_[id].refs; }
@@ -36,28 +45,34 @@ class MessagePool {
   void release(std::uint32_t id) {
     if (--slots_[id].refs == 0) free_.push_back(id);  // within the reserved capacity
   }
+  // Where the buffer's bytes are: the same address for as long as the pool
+  // lives (blocks are added, never moved).
   [[nodiscard]] std::span<const std::uint8_t> bytes(std::uint32_t id) const {
-    return {storage_.data() + std::size_t{id} * stride_, slots_[id].length};
+    return {slots_[id].data, slots_[id].length};
   }
   [[nodiscard]] const Extra& extra(std::uint32_t id) const { return slots_[id].extra; }
 
  private:
   struct Slot {
+    std::uint8_t* data = nullptr;  // in its block, set once
     std::uint32_t length = 0;
     std::uint32_t refs = 0;
     Extra extra{};
   };
+  static constexpr std::size_t kBlockBuffers = 16;
   void grow() {
     const std::size_t old = slots_.size();
-    const std::size_t n = std::max<std::size_t>(kFirstBuffers, old * 2);
-    storage_.resize(n * stride_);
+    const std::size_t n = std::max<std::size_t>(kBlockBuffers, old * 2);  // a multiple of the block
+    for (std::size_t b = old / kBlockBuffers; b < n / kBlockBuffers; ++b)
+      blocks_.push_back(std::make_unique<std::uint8_t[]>(kBlockBuffers * stride_));
     slots_.resize(n);
+    for (std::size_t i = old; i < n; ++i)
+      slots_[i].data = blocks_[i / kBlockBuffers].get() + (i % kBlockBuffers) * stride_;
     free_.reserve(n);  // every buffer free at once fits: release() never allocates
     for (std::size_t i = n; i > old; --i) free_.push_back(static_cast<std::uint32_t>(i - 1));
   }
-  static constexpr std::size_t kFirstBuffers = 16;
   std::size_t stride_;
-  std::vector<std::uint8_t> storage_;
+  std::vector<std::unique_ptr<std::uint8_t[]>> blocks_;
   std::vector<Slot> slots_;
   std::vector<std::uint32_t> free_;  // numbers of the free buffers
 };

@@ -205,26 +205,4 @@ WireStatus decode_cyclic(std::span<const std::uint8_t> frame, std::size_t c_sdu_
   return decode_cyclic(v, c_sdu_length, out);
 }
 
-WireStatus decode_cyclic(const PnFrameView& v, std::size_t c_sdu_length, CyclicView& out) {
-  if (!is_cyclic(v.frame_id)) return wire_fail(WireError::BadFrameId, "not a cyclic RT FrameID");
-  std::size_t n = c_sdu_length;
-  if (n == 0) {
-    if (v.pdu.size() < iocr::kMinCSduLength + 4)
-      return wire_fail(WireError::Truncated, "cyclic frame shorter than 40 + 4 bytes");
-    n = v.pdu.size() - 4;
-  }
-  if (v.pdu.size() < n + 4)
-    return wire_fail(WireError::Truncated, "cyclic frame shorter than its C_SDU");
-  out.header.dst = v.dst;
-  out.header.src = v.src;
-  out.header.vlan_tci = v.vlan_tci;
-  out.header.frame_id = v.frame_id;
-  out.c_sdu = v.pdu.first(n);
-  const std::uint8_t* s = v.pdu.data() + n;
-  out.header.cycle_counter = static_cast<std::uint16_t>(s[0] << 8 | s[1]);
-  out.header.data_status = s[2];
-  out.header.transfer_status = s[3];
-  return kWireOk;
-}
-
 }  // namespace plc::profinet

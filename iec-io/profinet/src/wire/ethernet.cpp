@@ -6,36 +6,11 @@
 namespace plc::profinet {
 
 namespace {
-std::uint16_t be16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] << 8 | p[1]); }
 void put_be16(std::uint8_t* p, std::uint16_t v) {
   p[0] = static_cast<std::uint8_t>(v >> 8);
   p[1] = static_cast<std::uint8_t>(v);
 }
 }  // namespace
-
-// Every received frame goes through here (a hub shows each port all the
-// traffic): read in place, no byte-reader bookkeeping.
-WireStatus decode_pn_frame(std::span<const std::uint8_t> frame, PnFrameView& out) {
-  out.vlan_tci.reset();
-  if (frame.size() < kEthernetHeaderLength + 2)
-    return wire_fail(WireError::Truncated, "frame shorter than its header");
-  const std::uint8_t* p = frame.data();
-  std::uint16_t type = be16(p + 12);
-  std::size_t at = kEthernetHeaderLength;
-  if (type == kEtherTypeVlan) {
-    if (frame.size() < kEthernetHeaderLength + kVlanTagLength + 2)
-      return wire_fail(WireError::Truncated, "frame shorter than its header");
-    out.vlan_tci = be16(p + 14);
-    type = be16(p + 16);
-    at += kVlanTagLength;
-  }
-  out.frame_id = be16(p + at);
-  if (type != kEtherTypeProfinet) return wire_fail(WireError::BadEtherType, "not EtherType 0x8892");
-  std::memcpy(out.dst.data(), p, 6);  // two fixed-size moves, not byte loops
-  std::memcpy(out.src.data(), p + 6, 6);
-  out.pdu = frame.subspan(at + 2);
-  return kWireOk;
-}
 
 std::size_t encode_pn_header(std::span<std::uint8_t> out, const Mac& dst, const Mac& src,
                              std::uint16_t frame_id, std::optional<std::uint16_t> vlan_tci) {

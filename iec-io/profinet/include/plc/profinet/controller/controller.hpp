@@ -152,6 +152,10 @@ class Controller {
   EthernetPort* eth_;
   Mac mac_{};  // eth_'s, read once (every received frame is checked against it)
   UdpPort* udp_;
+  // The ports' queued_count(), read once: a poll skips a port that holds
+  // nothing without a call.
+  const std::atomic<std::size_t>* eth_queued_ = nullptr;
+  const std::atomic<std::size_t>* udp_queued_ = nullptr;
   std::vector<std::unique_ptr<Device>> devices_;
   std::vector<std::uint8_t> rx_;  // one frame / datagram
   std::uint32_t next_ar_ = 1;     // AR UUIDs and session keys

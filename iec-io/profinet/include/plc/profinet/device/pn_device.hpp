@@ -39,6 +39,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <functional>
@@ -185,7 +186,9 @@ class PnDevice {
     std::array<std::uint8_t, kMaxFrameLength> frame{};
   };
 
-  [[nodiscard]] bool quiet() const;
+  // A pulled plug or a model that does not answer: asked for every frame
+  // in and out, so inline.
+  [[nodiscard]] bool quiet() const { return faults_.silent || !model_->answering(); }
   [[nodiscard]] DcpIdentity identity() const;
   void read_ethernet(std::chrono::nanoseconds now);
   void read_udp(std::chrono::nanoseconds now);
@@ -214,6 +217,7 @@ class PnDevice {
   [[nodiscard]] bool ar_matches(const Uuid& ar_uuid) const;
   void maybe_enter_data_exchange(std::chrono::nanoseconds now);
   void timers(std::chrono::nanoseconds now);
+  [[gnu::noinline]] void timers_due(std::chrono::nanoseconds now);  // the rest of timers()
   void send_cyclic(std::chrono::nanoseconds now);
   void build_cyclic_frame(Ar& ar);
   void flush_delayed(std::chrono::nanoseconds now);
@@ -222,12 +226,20 @@ class PnDevice {
   void emit(PnDeviceEvent e);
   void send_eth(std::span<const std::uint8_t> frame);
   void send_udp(Ipv4 ip, std::uint16_t port, std::span<const std::uint8_t> data);
+  void set_udp(std::unique_ptr<UdpPort> port);  // udp_ and udp_queued_
+  // A port's queued_count() reads 0 (an in-memory port holds nothing): a
+  // poll skips it without a call.
+  static bool may_hold(const std::atomic<std::size_t>* queued) {
+    return !queued || queued->load(std::memory_order_relaxed) != 0;
+  }
 
   PnDeviceConfig cfg_;
   std::unique_ptr<io::DeviceModel> model_;
   EthernetPort& eth_;
   UdpOpener open_udp_;
   std::unique_ptr<UdpPort> udp_;
+  const std::atomic<std::size_t>* eth_queued_ = nullptr;  // eth_.queued_count()
+  const std::atomic<std::size_t>* udp_queued_ = nullptr;  // udp_->queued_count()
   EventSink sink_;
   PnDeviceFaults faults_;
   PnDeviceCounters counters_;

@@ -36,9 +36,22 @@ class EthernetPort {
   // (a tag the kernel took off is put back), into `buf`. Returns its length,
   // 0 if none came. A frame longer than `buf` is dropped (rx_dropped).
   virtual std::size_t receive(std::span<std::uint8_t> buf, std::chrono::nanoseconds timeout) = 0;
+  // receive() without the copy where the port can avoid it: the frame
+  // where it lies (a MemoryEthernet port: the hub's buffer), valid until
+  // this port's next receive() or receive_view(). Other ports copy it into
+  // `buf` and return that part of `buf`. Empty if none came; a frame longer
+  // than `buf` is dropped, as by receive().
+  virtual std::span<const std::uint8_t> receive_view(std::span<std::uint8_t> buf,
+                                                     std::chrono::nanoseconds timeout) {
+    return buf.first(receive(buf, timeout));
+  }
   // A descriptor that becomes readable when a frame may be there (poll()),
   // or -1 (in-memory ports).
   [[nodiscard]] virtual int fd() const { return -1; }
+  // Where an in-memory port counts the messages queued for it, or null: a
+  // poll that reads 0 there may skip receive with timeout 0, which looks at
+  // the same count first and would return nothing.
+  [[nodiscard]] virtual const std::atomic<std::size_t>* queued_count() const { return nullptr; }
   [[nodiscard]] const LinkCounters& counters() const { return counters_; }
 
  protected:

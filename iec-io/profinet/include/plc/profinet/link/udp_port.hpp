@@ -2,6 +2,7 @@
 // Implementations: SocketUdpPort (a POSIX socket) and MemoryUdp ports.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -30,6 +31,10 @@ class UdpPort {
   virtual std::size_t receive_from(std::span<std::uint8_t> buf, Ipv4& ip, std::uint16_t& port,
                                    std::chrono::nanoseconds timeout) = 0;
   [[nodiscard]] virtual int fd() const { return -1; }
+  // Where an in-memory port counts the messages queued for it, or null: a
+  // poll that reads 0 there may skip receive with timeout 0, which looks at
+  // the same count first and would return nothing.
+  [[nodiscard]] virtual const std::atomic<std::size_t>* queued_count() const { return nullptr; }
   [[nodiscard]] const LinkCounters& counters() const { return counters_; }
 
  protected:

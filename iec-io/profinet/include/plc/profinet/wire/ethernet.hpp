@@ -8,6 +8,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <optional>
 #include <span>
 
@@ -74,8 +75,33 @@ struct PnFrameView {
 };
 
 // Parses the Ethernet header (tagged or not) and the FrameID. Refuses
-// other EtherTypes and frames shorter than header + FrameID.
-WireStatus decode_pn_frame(std::span<const std::uint8_t> frame, PnFrameView& out);
+// other EtherTypes and frames shorter than header + FrameID. Every received
+// frame goes through here: read in place, no byte-reader bookkeeping, and
+// inline (the receivers use few of the fields).
+inline WireStatus decode_pn_frame(std::span<const std::uint8_t> frame, PnFrameView& out) {
+  const auto be16 = [](const std::uint8_t* p) {
+    return static_cast<std::uint16_t>(p[0] << 8 | p[1]);
+  };
+  out.vlan_tci.reset();
+  if (frame.size() < kEthernetHeaderLength + 2)
+    return wire_fail(WireError::Truncated, "frame shorter than its header");
+  const std::uint8_t* p = frame.data();
+  std::uint16_t type = be16(p + 12);
+  std::size_t at = kEthernetHeaderLength;
+  if (type == kEtherTypeVlan) {
+    if (frame.size() < kEthernetHeaderLength + kVlanTagLength + 2)
+      return wire_fail(WireError::Truncated, "frame shorter than its header");
+    out.vlan_tci = be16(p + 14);
+    type = be16(p + 16);
+    at += kVlanTagLength;
+  }
+  out.frame_id = be16(p + at);
+  if (type != kEtherTypeProfinet) return wire_fail(WireError::BadEtherType, "not EtherType 0x8892");
+  std::memcpy(out.dst.data(), p, 6);  // two fixed-size moves, not byte loops
+  std::memcpy(out.src.data(), p + 6, 6);
+  out.pdu = frame.subspan(at + 2);
+  return kWireOk;
+}
 
 // Writes dst, src, the optional tag, EtherType 0x8892 and the FrameID;
 // returns the header length (14/18 + 2), 0 if `out` is too small.
