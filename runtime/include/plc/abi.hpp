@@ -19,7 +19,10 @@
 // failure(): issue 21 follow-up).
 // 5: plc::io::Plugin::direct_io() (a new virtual), DriveAxis holds
 // program_commits_, FHostProtocol its CRC2 caches (issue 23).
-#define PLC_ABI_VERSION 5
+// 6: plc::io::DeviceLink counts into its runtime's total of tracking links,
+// PR5510_Device and NORD_SAFE_IO keep their decoded status per change,
+// DriveAxis::begin() is inline (issue 23, second round).
+#define PLC_ABI_VERSION 6
 
 // The exported symbol's name, for dlsym.
 #define PLC_CELL_ABI_SYMBOL "softplc_cell_abi_version"
