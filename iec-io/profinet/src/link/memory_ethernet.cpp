@@ -26,16 +26,10 @@ std::uint64_t destination_key(std::span<const std::uint8_t> frame) {
 
 struct NoExtra {};
 
-// Whether the frame's destination is `mac` (two loads, not a memcmp call:
-// every frame is checked against every port).
+// Whether the frame's destination is `mac` (every frame is checked against
+// every port on the general path).
 bool addressed_to(std::span<const std::uint8_t> frame, const Mac& mac) {  // frame.size() >= 6
-  std::uint32_t f4 = 0, m4 = 0;
-  std::uint16_t f2 = 0, m2 = 0;
-  std::memcpy(&f4, frame.data(), 4);
-  std::memcpy(&f2, frame.data() + 4, 2);
-  std::memcpy(&m4, mac.data(), 4);
-  std::memcpy(&m2, mac.data() + 4, 2);
-  return f4 == m4 && f2 == m2;
+  return same_mac(frame.data(), mac.data());
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -15,7 +16,20 @@ namespace plc::profinet {
 // declare the same alias.
 using Mac = std::array<std::uint8_t, 6>;
 
-std::string to_string(const Mac& m);             // "01:0e:cf:00:00:00"
+std::string to_string(const Mac& m);  // "01:0e:cf:00:00:00"
+
+// Whether the 6 bytes at `a` and at `b` are the same MAC: two loads each,
+// not a memcmp call (the in-memory hub and a device's output check compare
+// one or more per frame).
+inline bool same_mac(const std::uint8_t* a, const std::uint8_t* b) {
+  std::uint32_t a4 = 0, b4 = 0;
+  std::uint16_t a2 = 0, b2 = 0;
+  std::memcpy(&a4, a, 4);
+  std::memcpy(&a2, a + 4, 2);
+  std::memcpy(&b4, b, 4);
+  std::memcpy(&b2, b + 4, 2);
+  return a4 == b4 && a2 == b2;
+}
 std::optional<Mac> parse_mac(std::string_view);  // "01:0e:cf:00:00:00" or with '-'
 
 struct Ipv4 {
