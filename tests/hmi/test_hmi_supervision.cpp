@@ -102,11 +102,16 @@ struct Supervised {
     rt->start(io::ClockMode::RealTime);
     scans = std::thread([this, span] { rt->run(io::ClockMode::RealTime, span); });
   }
-  // plchmi's pid once it is one other than `not_this` (bounded: 10 s).
+  // plchmi's pid once it is one other than `not_this` and the host has
+  // logged its start (bounded: 10 s). The supervisor publishes the pid
+  // before the host's thread logs "started"/"back", so waiting for the pid
+  // alone let a test read the log one line short (CI, TSan, stop 31).
   int wait_pid(int not_this = 0) const {
     for (int i = 0; i < 1000; ++i) {
       const int pid = host->bridge_pid();
-      if (pid > 0 && pid != not_this) return pid;
+      if (pid > 0 && pid != not_this &&
+          lines().find("(pid " + std::to_string(pid) + ")") != std::string::npos)
+        return pid;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     return 0;
