@@ -62,12 +62,15 @@ struct Supervised {
   explicit Supervised(const std::string& extra = "", hmi::Supervisor::Backoff backoff = fast(),
                       const std::string& url = "memq://") {
     // The crashes the tests mean are the kernel's SIGSEGV (exit by signal
-    // 11). In an ASan build plchmi's own SEGV handler would turn the
-    // test's kill into a report and exit 1 (or abort), so it is switched
-    // off in the environment the host passes on; before any thread starts.
-    const char* asan = std::getenv("ASAN_OPTIONS");
-    const std::string opts = asan && *asan ? std::string(asan) + ":handle_segv=0" : "handle_segv=0";
-    ::setenv("ASAN_OPTIONS", opts.c_str(), 1);
+    // 11). In an ASan or TSan build plchmi's own SEGV handler would turn
+    // the test's kill into a report and exit 1 or 66 (TSan: "DEADLYSIGNAL"),
+    // so it is switched off in the environment the host passes on; before
+    // any thread starts.
+    for (const char* var : {"ASAN_OPTIONS", "TSAN_OPTIONS"}) {
+      const char* was = std::getenv(var);
+      const std::string opts = was && *was ? std::string(was) + ":handle_segv=0" : "handle_segv=0";
+      ::setenv(var, opts.c_str(), 1);
+    }
     std::string cell = plctest::demo_yaml();
     const auto wd = cell.find("watchdog: 10");
     if (wd != std::string::npos) cell.replace(wd, 12, "watchdog: 0 ");
