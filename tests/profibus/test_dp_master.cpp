@@ -380,3 +380,99 @@ TEST(DpMaster, DeactivatedSlaveIsNeverCalled) {
       << r.master->diagnostics(d);
   EXPECT_GT(r.master->counters(d6).data_exchanges, 20u);
 }
+
+namespace {
+
+// The master's end of the line with a latency the test sets: what the
+// slaves send reaches the master `latency` after it was sent, in order (a
+// pty or a USB RS-485 adapter whose latency spikes).
+class LaggingLine final : public pb::link::Line {
+ public:
+  LaggingLine(pb::link::Line& inner, const TIME& now) : inner_(inner), now_(now) {}
+  TIME latency{0};
+  bool send(std::span<const std::uint8_t> t) override { return inner_.send(t); }
+  std::size_t receive(std::span<std::uint8_t> buf) override {
+    std::array<std::uint8_t, 512> b{};
+    for (int i = 0; i < 64; ++i) {
+      const std::size_t n = inner_.receive(b);
+      if (n == 0) break;
+      last_due_ = std::max(now_ + latency, last_due_);
+      queue_.push_back({last_due_, std::vector<std::uint8_t>(b.begin(), b.begin() + n)});
+    }
+    std::size_t out = 0;
+    while (!queue_.empty() && queue_.front().first <= now_ &&
+           out + queue_.front().second.size() <= buf.size()) {
+      const auto& bytes = queue_.front().second;
+      std::copy(bytes.begin(), bytes.end(), buf.begin() + out);
+      out += bytes.size();
+      queue_.erase(queue_.begin());
+    }
+    return out;
+  }
+  const pb::link::LineCounters& counters() const override { return inner_.counters(); }
+  std::string describe() const override { return "lagging " + inner_.describe(); }
+
+ private:
+  pb::link::Line& inner_;
+  const TIME& now_;
+  TIME last_due_{0};
+  std::vector<std::pair<TIME, std::vector<std::uint8_t>>> queue_;
+};
+
+}  // namespace
+
+// A latency spike longer than the reply time-out: the master repeats the
+// Data_Exchange, and the slave answers both (the repetition with the same
+// FCB gets the same answer again). The first answer arrives after the
+// repetition was sent and is taken; the master then waits as long again
+// before its next request, so the slave's answer to the repetition is
+// dropped as late and never taken for the answer to the next request.
+// Before, it was: the inputs stayed one exchange stale (the slave's inputs
+// change at every tick, so no two answers to two requests are equal), and
+// the real answer came in after it.
+TEST(DpMaster, LateAnswerToARepeatedRequestIsNotTakenForTheNext) {
+  Rig r;
+  LaggingLine lag(*r.master_line, r.now);
+  r.cfg.min_reply_timeout = 10ms;
+  r.cfg.bus.max_retry = 3;
+  r.master = std::make_unique<pb::master::DpMaster>(r.cfg, &lag);
+  r.add_slave(pr1721_slave(5));
+  const std::size_t d = r.master->add(pr1721_entry(5, 1000));
+  ASSERT_TRUE(r.run_until([&] { return r.master->state(d) == SlaveState::Online; }, 100ms));
+  r.run_for(10ms);
+  const auto dx = r.master->counters(d).data_exchanges;
+  // Every answer the master takes shows inputs it has not shown before.
+  std::uint64_t seen = dx;
+  std::uint8_t last = r.master->inputs(d)[0];
+  int repeated = 0;
+  // Looked at after each tick of the master, which takes at most one
+  // answer per tick (Rig::step runs several exchanges in one millisecond).
+  auto master_tick = [&] {
+    r.master->tick(r.now);
+    const auto n = r.master->counters(d).data_exchanges;
+    if (n == seen) return;
+    repeated += r.master->inputs(d)[0] == last;
+    last = r.master->inputs(d)[0];
+    seen = n;
+  };
+  auto watch = [&](int ms) {
+    for (int i = 0; i < ms; ++i) {
+      r.now += 1ms;
+      for (int k = 0; k < 8; ++k) {
+        master_tick();
+        r.slaves[0]->slave->tick(r.now);
+      }
+      master_tick();
+    }
+  };
+  lag.latency = 15ms;  // 1.5 reply time-outs, while the request and its repetition go out
+  watch(12);
+  lag.latency = 0ms;
+  watch(40);
+  EXPECT_EQ(r.master->counters(d).retries, 1u);
+  EXPECT_EQ(repeated, 0) << "an answer to the repetition was taken for a later request";
+  EXPECT_EQ(r.master->counters().late_answers, 1u) << "the answer to the repetition";
+  EXPECT_EQ(r.master->counters().unexpected, 0u);
+  EXPECT_EQ(r.master->state(d), SlaveState::Online);
+  EXPECT_GT(r.master->counters(d).data_exchanges - dx, 10u);
+}

@@ -421,10 +421,11 @@ std::string ProfibusPlugin::diagnostics(std::size_t device) const {
   std::snprintf(
       b, sizeof b,
       "; line tx %llu rx-bytes %llu tx-dropped %llu bad-bytes %llu unexpected %llu "
-      "cycles %llu",
+      "late-answers %llu cycles %llu",
       static_cast<unsigned long long>(c.tx_telegrams), static_cast<unsigned long long>(c.rx_bytes),
       static_cast<unsigned long long>(c.tx_dropped), static_cast<unsigned long long>(m.bad_bytes),
-      static_cast<unsigned long long>(m.unexpected), static_cast<unsigned long long>(m.cycles));
+      static_cast<unsigned long long>(m.unexpected),
+      static_cast<unsigned long long>(m.late_answers), static_cast<unsigned long long>(m.cycles));
   s += b;
   return s;
 }

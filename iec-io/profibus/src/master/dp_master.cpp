@@ -84,6 +84,7 @@ void DpMaster::request(Kind k, std::size_t slave, Telegram t, TIME now) {
   pending_.deadline =
       now + (k == Kind::FdlStatus ? std::min<TIME>(reply_timeout_, std::chrono::milliseconds(2))
                                   : reply_timeout_);
+  pending_.first_sent = pending_.last_sent = now;
   pending_.length = encode(t, pending_.bytes);
   line_->send({pending_.bytes.data(), pending_.length});
   ++sent_;
@@ -106,6 +107,10 @@ void DpMaster::tick(TIME now) {
                                                        t.da == cfg_.address && t.sa == pending_.da);
     if (awaiting() && ours) {
       on_answer(t, now);
+    } else if (now <= quiet_until_ && t.format != Format::Token && !t.request() &&
+               (t.format == Format::ShortAck || t.sa == quiet_da_)) {
+      ++counters_.late_answers;
+      if (capture_) capture_->note(now.count(), "late answer to a repeated request: dropped");
     } else {
       ++counters_.unexpected;
     }
@@ -115,6 +120,7 @@ void DpMaster::tick(TIME now) {
     if (capture_) capture_->note(now.count(), std::string("bytes dropped: ") + rx_.last_error());
   }
   if (awaiting() && now >= pending_.deadline) on_timeout(now);
+  if (now < quiet_until_) return;
   for (std::size_t guard = 0; guard < slaves_.size() + 8 && !awaiting(); ++guard)
     if (!next_transaction(now)) break;
 }
@@ -215,6 +221,7 @@ void DpMaster::on_timeout(TIME now) {
   if (pending_.kind != Kind::FdlStatus && pending_.retries < cfg_.bus.max_retry) {
     ++pending_.retries;
     pending_.deadline = now + reply_timeout_;
+    pending_.last_sent = now;
     line_->send({pending_.bytes.data(), pending_.length});
     ++sent_;
     ++slaves_[pending_.slave]->counters.retries;
@@ -234,6 +241,14 @@ void DpMaster::on_timeout(TIME now) {
 void DpMaster::on_answer(const Telegram& t, TIME now) {
   const Kind k = pending_.kind;
   pending_.kind = Kind::None;
+  if (pending_.retries > 0) {
+    // The slave got the request more than once and answers each (a
+    // repetition carries the same FCB: the same answer again). Taking this
+    // answer as the first one's, the last repetition's may come as late
+    // after it was sent: as long as this one took.
+    quiet_until_ = pending_.last_sent + (now - pending_.first_sent);
+    quiet_da_ = pending_.da;
+  }
   if (k == Kind::FdlStatus) {
     if (t.format != Format::ShortAck && (t.fc & 0x30) != kStationSlave && on_other_master)
       on_other_master(t.sa);

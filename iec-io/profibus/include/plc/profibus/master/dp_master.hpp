@@ -85,6 +85,9 @@ struct SlaveCounters {
 struct MasterCounters {
   std::uint64_t cycles = 0, tokens = 0, gap_requests = 0, global_controls = 0, bad_bytes = 0,
                 unexpected = 0;
+  // Answers dropped in the quiet time after a repeated request (the
+  // slave's answer to a request the master had already had answered).
+  std::uint64_t late_answers = 0;
 };
 
 class DpMaster {
@@ -151,6 +154,7 @@ class DpMaster {
     std::uint8_t da = 0;
     int retries = 0;
     TIME deadline{0};
+    TIME first_sent{0}, last_sent{0};  // the request, and its last repetition
     std::array<std::uint8_t, fdl::kMaxTelegram> bytes{};
     std::size_t length = 0;
   };
@@ -176,6 +180,12 @@ class DpMaster {
   std::vector<std::unique_ptr<Slave>> slaves_;
   Pending pending_;
   TIME reply_timeout_{0};
+  // After an answer to a repeated request, nothing is sent before this:
+  // the slave may still answer the repetition, and on a line with latency
+  // (a pty, a USB adapter) that answer would otherwise be taken for the
+  // answer to the next request, which is then one exchange stale.
+  TIME quiet_until_{-1};       // -1: none yet
+  std::uint8_t quiet_da_ = 0;  // the station whose late answer is dropped
   // The cycle: next slave to serve, then Global_Control, token, GAP.
   std::size_t cursor_ = 0;
   bool in_cycle_ = false;
