@@ -157,6 +157,7 @@ ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
   } else if (lock_image_) {
     copy_spans(t.keep);
   }
+  t.merge_bits = lock_image_;
   return ScanContext{now, t.period, t.cycle};
 }
 
@@ -197,11 +198,12 @@ bool Runtime::run_programs_and_publish(TaskRuntime& t, const ScanContext& ctx) {
       if (t.whole_image_scan) {
         for (io::Area a : {io::Area::Output, io::Area::Memory})
           io::merge_changes(global_.area(a), t.before.area(a), t.image.area(a));
-      } else if (lock_image_) {
+      } else if (t.merge_bits) {
         for (const ImageSpan& s : t.merge_out)
           io::merge_changes({s.dst, s.n}, {s.before, s.n}, {s.src, s.n});
       } else {
-        // Virtual time: the global bytes are still those the latch copied.
+        // Virtual time, both halves in one scan(): the global bytes are
+        // still those the latch copied.
         copy_spans(t.copy_out);
       }
       for (ScanHooks* h : hooks_) h->before_publish(t, global_);
@@ -340,7 +342,15 @@ void Runtime::step_plugin(const std::string& name, io::Plugin& p, TIME dt) {
 ScanContext Runtime::latch_scan(TaskRuntime& t, TIME now) {
   now_ = now;
   if (t.stopped.load(std::memory_order_relaxed)) return ScanContext{now, t.period, t.cycle};
-  return scan_latch(t, now);
+  const ScanContext ctx = scan_latch(t, now);
+  // The halves run apart: another task may latch and merge in between, so
+  // this scan merges its changed bits, as in real time (keep its bound
+  // bytes as the latch left them).
+  if (!t.whole_image_scan && !t.merge_bits) {
+    copy_spans(t.keep);
+    t.merge_bits = true;
+  }
+  return ctx;
 }
 
 void Runtime::finish_scan(TaskRuntime& t, const ScanContext& ctx) {

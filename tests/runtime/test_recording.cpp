@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <thread>
@@ -154,6 +156,41 @@ std::size_t scan_of(const std::vector<Frame>& fs, std::size_t byte) {
 }  // namespace
 
 // ---------------------------------------------------------------- point 1
+
+// Halves driven apart in virtual time (as a replay and the test below do),
+// with no hook that asks for whole-image scans: A latches, B runs a whole
+// scan and writes %MD0, then A merges. A is bound to %MD0 (it reads it), so
+// copying A's bound bytes back, as a back-to-back virtual scan may, would
+// put A's stale %MD0 over B's; the merge takes only the bits A changed.
+TEST(RealTimeRecording, SplitHalvesMergeOnlyTheBitsTheScanChanged) {
+  auto rt = plctest::make_runtime(kRelayCell);
+  TaskRuntime& a = *rt->tasks()[0];
+  TaskRuntime& b = *rt->tasks()[1];
+  const ScanContext ca = rt->latch_scan(a, TIME(0));
+  EXPECT_FALSE(a.whole_image_scan);
+  rt->finish_scan(b, rt->latch_scan(b, TIME(0)));
+  rt->finish_scan(a, ca);
+  const auto global = rt->image().area(io::Area::Memory);
+  const auto from_b = b.image.area(io::Area::Memory);
+  ASSERT_NE(from_b[0] | from_b[1] | from_b[2] | from_b[3], 0) << "B wrote nothing to %MD0";
+  EXPECT_TRUE(std::equal(from_b.begin(), from_b.begin() + 4, global.begin()))
+      << "A's merge put its stale %MD0 over B's";
+  const auto from_a = a.image.area(io::Area::Memory);
+  EXPECT_TRUE(std::equal(from_a.begin() + 4, from_a.begin() + 8, global.begin() + 4));
+}
+
+// The recorder reads only the global image: recorded scans copy and merge
+// their bound bytes, as unrecorded ones do (no whole-image copy per scan).
+TEST(RealTimeRecording, RecordedScansCopyOnlyTheirBoundBytes) {
+  const std::string rec = plctest::temp_path("bound.rec");
+  auto rt = plctest::make_runtime(kRelayCell);
+  debug::Recorder recorder(*rt, rec);
+  TaskRuntime& a = *rt->tasks()[0];
+  rt->finish_scan(a, rt->latch_scan(a, TIME(0)));
+  EXPECT_FALSE(a.whole_image_scan);
+  EXPECT_EQ(recorder.close(), "");
+  std::remove(rec.c_str());
+}
 
 // Two tasks exchanging data through %M, their scans' halves interleaved in
 // many orders (as real-time threads do): the recording replays with

@@ -123,7 +123,12 @@ struct TaskRuntime {
   };
   std::vector<DirectDevice> direct;
   std::vector<DeviceRuntime*> via_plugin;
-  bool whole_image_scan = false;   // this scan copies and merges whole areas (set at its latch)
+  bool whole_image_scan = false;  // this scan copies and merges whole areas (set at its latch)
+  // This scan merges the bits it changed (kept in `before` at its latch)
+  // instead of copying its bound bytes back: in real time, and for halves
+  // driven apart (latch_scan/finish_scan), where another task's scan may
+  // have written the global image between this latch and this merge.
+  bool merge_bits = false;
   std::uint32_t timing_phase = 0;  // virtual time: which scans are timed (Runtime::scan_latch)
   bool scan_timed = false;         // the scan under way is timed
   LiveTaskStats stats;             // recorded by the task's thread; snapshot() from any

@@ -45,6 +45,10 @@ class ImageMirror {
   [[nodiscard]] std::size_t words() const { return copy_.size() / 8; }
   void diff_area(std::span<const std::uint8_t> src, std::size_t at, recfmt::Buf& out,
                  std::uint32_t& n);
+  // Takes the word at copy[i] (i from the area's start `at`) into the copy
+  // and the delta.
+  static void put_word(std::uint8_t* copy, std::size_t at, std::size_t i, std::uint64_t now,
+                       recfmt::Buf& out, std::uint32_t& n);
 
   std::size_t q_bytes_, m_bytes_, m_at_;  // m_at_: %Q padded to whole words
   std::vector<std::uint8_t> copy_;        // %Q, zero padding, %M, zero padding

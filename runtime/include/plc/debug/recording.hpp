@@ -123,6 +123,14 @@ class Recorder final : public ScanHooks {
   // latch when no other task is.
   void arm();
 
+  // The recorder writes no image byte and reads only the global image (the
+  // latched inputs, the merged %Q/%M, the snapshot): the scans it records
+  // copy and merge only their bound bytes, as they do without it, so a
+  // recording costs no whole-image copy and records the scans as they run
+  // unrecorded. (The debugger, whose writes and forces reach any byte,
+  // keeps the whole-image scans while it is attached.)
+  [[nodiscard]] bool whole_image() const override { return false; }
+
   void after_latch(TaskRuntime& t, io::ProcessImage& global) override;
   void on_answer(TaskRuntime& t, std::size_t device, const io::RecordRequest& r) override;
   void before_programs(TaskRuntime& t, const ScanContext& ctx) override;
