@@ -149,10 +149,19 @@ void PR5510_Device::operator()(const ScanContext& ctx) {
   prev_cal_changed_ = status_.CalChanged;
   prev_cmd_error_ = status_.CmdError;
 
-  run_own_reader();
+  // With nothing to read for itself and no read error or grant of its own,
+  // run_own_reader() only sets Ready (= FormatReads > 0, want_fsd_ being
+  // false): most scans, so no call.
+  if (!want_fsd_ && !want_format_ && !want_model_ && holder_ != kOwnSlot &&
+      !(rd_err_ & bit(kOwnSlot)))
+    Ready = FormatReads > 0;
+  else
+    run_own_reader();
   arbitrate_read(ctx.now);
-  run_write(ctx.now);
-  run_command(ctx.now);
+  // Idle with nothing pending, run_write() and run_command() do nothing
+  // (next_in() of an empty mask is kNoSlot): most scans, so no call.
+  if (wr_phase_ != WrPhase::Idle || wr_pending_ != 0) run_write(ctx.now);
+  if (cmd_phase_ != CmdPhase::Idle || cmd_pending_ != 0) run_command(ctx.now);
   out[w::kOutputs] = outputs_;
 }
 
