@@ -184,8 +184,13 @@ void DriveAxis::begin_scan(const ScanContext& ctx) {
   CommOk = CommError == 0;
   sol_out_ = next_sign_of_life(sol_out_);
 
-  advance();
-  advance_reset();
+  // advance() acts only in a command's running phases (and on a halt's
+  // release after Done), advance_reset() only during a reset: in the other
+  // scans (most) both return at once, so they are not called.
+  const bool running =
+      phase_ == Phase::PreLow || phase_ == Phase::Request || phase_ == Phase::Running;
+  if (kind_ != Kind::None && (running || (kind_ == Kind::Halt && phase_ == Phase::Done))) advance();
+  if (reset_phase_ == ResetPhase::AckLow || reset_phase_ == ResetPhase::AckHigh) advance_reset();
   update_state();
 }
 
