@@ -189,7 +189,8 @@ class PR5510_BatchWeigh {
   // Called from operator() alone (weight_error() from run_state()), every
   // scan while busy: inline, no call and no register saves.
   [[gnu::always_inline]] inline void run_state(const ScanContext& ctx);
-  void set_valves(bool coarse, bool fine, bool discharge);
+  // Every busy scan sets the valves: inline (defined in batch_weigh.cpp).
+  [[gnu::always_inline]] inline void set_valves(bool coarse, bool fine, bool discharge);
   void measure_fine_rate(TIME now);
   [[gnu::always_inline]] [[nodiscard]] inline std::uint16_t weight_error(TIME now) const;
   [[nodiscard]] REAL cutoff() const;
