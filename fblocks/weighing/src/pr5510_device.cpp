@@ -11,6 +11,13 @@ constexpr int kOwnSlot = 0;
 // The status cache starts as the bytes 0, 0, 0 (status_raw_) and their decode.
 static_assert(decode_status(std::array<std::uint8_t, kWindowSize>{}) == StatusBits{});
 
+// decode_status() where the status bytes changed (a few scans in a
+// hundred): out of line, so that operator() (every scan) needs fewer
+// registers to save.
+[[gnu::noinline]] StatusBits decode_status_changed(std::span<const std::uint8_t> in) {
+  return decode_status(in);
+}
+
 // The status bit that shows a command took effect (spec §5.5 feedback
 // column). Set Zero has no bit of its own that noise cannot flicker
 // (Center Zero is +- 1/4 d), so it is judged by Cmd_Busy/Cmd_Error alone.
@@ -133,7 +140,7 @@ void PR5510_Device::operator()(const ScanContext& ctx) {
                             static_cast<std::uint32_t>(in[r::kCommand]) << 8 |
                             static_cast<std::uint32_t>(in[r::kWeighing]) << 16;
   if (raw != status_raw_) {
-    status_ = decode_status(in);
+    status_ = decode_status_changed(in);
     status_raw_ = raw;
   }
 
