@@ -53,6 +53,36 @@ static_assert(round_trip_is_mask_everywhere<PosStw1>);
 static_assert(round_trip_is_mask_everywhere<PosStw2>);
 static_assert(round_trip_is_mask_everywhere<Stw2>);
 
+// The telegram 3 and 9 reads of begin_scan(), out of line: the telegram 111
+// path (the E1's own, every scan) then needs fewer registers and no stack
+// frame for the decoded structures.
+[[gnu::noinline]] void read_standard3(DriveAxis& a, std::span<const std::uint8_t> in) {
+  const auto t = Telegram3In::decode(in);
+  a.ZSW1 = t.zsw1.word();
+  a.NIST_B = t.nist_b;
+  a.ZSW2 = t.zsw2.word(false);
+  a.G1_ZSW = t.g1_zsw.word();
+  a.G1_XIST1 = t.g1_xist1;
+  a.G1_XIST2 = t.g1_xist2;
+  a.ActPosition = static_cast<double>(static_cast<std::int32_t>(t.g1_xist1));
+  a.ActVelocity = rpm_to_cu_per_s(nist_b_to_speed(a.NIST_B, a.RefSpeedRpm), a.CuPerRev);
+}
+
+[[gnu::noinline]] void read_standard9(DriveAxis& a, std::span<const std::uint8_t> in, TIME dt) {
+  const auto t = Telegram9In::decode(in);
+  a.ZSW1 = t.zsw1.word();
+  a.AKTSATZ = t.aktsatz.word();
+  a.ZSW2 = t.zsw2.word();
+  a.XIST_A = t.xist_a;
+  a.ActPosition = a.XIST_A;
+  const double secs = std::chrono::duration<double>(dt).count();
+  if (a.have_prev_xist_ && secs > 0)
+    a.ActVelocity =
+        static_cast<double>(static_cast<std::int32_t>(static_cast<std::uint32_t>(a.XIST_A) -
+                                                      static_cast<std::uint32_t>(a.prev_xist_))) /
+        secs;
+}
+
 }  // namespace
 
 const char* to_string(AxisState s) {
@@ -104,33 +134,12 @@ void DriveAxis::begin_scan(const ScanContext& ctx) {
   const bool online = Port.online();
   if (shape_ok) {
     switch (tg) {
-      case TelegramType::Standard3: {
-        const auto t = Telegram3In::decode(in);
-        ZSW1 = t.zsw1.word();
-        NIST_B = t.nist_b;
-        ZSW2 = t.zsw2.word(false);
-        G1_ZSW = t.g1_zsw.word();
-        G1_XIST1 = t.g1_xist1;
-        G1_XIST2 = t.g1_xist2;
-        ActPosition = static_cast<double>(static_cast<std::int32_t>(t.g1_xist1));
-        ActVelocity = rpm_to_cu_per_s(nist_b_to_speed(NIST_B, RefSpeedRpm), CuPerRev);
+      case TelegramType::Standard3:
+        read_standard3(*this, in);
         break;
-      }
-      case TelegramType::Standard9: {
-        const auto t = Telegram9In::decode(in);
-        ZSW1 = t.zsw1.word();
-        AKTSATZ = t.aktsatz.word();
-        ZSW2 = t.zsw2.word();
-        XIST_A = t.xist_a;
-        ActPosition = XIST_A;
-        const double secs = std::chrono::duration<double>(dt).count();
-        if (have_prev_xist_ && secs > 0)
-          ActVelocity =
-              static_cast<double>(static_cast<std::int32_t>(
-                  static_cast<std::uint32_t>(XIST_A) - static_cast<std::uint32_t>(prev_xist_))) /
-              secs;
+      case TelegramType::Standard9:
+        read_standard9(*this, in, dt);
         break;
-      }
       case TelegramType::Hiwin111: {  // Telegram111In::decode, the words as masks
         using T = Telegram111In;
         ZSW1 = static_cast<std::uint16_t>(wire::u16(in, T::kZsw1) & kept_bits<Zsw1Pos>);
@@ -184,8 +193,13 @@ void DriveAxis::begin_scan(const ScanContext& ctx) {
   CommOk = CommError == 0;
   sol_out_ = next_sign_of_life(sol_out_);
 
-  advance();
-  advance_reset();
+  // advance() acts only in a command's running phases (and on a halt's
+  // release after Done), advance_reset() only during a reset: in the other
+  // scans (most) both return at once, so they are not called.
+  const bool running =
+      phase_ == Phase::PreLow || phase_ == Phase::Request || phase_ == Phase::Running;
+  if (kind_ != Kind::None && (running || (kind_ == Kind::Halt && phase_ == Phase::Done))) advance();
+  if (reset_phase_ == ResetPhase::AckLow || reset_phase_ == ResetPhase::AckHigh) advance_reset();
   update_state();
 }
 

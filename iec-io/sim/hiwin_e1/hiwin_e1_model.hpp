@@ -175,13 +175,16 @@ class HiwinE1Model : public io::DeviceModel {
   void serve_parameter_request(std::span<const std::uint8_t> req);
   void restart(bool reload_flash);
 
-  void update_state_machine(bool rise_ack);
-  void update_position_mode(double dt, bool rise_task, bool rise_homing, bool rise_setref);
+  // step()'s parts, each called from step() alone, every step: inline, so
+  // they cost no call and save no registers.
+  [[gnu::always_inline]] inline void update_state_machine(bool rise_ack);
+  [[gnu::always_inline]] inline void update_position_mode(double dt, bool rise_task,
+                                                          bool rise_homing, bool rise_setref);
   void update_speed_mode(double dt);
   void coast(double dt);
   void follow(double dt);
   void enter_fault(std::uint16_t code);
-  void write_inputs(std::span<std::uint8_t> to_plc);
+  [[gnu::always_inline]] inline void write_inputs(std::span<std::uint8_t> to_plc);
   void encode_inputs(std::span<std::uint8_t> to_plc) const;
   bool move_to(double target, double vmax, double a, double d, double dt);
   void ramp_velocity(double vt, double a, double d, double dt);
@@ -207,7 +210,8 @@ class HiwinE1Model : public io::DeviceModel {
   std::uint16_t stw1_ = 0, prev_stw1_ = 0, pos_stw2_prev_ = 0;
   drive::Telegram111Out cmd_;  // setpoints (tgm 9 mapped onto the 111 fields)
   // The last telegram 111 decoded, and its bytes (decode_111).
-  const drive::Telegram111Out& decode_111(std::span<const std::uint8_t> b);
+  [[gnu::always_inline]] inline const drive::Telegram111Out& decode_111(
+      std::span<const std::uint8_t> b);
   drive::Telegram111Out decoded_;
   std::array<std::uint8_t, drive::Telegram111Out::kBytes> decoded_bytes_{};
   bool decoded_valid_ = false;

@@ -25,6 +25,13 @@ void FillingProcess::move(Valve& v, bool cmd) {
   }
 }
 
+// A closed valve that stays closed: nothing moves (most steps, for most
+// valves), and no noise is drawn.
+void FillingProcess::drive(Valve& v, bool cmd) {
+  if (!cmd && !v.cmd && v.open == 0.0) return;
+  move(v, cmd);
+}
+
 void FillingProcess::step_1ms(bool coarse, bool fine, bool discharge) {
   drive(coarse_, coarse);
   drive(fine_, fine);

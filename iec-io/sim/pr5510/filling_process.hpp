@@ -54,13 +54,10 @@ class FillingProcess {
     double open = 0.0;    // 0..1
     double factor = 1.0;  // this opening's rate factor
   };
-  // A closed valve that stays closed: nothing moves (most steps, for most
-  // valves), and no noise is drawn. Inline, so such a valve costs no call.
-  void drive(Valve& v, bool cmd) {
-    if (!cmd && !v.cmd && v.open == 0.0) return;
-    move(v, cmd);
-  }
-  void move(Valve& v, bool cmd);
+  // step_1ms()'s parts, defined in filling_process.cpp and inline into
+  // step_1ms() (every valve, every ms): no calls.
+  [[gnu::always_inline]] inline void drive(Valve& v, bool cmd);
+  [[gnu::always_inline]] inline void move(Valve& v, bool cmd);
   [[nodiscard]] double sigma() const { return cfg_.noise_kg + cfg_.impact_noise * landing_rate_; }
 
   FillingConfig cfg_;

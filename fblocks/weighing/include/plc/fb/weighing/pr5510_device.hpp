@@ -197,7 +197,9 @@ class PR5510_Device {
   static int next_in(std::uint8_t mask, int from);
   void go_offline();
   void run_own_reader();
-  void arbitrate_read(TIME now);
+  // Called from operator() alone, every scan: inline, no call and no
+  // register saves.
+  [[gnu::always_inline]] inline void arbitrate_read(TIME now);
   void run_write(TIME now);
   void run_command(TIME now);
   void finish_write(std::uint16_t err);
