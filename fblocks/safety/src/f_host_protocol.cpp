@@ -1,11 +1,25 @@
 #include "plc/fb/safety/f_host_protocol.hpp"
 
 #include <algorithm>
+#include <cstring>
 
 #include "plc/fb/safety/control_status_byte.hpp"
 #include "plc/fb/safety/f_host_diag.hpp"
 
 namespace plc::safety {
+
+namespace {
+// n (<= kMaxFData) bytes between distinct buffers; F-data of 4..8 bytes
+// (NORD: 4 each way) as two 4-byte moves instead of a loop per byte.
+inline void copy_fdata(std::uint8_t* dst, const std::uint8_t* src, std::size_t n) {
+  if (n >= 4 && n <= 8) {
+    std::memcpy(dst, src, 4);
+    std::memcpy(dst + n - 4, src + n - 4, 4);
+    return;
+  }
+  for (std::size_t i = 0; i < n; ++i) dst[i] = src[i];
+}
+}  // namespace
 
 void FHostProtocol::configure(std::uint16_t crc1, std::size_t out_len, std::size_t in_len,
                               TIME wd_time) {
@@ -159,7 +173,7 @@ void FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> response,
   // telegram is due; everything else is the fail-safe value 0.
   const bool may_pass = state_ == FHostState::Run && !cmd.pass_on;
   if (valid && may_pass && !fv) {
-    for (std::size_t i = 0; i < in_len_; ++i) app_in[i] = response[i];
+    copy_fdata(app_in.data(), response.data(), in_len_);
     accepted_cn_ = cn_;
     data_valid_ = true;
     ++deliveries_;
@@ -192,7 +206,11 @@ void FHostProtocol::build_request(TIME now, std::span<std::uint8_t> request,
 
   // The F-output data, or the fail-safe value 0, straight into the PDU.
   const bool pass = run && !cmd.pass_on;
-  for (std::size_t i = 0; i < out_len_; ++i) request[i] = pass ? app_out[i] : std::uint8_t{0};
+  if (pass) {
+    copy_fdata(request.data(), app_out.data(), out_len_);
+  } else {
+    std::fill_n(request.begin(), out_len_, std::uint8_t{0});
+  }
   request_crc_.seal_pdu(request, out_len_, control, cn_, crc1_);
 }
 
