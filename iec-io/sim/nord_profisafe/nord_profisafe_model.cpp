@@ -266,7 +266,10 @@ inline std::uint32_t NordProfisafeModel::q_causes() {
   return m;
 }
 
-void NordProfisafeModel::update_q(TIME now) {
+// update_q(), handle_request(), evaluate() and build_response() are inline:
+// each has one caller (step(), update_q() evaluate()), which runs them once
+// per exchange; as calls they cost their register saves every exchange.
+inline void NordProfisafeModel::update_q(TIME now) {
   // Nothing can change while no error is active and none has a cause (the
   // usual step): the loops below would only look.
   const std::uint32_t causes = q_causes();
@@ -302,7 +305,7 @@ void NordProfisafeModel::update_q(TIME now) {
   }
 }
 
-void NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> in) {
+inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> in) {
   if (in.size() < kPdu) return;
   std::array<std::uint8_t, kPdu> req;
   std::copy_n(in.begin(), kPdu, req.begin());
@@ -363,7 +366,7 @@ void NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> 
   chan_ack_prev_ = ack;
 }
 
-void NordProfisafeModel::evaluate(TIME now, TIME dt) {
+[[gnu::always_inline]] inline void NordProfisafeModel::evaluate(TIME now, TIME dt) {
   if (fpar_ok_ && now - t_valid_ > wd_ && !wd_timeout_) {
     wd_timeout_ = true;
     fault_fv_ = true;
@@ -424,7 +427,7 @@ void NordProfisafeModel::evaluate(TIME now, TIME dt) {
     ossd_[i] = !pas && cmd[i] && ip_.p802[2 + i] == 1 && !chan_passive_[i];
 }
 
-void NordProfisafeModel::build_response() {
+[[gnu::always_inline]] inline void NordProfisafeModel::build_response() {
   std::array<std::uint8_t, 4> data{};
   const bool pas = passivated();
   if (!pas) {  // fail-safe values are all 0 (spec §2.4)
