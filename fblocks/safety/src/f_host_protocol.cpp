@@ -186,8 +186,10 @@ void FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> response,
   if (answered || !sent_any_) build_request(now, request, app_out, cmd);
 }
 
-void FHostProtocol::build_request(TIME now, std::span<std::uint8_t> request,
-                                  std::span<const std::uint8_t> app_out, const FHostCommand& cmd) {
+// Inline into cycle(), its one caller: a request is built every exchange.
+[[gnu::always_inline]] inline void FHostProtocol::build_request(
+    TIME now, std::span<std::uint8_t> request, std::span<const std::uint8_t> app_out,
+    const FHostCommand& cmd) {
   sent_any_ = true;
   t_sent_ = now;
   wd_tripped_ = false;
