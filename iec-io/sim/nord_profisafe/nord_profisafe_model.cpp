@@ -30,6 +30,7 @@ NordProfisafeModel::NordProfisafeModel(const io::ModelParams& p)
   si_ = si_raw_;
   p.reject_unknown();
   refresh_inc_per_s();
+  refresh_si_causes();
   power_cycle();
 }
 
@@ -254,15 +255,27 @@ inline std::uint32_t NordProfisafeModel::q_causes() {
     set(kQSo3Off, get(r, nin::kOssd3) && ip_.p802[4] == 0);
     request_causes_ = rm;
   }
-  std::uint32_t m = request_causes_;
+  static_assert(kQSos - kQSls + 1 == NordSafetyFunctions::kCount);
+  return request_causes_ | si_causes_ | static_cast<std::uint32_t>(fn_.trips()) << kQSls |
+         static_cast<std::uint32_t>(discrepancy_fault_) << kQDiscrepancy |
+         static_cast<std::uint32_t>(injected_cause_) << kQInjected;
+}
+
+void NordProfisafeModel::refresh_si_causes() {
+  std::uint32_t m = 0;
   auto set = [&m](int q, bool on) { m |= static_cast<std::uint32_t>(on) << q; };
-  for (int f = 0; f < NordSafetyFunctions::kCount; ++f) set(kQSls + f, fn_.tripped(f));
   set(kQSi1Off, si_[0] && ip_.p802[0] == 0);
   set(kQSi2Off, si_[1] && ip_.p802[1] == 0);
   for (int in = 0; in < 2; ++in)
     set(kQSi1Clock + in, ip_.p806[in] != 0 && si_[in] && si_source_[in] != ip_.p806[in]);
-  set(kQDiscrepancy, discrepancy_fault_);
-  set(kQInjected, injected_cause_);
+  si_causes_ = m;
+}
+
+std::uint32_t NordProfisafeModel::q_causes_kept() { return q_causes(); }
+
+std::uint32_t NordProfisafeModel::q_causes_full() const {
+  std::uint32_t m = 0;
+  for (int i = 0; i < kQCount; ++i) m |= static_cast<std::uint32_t>(q_cause(i)) << i;
   return m;
 }
 
@@ -384,6 +397,7 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
     }
     if (now - si_change_since_[i] >= std::chrono::milliseconds(ip_.p805_ms)) {
       si_[i] = si_raw_[i];
+      refresh_si_causes();
       si_changing_[i] = false;
     }
   }

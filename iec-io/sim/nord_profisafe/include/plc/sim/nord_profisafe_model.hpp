@@ -88,7 +88,10 @@ class NordProfisafeModel : public io::DeviceModel {
   void set_si(bool si1, bool si2) { si_raw_ = {si1, si2}; }
   // What feeds SI1/SI2 (input 0/1): 0 = static 24 V, 1 = TAKT1, 2 = TAKT2.
   // With P806 assigning a clock, any other source is 5737/5738 (spec §4.5).
-  void set_si_source(int input, int clock) { si_source_[input & 1] = clock; }
+  void set_si_source(int input, int clock) {
+    si_source_[input & 1] = clock;
+    refresh_si_causes();
+  }
 
   // ---- fault injection (spec §8.4) ----
   // XOR `mask` into byte `byte` of the next n requests the device receives.
@@ -127,6 +130,10 @@ class NordProfisafeModel : public io::DeviceModel {
   }
 
   // ---- observation ----
+  // For tests of the kept q-error causes: as step() takes them, and each
+  // computed from the state (bit i: cause of q error i).
+  [[nodiscard]] std::uint32_t q_causes_kept();
+  [[nodiscard]] std::uint32_t q_causes_full() const;
   [[nodiscard]] bool ossd(int i) const { return ossd_[i]; }  // 0..2 = SO1..SO3
   [[nodiscard]] bool fail_safe_active() const;
   [[nodiscard]] bool device_fault() const { return fatal_code_ != 0 || module_fault(); }
@@ -196,6 +203,7 @@ class NordProfisafeModel : public io::DeviceModel {
   void refresh_module_fault();
   bool q_cause(int q) const;
   std::uint32_t q_causes();
+  void refresh_si_causes();
 
   NordIParams ip_;
   NordSafetyFunctions fn_;
@@ -213,6 +221,10 @@ class NordProfisafeModel : public io::DeviceModel {
   std::array<bool, 2> si_changing_{};
   std::array<TIME, 2> si_change_since_{};
   std::array<int, 2> si_source_{};
+  // q_causes(): the causes given by si_ and si_source_ alone (SI not
+  // enabled, P806 clock monitoring; the i-parameters are fixed), refreshed
+  // by refresh_si_causes() at each change of either.
+  std::uint32_t si_causes_ = 0;
   std::uint16_t config_fatal_ = 0;  // i-parameter / DIP fatal code found at power-on
 
   // F-parameters / protocol
