@@ -128,9 +128,10 @@ TEST(SafetyCrc2Cache, HeadDifferingInOnePlaceIsNotTheCachedOne_Spec2_1) {
     for (int bit = 0; bit < 16; ++bit) {
       Crc2Cache cache;
       ASSERT_TRUE(same_as_full(cache, base, cb, seed));
-      if (bit < 8 && bit != 5)  // bit 5 (toggle) selects the other slot anyway
+      if (bit < 8 && bit != 5) {  // bit 5 (toggle) selects the other slot anyway
         ASSERT_TRUE(same_as_full(cache, base, static_cast<std::uint8_t>(cb ^ (1u << bit)), seed))
             << "length " << n << " control bit " << bit;
+      }
       ASSERT_TRUE(same_as_full(cache, base, cb, static_cast<std::uint16_t>(seed ^ (1u << bit))))
           << "length " << n << " CRC1 bit " << bit;
     }
