@@ -72,8 +72,9 @@ class Crc2Cache {
   }
   // write_pdu() for F-data already in pdu[0, fdata_len): writes the
   // control/status byte and CRC2 behind it (no copy of the data).
-  void seal_pdu(std::span<std::uint8_t> pdu, std::size_t fdata_len, std::uint8_t cb_sb,
-                std::uint32_t cons_nr, std::uint16_t crc1_seed) {
+  [[gnu::always_inline]] void seal_pdu(std::span<std::uint8_t> pdu, std::size_t fdata_len,
+                                       std::uint8_t cb_sb, std::uint32_t cons_nr,
+                                       std::uint16_t crc1_seed) {
     pdu[fdata_len] = cb_sb;
     if (fdata_len <= kMaxCachedFData) {  // crc2_length() == 3
       const std::uint32_t c = cached_crc2(pdu.first(fdata_len), cb_sb, cons_nr, crc1_seed);
@@ -84,8 +85,8 @@ class Crc2Cache {
     }
     put_crc2(pdu, fdata_len, compute_crc2(pdu.first(fdata_len), cb_sb, cons_nr, crc1_seed));
   }
-  bool check_pdu(std::span<const std::uint8_t> pdu, std::size_t fdata_len, std::uint32_t cons_nr,
-                 std::uint16_t crc1_seed) {
+  [[gnu::always_inline]] bool check_pdu(std::span<const std::uint8_t> pdu, std::size_t fdata_len,
+                                        std::uint32_t cons_nr, std::uint16_t crc1_seed) {
     if (pdu.size() < pdu_size(fdata_len)) return false;
     if (fdata_len <= kMaxCachedFData) {  // crc2_length() == 3
       const std::uint32_t got = static_cast<std::uint32_t>(pdu[fdata_len + 1]) << 16 |
@@ -125,8 +126,11 @@ class Crc2Cache {
             hi};
   }
 
-  std::uint32_t cached_crc2(std::span<const std::uint8_t> fdata, std::uint8_t cb_sb,
-                            std::uint32_t cons_nr, std::uint16_t crc1_seed) {
+  // seal_pdu(), check_pdu() and this are always inline: four per exchange,
+  // each a few instructions when the head is cached.
+  [[gnu::always_inline]] std::uint32_t cached_crc2(std::span<const std::uint8_t> fdata,
+                                                   std::uint8_t cb_sb, std::uint32_t cons_nr,
+                                                   std::uint16_t crc1_seed) {
     const Key k = pack(fdata, cb_sb, crc1_seed);
     Head& h = heads_[(cb_sb >> 5) & 1u];
     if (h.k.key != k.key || h.k.rest != k.rest) h.take(k, fdata, cb_sb, crc1_seed);
