@@ -35,13 +35,13 @@ NordProfisafeModel::NordProfisafeModel(const io::ModelParams& p)
 }
 
 void NordProfisafeModel::reset_volatile() {
-  fpar_ok_ = false;
+  pas_.no_fpar = true;
   crc1_ = 0;
   wd_ = {};
   cn_ = 0;
   last_toggle_ = false;
-  ce_crc_ = wd_timeout_ = cons_nr_r_ = false;
-  fault_fv_ = host_fv_ = true;
+  pas_.ce_crc = pas_.wd_timeout = cons_nr_r_ = false;
+  pas_.fault_fv = pas_.host_fv = true;
   requested_ = {};
   applied_ = {};
   chan_ack_prev_ = false;
@@ -169,22 +169,22 @@ void NordProfisafeModel::corrupt_responses(int n, std::size_t byte, std::uint8_t
   corrupt_resp_mask_ = mask;
 }
 
-// Kept in module_fault_: it depends only on which q errors are active and
+// Kept in pas_.module_fault: it depends only on which q errors are active and
 // their channels, and evaluate() asks several times a step.
 void NordProfisafeModel::refresh_module_fault() {
-  module_fault_ = false;
+  pas_.module_fault = false;
   for (int i = 0; i < kQCount; ++i) {
     const QError& e = q_[i];
     if (!e.active) continue;
     if (ip_.p801 == 0) {
-      module_fault_ = true;
+      pas_.module_fault = true;
       return;
     }
     // Channel passivation (P801 = 1): violations are only reported, SO
     // errors passivate their channel, everything else the module.
     if (i <= kQSos) continue;
     if (e.channel >= 0) continue;
-    module_fault_ = true;
+    pas_.module_fault = true;
     return;
   }
 }
@@ -346,24 +346,25 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
   cons_nr_r_ = false;
   respond_pending_ = true;
   if (!ok) {
-    ce_crc_ = true;
-    fault_fv_ = true;
+    pas_.ce_crc = true;
+    pas_.fault_fv = true;
     ++crc_errors_;
     return;
   }
   t_valid_ = now;
   if (rcons) {
-    ce_crc_ = wd_timeout_ = false;
+    pas_.ce_crc = pas_.wd_timeout = false;
     cons_nr_r_ = true;
   }
-  host_fv_ = (control & cb::kActivateFv) != 0;
+  pas_.host_fv = (control & cb::kActivateFv) != 0;
   std::copy_n(req.begin(), 4, requested_.begin());
   Sent& a = accepted_[accepted_head_++ % kHist];
   a.cn = cn_;
   a.valid = true;
   std::copy_n(req.begin(), 4, a.data.begin());
-  if ((control & cb::kOaReq) && !ce_crc_ && !wd_timeout_ && !module_fault() && fatal_code_ == 0)
-    fault_fv_ = false;
+  if ((control & cb::kOaReq) && !pas_.ce_crc && !pas_.wd_timeout && !module_fault() &&
+      fatal_code_ == 0)
+    pas_.fault_fv = false;
   // Channel-passivation acknowledge In 3.7 (rising edge, cause gone).
   const bool ack = get(requested_.data(), nin::kChannelAck);
   if (ack && !chan_ack_prev_) {
@@ -380,9 +381,9 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
 }
 
 [[gnu::always_inline]] inline void NordProfisafeModel::evaluate(TIME now, TIME dt) {
-  if (fpar_ok_ && now - t_valid_ > wd_ && !wd_timeout_) {
-    wd_timeout_ = true;
-    fault_fv_ = true;
+  if (!pas_.no_fpar && now - t_valid_ > wd_ && !pas_.wd_timeout) {
+    pas_.wd_timeout = true;
+    pas_.fault_fv = true;
     ++wd_expiries_;
   }
   // Input filter P805: a new level counts once it has been stable for P805.
@@ -432,7 +433,7 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
   }
   fn_.step(now, dt, rq, speed_rpm_, position_inc_);
   update_q(now);
-  if (fatal_code_ != 0 || module_fault()) fault_fv_ = true;
+  if (fatal_code_ != 0 || module_fault()) pas_.fault_fv = true;
 
   const bool pas = passivated();
   bool cmd[3] = {get(a, nin::kOssd1), get(a, nin::kOssd2), get(a, nin::kOssd3)};
@@ -464,8 +465,8 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
     put(d, nout::kSsrOk, fn_.ok(NordSafetyFunctions::kSsr));
   }
   std::uint8_t status = last_toggle_ ? sbit::kToggleD : 0;
-  if (ce_crc_) status |= sbit::kCeCrc;
-  if (wd_timeout_) status |= sbit::kWdTimeout;
+  if (pas_.ce_crc) status |= sbit::kCeCrc;
+  if (pas_.wd_timeout) status |= sbit::kWdTimeout;
   if (device_fault()) status |= sbit::kDeviceFault;
   if (pas) status |= sbit::kFvActivated;
   if (cons_nr_r_) status |= sbit::kConsNrR;
@@ -512,7 +513,7 @@ void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> f
     drop_until_ = now + drop_for_;
     drop_start_pending_ = false;
   }
-  if (fpar_ok_ && now >= drop_until_) handle_request(now, from_plc);
+  if (!pas_.no_fpar && now >= drop_until_) handle_request(now, from_plc);
   evaluate(now, dt);
   if (respond_pending_) {
     build_response();
@@ -548,7 +549,7 @@ io::RecordError NordProfisafeModel::write_record(std::uint16_t index,
                                                  std::span<const std::uint8_t> data) {
   if (index != safety::kFParamRecordIndex) return io::RecordError::InvalidIndex;
   auto refuse = [this](std::uint16_t code) {
-    fpar_ok_ = false;
+    pas_.no_fpar = true;
     raise_code(code);
     return static_cast<io::RecordError>(code);
   };
@@ -577,13 +578,13 @@ io::RecordError NordProfisafeModel::write_record(std::uint16_t index,
   if (p.wd_time_ms == 0) return refuse(err::kWatchdogZero);
   if (p.ipar_crc != ip_.p840) return refuse(err::kIparCrc);
 
-  fpar_ok_ = true;
+  pas_.no_fpar = false;
   crc1_ = p.par_crc;
   wd_ = std::chrono::milliseconds(p.wd_time_ms);
   cn_ = 0;
   last_toggle_ = false;
-  ce_crc_ = wd_timeout_ = cons_nr_r_ = false;
-  fault_fv_ = host_fv_ = true;
+  pas_.ce_crc = pas_.wd_timeout = cons_nr_r_ = false;
+  pas_.fault_fv = pas_.host_fv = true;
   t_valid_ = now_;
   requested_ = {};
   if (p841_ >= err::kDestMismatch && p841_ <= err::kCrcLength) {

@@ -50,6 +50,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <span>
 
 #include "plc/fb/safety/crc2_cache.hpp"
@@ -138,7 +139,7 @@ class NordProfisafeModel : public io::DeviceModel {
   [[nodiscard]] bool fail_safe_active() const;
   [[nodiscard]] bool device_fault() const { return fatal_code_ != 0 || module_fault(); }
   [[nodiscard]] bool fatal() const { return fatal_code_ != 0; }
-  [[nodiscard]] bool fparams_ok() const { return fpar_ok_; }
+  [[nodiscard]] bool fparams_ok() const { return !pas_.no_fpar; }
   [[nodiscard]] std::uint16_t f_address() const { return f_address_; }
   [[nodiscard]] std::uint16_t current_code() const { return p841_; }   // P841
   [[nodiscard]] std::uint16_t previous_code() const { return p842_; }  // P842
@@ -195,11 +196,8 @@ class NordProfisafeModel : public io::DeviceModel {
   void raise_code(std::uint16_t code);
   void build_response();
   // Inline: a step asks three times.
-  bool passivated() const {
-    return !fpar_ok_ || fatal_code_ != 0 || fault_fv_ || host_fv_ || ce_crc_ || wd_timeout_ ||
-           module_fault();
-  }
-  bool module_fault() const { return module_fault_; }
+  bool passivated() const { return pas_.any() || fatal_code_ != 0; }
+  bool module_fault() const { return pas_.module_fault; }
   void refresh_module_fault();
   bool q_cause(int q) const;
   std::uint32_t q_causes();
@@ -228,15 +226,30 @@ class NordProfisafeModel : public io::DeviceModel {
   std::uint16_t config_fatal_ = 0;  // i-parameter / DIP fatal code found at power-on
 
   // F-parameters / protocol
-  bool fpar_ok_ = false;
+  // The causes of fail-safe values but a fatal code, one byte each in one
+  // 8-byte word: passivated(), asked three times a step, loads it once.
+  struct Passivation {
+    bool no_fpar = true;        // no F-parameter block accepted
+    bool fault_fv = true;       // fail-safe values until OA_Req
+    bool host_fv = true;        // host's activate_FV
+    bool ce_crc = false;        // CRC2 / consecutive-number error reported
+    bool wd_timeout = false;    // watchdog expired, reported
+    bool module_fault = false;  // an active q error passivates the module (refresh_module_fault)
+    bool unused[2] = {};
+    bool any() const {
+      std::uint64_t w;
+      std::memcpy(&w, this, sizeof w);  // bytes 0 or 1: nonzero iff one is set
+      return w != 0;
+    }
+  };
+  static_assert(sizeof(Passivation) == sizeof(std::uint64_t));
+  Passivation pas_;
   std::uint16_t crc1_ = 0;
   TIME wd_{};
   TIME now_{};
   std::uint32_t cn_ = 0;
   bool last_toggle_ = false;
-  bool ce_crc_ = false, wd_timeout_ = false, cons_nr_r_ = false;
-  bool fault_fv_ = true;  // fail-safe values until OA_Req
-  bool host_fv_ = true;   // host's activate_FV
+  bool cons_nr_r_ = false;
   TIME t_valid_{};
   std::array<std::uint8_t, 4> requested_{};  // F-data of the last valid request
   // q_causes(): the causes given by requested_ alone, for requested_ ==
@@ -248,7 +261,6 @@ class NordProfisafeModel : public io::DeviceModel {
   // Errors
   std::array<QError, kQCount> q_{};
   std::uint32_t active_q_ = 0;  // bit i: q_[i].active
-  bool module_fault_ = false;   // an active q error passivates the module (refresh_module_fault)
   std::uint16_t fatal_code_ = 0;
   std::uint16_t p841_ = 0, p842_ = 0, p848_ = 0;
   std::uint16_t code_events_ = 0;  // codes raised since power-on (diagnosis record)
