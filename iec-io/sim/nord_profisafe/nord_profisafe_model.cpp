@@ -435,11 +435,13 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
   update_q(now);
   if (fatal_code_ != 0 || module_fault()) pas_.fault_fv = true;
 
-  const bool pas = passivated();
+  if (passivated()) {  // every SO off, whatever the (already 0) request says
+    ossd_ = {};
+    return;
+  }
   bool cmd[3] = {get(a, nin::kOssd1), get(a, nin::kOssd2), get(a, nin::kOssd3)};
   if (ip_.p800[1] == 1) cmd[0] = cmd[1] = cmd[0] && cmd[1];  // SO1+SO2 dual channel
-  for (int i = 0; i < 3; ++i)
-    ossd_[i] = !pas && cmd[i] && ip_.p802[2 + i] == 1 && !chan_passive_[i];
+  for (int i = 0; i < 3; ++i) ossd_[i] = cmd[i] && ip_.p802[2 + i] == 1 && !chan_passive_[i];
 }
 
 [[gnu::always_inline]] inline void NordProfisafeModel::build_response() {
