@@ -17,10 +17,11 @@
 // F-data and the other bits stay as long as the process data does. So the
 // cache keeps Z4(head) for the last head seen with each toggle value, and a
 // telegram whose head (seed, byte, F-data) is one of those two costs a
-// compare of the head (packed into two words) and three table look-ups. Any other head is computed
-// in full and replaces the one of its toggle value: the result never
-// depends on what the cache held. Only the 3-byte CRC2 (F-data up to 12
-// bytes) is cached; the 4-byte one is computed in full.
+// compare of the head (packed into two words) and one table look-up (three
+// when the number's upper 16 bits change). Any other head is computed in
+// full and replaces the one of its toggle value: the result never depends
+// on what the cache held. Only the 3-byte CRC2 (F-data up to 12 bytes) is
+// cached; the 4-byte one is computed in full.
 #pragma once
 
 #include <array>
@@ -135,8 +136,14 @@ class Crc2Cache {
     Head& h = heads_[(cb_sb >> 5) & 1u];
     if (h.k.key != k.key || h.k.rest != k.rest) h.take(k, fdata, cb_sb, crc1_seed);
     const auto& t = detail::kCrc2Tail;
-    return h.z4 ^ t[0][cons_nr & 0xFFu] ^ t[1][(cons_nr >> 8) & 0xFFu] ^
-           t[2][(cons_nr >> 16) & 0xFFu];
+    // The middle and high bytes' part of TAIL, once per change of
+    // cons_nr >> 8 (every 256th telegram of a connection counting on).
+    const std::uint32_t hi = cons_nr >> 8;
+    if (hi != tail_hi_of_) {
+      tail_hi_of_ = hi;
+      tail_hi_ = t[1][hi & 0xFFu] ^ t[2][(hi >> 8) & 0xFFu];
+    }
+    return h.z4 ^ t[0][cons_nr & 0xFFu] ^ tail_hi_;
   }
 
   struct Head {
@@ -166,6 +173,9 @@ class Crc2Cache {
   }
 
   std::array<Head, 2> heads_{};
+  // kCrc2Tail[1][b1] ^ kCrc2Tail[2][b2] of the number bytes in tail_hi_of_
+  // (cons_nr >> 8); both 0 at first, which is that entry for number 0.
+  std::uint32_t tail_hi_of_ = 0, tail_hi_ = 0;
 };
 
 }  // namespace plc::safety
