@@ -473,10 +473,14 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
   if (pas) status |= sbit::kFvActivated;
   if (cons_nr_r_) status |= sbit::kConsNrR;
 
-  NordFrameTag tag;
+  // The frame is written in its place on the channel (nothing else uses
+  // the channel before the end of this function).
+  NordResponseChannel::Frame& frame = channel_.push(now_);
+  NordFrameTag& tag = frame.tag;
   tag.id = ++frames_sent_;
   tag.sent = tag.produced = now_;
   tag.data = data;
+  tag.corrupted = tag.foreign = tag.repeated = false;
   std::uint16_t seed = crc1_;
   if (foreign_ > 0) {
     seed = static_cast<std::uint16_t>(crc1_ ^ 0x5A5Au);  // another F-device's CRC1
@@ -503,7 +507,7 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
     --corrupt_resp_n_;
     tag.corrupted = true;
   }
-  channel_.send(now_, pdu_, tag);
+  frame.pdu = pdu_;
 }
 
 void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
