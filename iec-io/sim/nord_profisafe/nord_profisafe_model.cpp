@@ -444,10 +444,9 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
   for (int i = 0; i < 3; ++i) ossd_[i] = cmd[i] && ip_.p802[2 + i] == 1 && !chan_passive_[i];
 }
 
-[[gnu::always_inline]] inline void NordProfisafeModel::build_response() {
+std::array<std::uint8_t, 4> NordProfisafeModel::response_data_full() const {
   std::array<std::uint8_t, 4> data{};
-  const bool pas = passivated();
-  if (!pas) {  // fail-safe values are all 0 (spec §2.4)
+  if (!passivated()) {  // fail-safe values are all 0 (spec §2.4)
     std::uint8_t* d = data.data();
     const std::uint8_t* a = applied_.data();
     put(d, nout::kOssd1Off, !ossd_[0]);
@@ -466,6 +465,33 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
     put(d, nout::kSi2, si_[1] && ip_.p802[1] == 1);
     put(d, nout::kSsrOk, fn_.ok(NordSafetyFunctions::kSsr));
   }
+  return data;
+}
+
+// What response_data_full() reads besides the i-parameters (fixed) and
+// passivated() (all 0 then): the functions' status bits, SI1/SI2, SO1-3 and
+// the request's SLS level bits, byte by byte in two words.
+[[gnu::always_inline]] inline std::array<std::uint8_t, 4> NordProfisafeModel::data_now() {
+  if (passivated()) return {};  // fail-safe values are all 0 (spec §2.4)
+  std::uint16_t si;
+  std::memcpy(&si, si_.data(), sizeof si);
+  std::uint32_t so = 0;
+  std::memcpy(&so, ossd_.data(), ossd_.size());
+  const std::uint64_t k0 = fn_.status_key() | static_cast<std::uint64_t>(si) << 48;
+  const std::uint64_t k1 = so | static_cast<std::uint64_t>(applied_[1]) << 32;
+  if (k0 != data_key_[0] || k1 != data_key_[1]) {
+    data_key_[0] = k0;
+    data_key_[1] = k1;
+    data_kept_ = response_data_full();
+  }
+  return data_kept_;
+}
+
+std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_now(); }
+
+[[gnu::always_inline]] inline void NordProfisafeModel::build_response() {
+  const std::array<std::uint8_t, 4> data = data_now();
+  const bool pas = passivated();
   std::uint8_t status = last_toggle_ ? sbit::kToggleD : 0;
   if (pas_.ce_crc) status |= sbit::kCeCrc;
   if (pas_.wd_timeout) status |= sbit::kWdTimeout;

@@ -135,6 +135,10 @@ class NordProfisafeModel : public io::DeviceModel {
   // computed from the state (bit i: cause of q error i).
   [[nodiscard]] std::uint32_t q_causes_kept();
   [[nodiscard]] std::uint32_t q_causes_full() const;
+  // The F-data Out of a response built now (spec §2.4): as build_response()
+  // takes it (kept per change of what it depends on), and put bit by bit.
+  [[nodiscard]] std::array<std::uint8_t, 4> response_data();
+  [[nodiscard]] std::array<std::uint8_t, 4> response_data_full() const;
   [[nodiscard]] bool ossd(int i) const { return ossd_[i]; }  // 0..2 = SO1..SO3
   [[nodiscard]] bool fail_safe_active() const;
   [[nodiscard]] bool device_fault() const { return fatal_code_ != 0 || module_fault(); }
@@ -195,6 +199,7 @@ class NordProfisafeModel : public io::DeviceModel {
   void update_q(TIME now);
   void raise_code(std::uint16_t code);
   void build_response();
+  std::array<std::uint8_t, 4> data_now();  // response_data(), inline in build_response()
   // Inline: a step asks three times.
   bool passivated() const { return pas_.any() || fatal_code_ != 0; }
   bool module_fault() const { return pas_.module_fault; }
@@ -274,6 +279,11 @@ class NordProfisafeModel : public io::DeviceModel {
 
   // Outputs
   std::array<bool, 3> ossd_{};
+  // data_now(): response_data_full() for the state whose inputs to it
+  // are data_key_ (the functions' status bits and SI1/SI2; SO1-3 and the
+  // SLS level request), kept from one change of those to the next.
+  std::uint64_t data_key_[2] = {~std::uint64_t{0}, ~std::uint64_t{0}};  // no state: first asks
+  std::array<std::uint8_t, 4> data_kept_{};
   std::array<std::uint8_t, kPdu> pdu_{};  // the response as sent
   // CRC2 of the requests checked and the responses sent (a cache: the
   // results are compute_crc2()'s whatever it holds).

@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "plc/sim/nord_iparams.hpp"
 #include "plc/types.hpp"
@@ -62,6 +63,13 @@ class NordSafetyFunctions {
   // Status bits of spec §2.4 (F-data Out).
   [[nodiscard]] bool ok(int fn) const { return ok_[fn]; }
   [[nodiscard]] bool ssm() const { return ssm_; }
+  // ok() of every function and ssm() in one word (a key: equal words,
+  // equal status bits): ok(fn) in byte fn, ssm() in byte kCount.
+  [[nodiscard]] std::uint64_t status_key() const {
+    std::uint64_t k = 0;
+    std::memcpy(&k, ok_.data(), kCount);
+    return k | static_cast<std::uint64_t>(ssm_) << (8 * kCount);
+  }
   [[nodiscard]] bool monitoring(int fn) const { return st_[fn].monitoring; }
 
   void reset();
