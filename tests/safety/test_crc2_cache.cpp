@@ -100,6 +100,52 @@ TEST(SafetyCrc2Cache, SameAsComputeCrc2OnEveryKindOfSequence_Spec2_1_Spec2_6) {
   EXPECT_EQ(checked, 200000);
 }
 
+// A head that differs from a cached one in a single place (one bit of any
+// F-data byte, of the control byte or of CRC1, or only in its length, for
+// every length the cache holds) is never taken for it: the cache packs the
+// head into words, and every byte must be in them.
+TEST(SafetyCrc2Cache, HeadDifferingInOnePlaceIsNotTheCachedOne_Spec2_1) {
+  std::mt19937 rng(2301);
+  for (std::size_t n = 0; n <= 12; ++n) {
+    std::vector<std::uint8_t> base(n);
+    for (auto& b : base) b = static_cast<std::uint8_t>(rng());
+    const std::uint8_t cb = 0x12;
+    const std::uint16_t seed = 0x4E7A;
+    const std::uint32_t cn = 0x0302A1;
+    auto same_as_full = [&](Crc2Cache& c, const std::vector<std::uint8_t>& d, std::uint8_t b,
+                            std::uint16_t s) {
+      return c.crc2(d, b, cn, s) == compute_crc2(d, b, cn, s);
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int bit = 0; bit < 8; ++bit) {
+        Crc2Cache cache;
+        ASSERT_TRUE(same_as_full(cache, base, cb, seed));
+        auto d = base;
+        d[i] ^= static_cast<std::uint8_t>(1u << bit);
+        ASSERT_TRUE(same_as_full(cache, d, cb, seed)) << "length " << n << " byte " << i;
+      }
+    }
+    for (int bit = 0; bit < 16; ++bit) {
+      Crc2Cache cache;
+      ASSERT_TRUE(same_as_full(cache, base, cb, seed));
+      if (bit < 8 && bit != 5) {  // bit 5 (toggle) selects the other slot anyway
+        ASSERT_TRUE(same_as_full(cache, base, static_cast<std::uint8_t>(cb ^ (1u << bit)), seed))
+            << "length " << n << " control bit " << bit;
+      }
+      ASSERT_TRUE(same_as_full(cache, base, cb, static_cast<std::uint16_t>(seed ^ (1u << bit))))
+          << "length " << n << " CRC1 bit " << bit;
+    }
+    if (n > 0) {  // the same bytes, one shorter (a trailing zero byte)
+      Crc2Cache cache;
+      auto d = base;
+      d.back() = 0;
+      ASSERT_TRUE(same_as_full(cache, d, cb, seed));
+      d.pop_back();
+      ASSERT_TRUE(same_as_full(cache, d, cb, seed)) << "length " << n << " -> " << n - 1;
+    }
+  }
+}
+
 // A cached head does not make a corrupted telegram, another number or
 // another CRC1 check (spec §8.2 3), nor a PDU shorter than its length.
 TEST(SafetyCrc2Cache, CheckFailsOnEveryBitFlipOtherNumberOrCrc1_Spec8_2) {

@@ -30,17 +30,18 @@ NordProfisafeModel::NordProfisafeModel(const io::ModelParams& p)
   si_ = si_raw_;
   p.reject_unknown();
   refresh_inc_per_s();
+  refresh_si_causes();
   power_cycle();
 }
 
 void NordProfisafeModel::reset_volatile() {
-  fpar_ok_ = false;
+  pas_.no_fpar = true;
   crc1_ = 0;
   wd_ = {};
   cn_ = 0;
   last_toggle_ = false;
-  ce_crc_ = wd_timeout_ = cons_nr_r_ = false;
-  fault_fv_ = host_fv_ = true;
+  pas_.ce_crc = pas_.wd_timeout = cons_nr_r_ = false;
+  pas_.fault_fv = pas_.host_fv = true;
   requested_ = {};
   applied_ = {};
   chan_ack_prev_ = false;
@@ -168,22 +169,22 @@ void NordProfisafeModel::corrupt_responses(int n, std::size_t byte, std::uint8_t
   corrupt_resp_mask_ = mask;
 }
 
-// Kept in module_fault_: it depends only on which q errors are active and
+// Kept in pas_.module_fault: it depends only on which q errors are active and
 // their channels, and evaluate() asks several times a step.
 void NordProfisafeModel::refresh_module_fault() {
-  module_fault_ = false;
+  pas_.module_fault = false;
   for (int i = 0; i < kQCount; ++i) {
     const QError& e = q_[i];
     if (!e.active) continue;
     if (ip_.p801 == 0) {
-      module_fault_ = true;
+      pas_.module_fault = true;
       return;
     }
     // Channel passivation (P801 = 1): violations are only reported, SO
     // errors passivate their channel, everything else the module.
     if (i <= kQSos) continue;
     if (e.channel >= 0) continue;
-    module_fault_ = true;
+    pas_.module_fault = true;
     return;
   }
 }
@@ -254,19 +255,34 @@ inline std::uint32_t NordProfisafeModel::q_causes() {
     set(kQSo3Off, get(r, nin::kOssd3) && ip_.p802[4] == 0);
     request_causes_ = rm;
   }
-  std::uint32_t m = request_causes_;
+  static_assert(kQSos - kQSls + 1 == NordSafetyFunctions::kCount);
+  return request_causes_ | si_causes_ | static_cast<std::uint32_t>(fn_.trips()) << kQSls |
+         static_cast<std::uint32_t>(discrepancy_fault_) << kQDiscrepancy |
+         static_cast<std::uint32_t>(injected_cause_) << kQInjected;
+}
+
+void NordProfisafeModel::refresh_si_causes() {
+  std::uint32_t m = 0;
   auto set = [&m](int q, bool on) { m |= static_cast<std::uint32_t>(on) << q; };
-  for (int f = 0; f < NordSafetyFunctions::kCount; ++f) set(kQSls + f, fn_.tripped(f));
   set(kQSi1Off, si_[0] && ip_.p802[0] == 0);
   set(kQSi2Off, si_[1] && ip_.p802[1] == 0);
   for (int in = 0; in < 2; ++in)
     set(kQSi1Clock + in, ip_.p806[in] != 0 && si_[in] && si_source_[in] != ip_.p806[in]);
-  set(kQDiscrepancy, discrepancy_fault_);
-  set(kQInjected, injected_cause_);
+  si_causes_ = m;
+}
+
+std::uint32_t NordProfisafeModel::q_causes_kept() { return q_causes(); }
+
+std::uint32_t NordProfisafeModel::q_causes_full() const {
+  std::uint32_t m = 0;
+  for (int i = 0; i < kQCount; ++i) m |= static_cast<std::uint32_t>(q_cause(i)) << i;
   return m;
 }
 
-void NordProfisafeModel::update_q(TIME now) {
+// update_q(), handle_request(), evaluate() and build_response() are inline:
+// each has one caller (step(), update_q() evaluate()), which runs them once
+// per exchange; as calls they cost their register saves every exchange.
+inline void NordProfisafeModel::update_q(TIME now) {
   // Nothing can change while no error is active and none has a cause (the
   // usual step): the loops below would only look.
   const std::uint32_t causes = q_causes();
@@ -302,7 +318,7 @@ void NordProfisafeModel::update_q(TIME now) {
   }
 }
 
-void NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> in) {
+inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> in) {
   if (in.size() < kPdu) return;
   std::array<std::uint8_t, kPdu> req;
   std::copy_n(in.begin(), kPdu, req.begin());
@@ -330,24 +346,25 @@ void NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> 
   cons_nr_r_ = false;
   respond_pending_ = true;
   if (!ok) {
-    ce_crc_ = true;
-    fault_fv_ = true;
+    pas_.ce_crc = true;
+    pas_.fault_fv = true;
     ++crc_errors_;
     return;
   }
   t_valid_ = now;
   if (rcons) {
-    ce_crc_ = wd_timeout_ = false;
+    pas_.ce_crc = pas_.wd_timeout = false;
     cons_nr_r_ = true;
   }
-  host_fv_ = (control & cb::kActivateFv) != 0;
+  pas_.host_fv = (control & cb::kActivateFv) != 0;
   std::copy_n(req.begin(), 4, requested_.begin());
   Sent& a = accepted_[accepted_head_++ % kHist];
   a.cn = cn_;
   a.valid = true;
   std::copy_n(req.begin(), 4, a.data.begin());
-  if ((control & cb::kOaReq) && !ce_crc_ && !wd_timeout_ && !module_fault() && fatal_code_ == 0)
-    fault_fv_ = false;
+  if ((control & cb::kOaReq) && !pas_.ce_crc && !pas_.wd_timeout && !module_fault() &&
+      fatal_code_ == 0)
+    pas_.fault_fv = false;
   // Channel-passivation acknowledge In 3.7 (rising edge, cause gone).
   const bool ack = get(requested_.data(), nin::kChannelAck);
   if (ack && !chan_ack_prev_) {
@@ -363,10 +380,10 @@ void NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> 
   chan_ack_prev_ = ack;
 }
 
-void NordProfisafeModel::evaluate(TIME now, TIME dt) {
-  if (fpar_ok_ && now - t_valid_ > wd_ && !wd_timeout_) {
-    wd_timeout_ = true;
-    fault_fv_ = true;
+[[gnu::always_inline]] inline void NordProfisafeModel::evaluate(TIME now, TIME dt) {
+  if (!pas_.no_fpar && now - t_valid_ > wd_ && !pas_.wd_timeout) {
+    pas_.wd_timeout = true;
+    pas_.fault_fv = true;
     ++wd_expiries_;
   }
   // Input filter P805: a new level counts once it has been stable for P805.
@@ -381,6 +398,7 @@ void NordProfisafeModel::evaluate(TIME now, TIME dt) {
     }
     if (now - si_change_since_[i] >= std::chrono::milliseconds(ip_.p805_ms)) {
       si_[i] = si_raw_[i];
+      refresh_si_causes();
       si_changing_[i] = false;
     }
   }
@@ -415,19 +433,20 @@ void NordProfisafeModel::evaluate(TIME now, TIME dt) {
   }
   fn_.step(now, dt, rq, speed_rpm_, position_inc_);
   update_q(now);
-  if (fatal_code_ != 0 || module_fault()) fault_fv_ = true;
+  if (fatal_code_ != 0 || module_fault()) pas_.fault_fv = true;
 
-  const bool pas = passivated();
+  if (passivated()) {  // every SO off, whatever the (already 0) request says
+    ossd_ = {};
+    return;
+  }
   bool cmd[3] = {get(a, nin::kOssd1), get(a, nin::kOssd2), get(a, nin::kOssd3)};
   if (ip_.p800[1] == 1) cmd[0] = cmd[1] = cmd[0] && cmd[1];  // SO1+SO2 dual channel
-  for (int i = 0; i < 3; ++i)
-    ossd_[i] = !pas && cmd[i] && ip_.p802[2 + i] == 1 && !chan_passive_[i];
+  for (int i = 0; i < 3; ++i) ossd_[i] = cmd[i] && ip_.p802[2 + i] == 1 && !chan_passive_[i];
 }
 
-void NordProfisafeModel::build_response() {
+std::array<std::uint8_t, 4> NordProfisafeModel::response_data_full() const {
   std::array<std::uint8_t, 4> data{};
-  const bool pas = passivated();
-  if (!pas) {  // fail-safe values are all 0 (spec §2.4)
+  if (!passivated()) {  // fail-safe values are all 0 (spec §2.4)
     std::uint8_t* d = data.data();
     const std::uint8_t* a = applied_.data();
     put(d, nout::kOssd1Off, !ossd_[0]);
@@ -446,17 +465,48 @@ void NordProfisafeModel::build_response() {
     put(d, nout::kSi2, si_[1] && ip_.p802[1] == 1);
     put(d, nout::kSsrOk, fn_.ok(NordSafetyFunctions::kSsr));
   }
+  return data;
+}
+
+// What response_data_full() reads besides the i-parameters (fixed) and
+// passivated() (all 0 then): the functions' status bits, SI1/SI2, SO1-3 and
+// the request's SLS level bits, byte by byte in two words.
+[[gnu::always_inline]] inline std::array<std::uint8_t, 4> NordProfisafeModel::data_now() {
+  if (passivated()) return {};  // fail-safe values are all 0 (spec §2.4)
+  std::uint16_t si;
+  std::memcpy(&si, si_.data(), sizeof si);
+  std::uint32_t so = 0;
+  std::memcpy(&so, ossd_.data(), ossd_.size());
+  const std::uint64_t k0 = fn_.status_key() | static_cast<std::uint64_t>(si) << 48;
+  const std::uint64_t k1 = so | static_cast<std::uint64_t>(applied_[1]) << 32;
+  if (k0 != data_key_[0] || k1 != data_key_[1]) {
+    data_key_[0] = k0;
+    data_key_[1] = k1;
+    data_kept_ = response_data_full();
+  }
+  return data_kept_;
+}
+
+std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_now(); }
+
+[[gnu::always_inline]] inline void NordProfisafeModel::build_response() {
+  const std::array<std::uint8_t, 4> data = data_now();
+  const bool pas = passivated();
   std::uint8_t status = last_toggle_ ? sbit::kToggleD : 0;
-  if (ce_crc_) status |= sbit::kCeCrc;
-  if (wd_timeout_) status |= sbit::kWdTimeout;
+  if (pas_.ce_crc) status |= sbit::kCeCrc;
+  if (pas_.wd_timeout) status |= sbit::kWdTimeout;
   if (device_fault()) status |= sbit::kDeviceFault;
   if (pas) status |= sbit::kFvActivated;
   if (cons_nr_r_) status |= sbit::kConsNrR;
 
-  NordFrameTag tag;
+  // The frame is written in its place on the channel (nothing else uses
+  // the channel before the end of this function).
+  NordResponseChannel::Frame& frame = channel_.push(now_);
+  NordFrameTag& tag = frame.tag;
   tag.id = ++frames_sent_;
   tag.sent = tag.produced = now_;
   tag.data = data;
+  tag.corrupted = tag.foreign = tag.repeated = false;
   std::uint16_t seed = crc1_;
   if (foreign_ > 0) {
     seed = static_cast<std::uint16_t>(crc1_ ^ 0x5A5Au);  // another F-device's CRC1
@@ -483,7 +533,7 @@ void NordProfisafeModel::build_response() {
     --corrupt_resp_n_;
     tag.corrupted = true;
   }
-  channel_.send(now_, pdu_, tag);
+  frame.pdu = pdu_;
 }
 
 void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
@@ -495,7 +545,7 @@ void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> f
     drop_until_ = now + drop_for_;
     drop_start_pending_ = false;
   }
-  if (fpar_ok_ && now >= drop_until_) handle_request(now, from_plc);
+  if (!pas_.no_fpar && now >= drop_until_) handle_request(now, from_plc);
   evaluate(now, dt);
   if (respond_pending_) {
     build_response();
@@ -531,7 +581,7 @@ io::RecordError NordProfisafeModel::write_record(std::uint16_t index,
                                                  std::span<const std::uint8_t> data) {
   if (index != safety::kFParamRecordIndex) return io::RecordError::InvalidIndex;
   auto refuse = [this](std::uint16_t code) {
-    fpar_ok_ = false;
+    pas_.no_fpar = true;
     raise_code(code);
     return static_cast<io::RecordError>(code);
   };
@@ -560,13 +610,13 @@ io::RecordError NordProfisafeModel::write_record(std::uint16_t index,
   if (p.wd_time_ms == 0) return refuse(err::kWatchdogZero);
   if (p.ipar_crc != ip_.p840) return refuse(err::kIparCrc);
 
-  fpar_ok_ = true;
+  pas_.no_fpar = false;
   crc1_ = p.par_crc;
   wd_ = std::chrono::milliseconds(p.wd_time_ms);
   cn_ = 0;
   last_toggle_ = false;
-  ce_crc_ = wd_timeout_ = cons_nr_r_ = false;
-  fault_fv_ = host_fv_ = true;
+  pas_.ce_crc = pas_.wd_timeout = cons_nr_r_ = false;
+  pas_.fault_fv = pas_.host_fv = true;
   t_valid_ = now_;
   requested_ = {};
   if (p841_ >= err::kDestMismatch && p841_ <= err::kCrcLength) {

@@ -13,7 +13,7 @@ TIME seconds(double s) {
 
 void NordSafetyFunctions::reset() {
   st_ = {};
-  trip_ = {};
+  trip_ = 0;
   ok_ = {};
   ssm_ = false;
   idle_ = true;
@@ -102,8 +102,8 @@ void NordSafetyFunctions::step_functions(TIME now, TIME dt, const Request& rq, d
       s.integ = s.integ > dt ? s.integ - dt : TIME{};
     }
     const TIME reaction = react_idx[fn] < 0 ? TIME{} : seconds(ip_.p822_s[react_idx[fn]]);
-    if (violating && s.integ >= reaction && !trip_[fn]) {
-      trip_[fn] = true;
+    if (violating && s.integ >= reaction && !tripped(fn)) {
+      trip_ = static_cast<std::uint8_t>(trip_ | (1u << fn));
       if (fn == kSls) trip_level_ = lvl;
     }
   }

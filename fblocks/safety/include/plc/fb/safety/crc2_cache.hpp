@@ -17,15 +17,17 @@
 // F-data and the other bits stay as long as the process data does. So the
 // cache keeps Z4(head) for the last head seen with each toggle value, and a
 // telegram whose head (seed, byte, F-data) is one of those two costs a
-// compare of the head and three table look-ups. Any other head is computed
-// in full and replaces the one of its toggle value: the result never
-// depends on what the cache held. Only the 3-byte CRC2 (F-data up to 12
-// bytes) is cached; the 4-byte one is computed in full.
+// compare of the head (packed into two words) and one table look-up (three
+// when the number's upper 16 bits change). Any other head is computed in
+// full and replaces the one of its toggle value: the result never depends
+// on what the cache held. Only the 3-byte CRC2 (F-data up to 12 bytes) is
+// cached; the 4-byte one is computed in full.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <span>
 
 #include "plc/fb/safety/safety_pdu.hpp"
@@ -58,13 +60,8 @@ class Crc2Cache {
   // repeats.
   std::uint32_t crc2(std::span<const std::uint8_t> fdata, std::uint8_t cb_sb, std::uint32_t cons_nr,
                      std::uint16_t crc1_seed) {
-    const std::size_t n = fdata.size();
-    if (n > kMaxCachedFData) return compute_crc2(fdata, cb_sb, cons_nr, crc1_seed);
-    Head& h = heads_[(cb_sb >> 5) & 1u];
-    if (!h.same(fdata, cb_sb, crc1_seed)) h.take(fdata, cb_sb, crc1_seed);
-    const auto& t = detail::kCrc2Tail;
-    return h.z4 ^ t[0][cons_nr & 0xFFu] ^ t[1][(cons_nr >> 8) & 0xFFu] ^
-           t[2][(cons_nr >> 16) & 0xFFu];
+    if (fdata.size() > kMaxCachedFData) return compute_crc2(fdata, cb_sb, cons_nr, crc1_seed);
+    return cached_crc2(fdata, cb_sb, cons_nr, crc1_seed);
   }
 
   // write_pdu() and check_pdu() of safety_pdu.hpp with this cache's CRC2.
@@ -76,44 +73,89 @@ class Crc2Cache {
   }
   // write_pdu() for F-data already in pdu[0, fdata_len): writes the
   // control/status byte and CRC2 behind it (no copy of the data).
-  void seal_pdu(std::span<std::uint8_t> pdu, std::size_t fdata_len, std::uint8_t cb_sb,
-                std::uint32_t cons_nr, std::uint16_t crc1_seed) {
+  [[gnu::always_inline]] void seal_pdu(std::span<std::uint8_t> pdu, std::size_t fdata_len,
+                                       std::uint8_t cb_sb, std::uint32_t cons_nr,
+                                       std::uint16_t crc1_seed) {
     pdu[fdata_len] = cb_sb;
-    put_crc2(pdu, fdata_len, crc2(pdu.first(fdata_len), cb_sb, cons_nr, crc1_seed));
+    if (fdata_len <= kMaxCachedFData) {  // crc2_length() == 3
+      const std::uint32_t c = cached_crc2(pdu.first(fdata_len), cb_sb, cons_nr, crc1_seed);
+      pdu[fdata_len + 1] = static_cast<std::uint8_t>(c >> 16);
+      pdu[fdata_len + 2] = static_cast<std::uint8_t>(c >> 8);
+      pdu[fdata_len + 3] = static_cast<std::uint8_t>(c);
+      return;
+    }
+    put_crc2(pdu, fdata_len, compute_crc2(pdu.first(fdata_len), cb_sb, cons_nr, crc1_seed));
   }
-  bool check_pdu(std::span<const std::uint8_t> pdu, std::size_t fdata_len, std::uint32_t cons_nr,
-                 std::uint16_t crc1_seed) {
+  [[gnu::always_inline]] bool check_pdu(std::span<const std::uint8_t> pdu, std::size_t fdata_len,
+                                        std::uint32_t cons_nr, std::uint16_t crc1_seed) {
     if (pdu.size() < pdu_size(fdata_len)) return false;
-    return crc2(pdu.first(fdata_len), pdu[fdata_len], cons_nr, crc1_seed) ==
+    if (fdata_len <= kMaxCachedFData) {  // crc2_length() == 3
+      const std::uint32_t got = static_cast<std::uint32_t>(pdu[fdata_len + 1]) << 16 |
+                                static_cast<std::uint32_t>(pdu[fdata_len + 2]) << 8 |
+                                pdu[fdata_len + 3];
+      return cached_crc2(pdu.first(fdata_len), pdu[fdata_len], cons_nr, crc1_seed) == got;
+    }
+    return compute_crc2(pdu.first(fdata_len), pdu[fdata_len], cons_nr, crc1_seed) ==
            get_crc2(pdu, fdata_len);
   }
 
  private:
+  // A head packed into two words, compared as two: `key` holds the seed,
+  // the control/status byte, the F-data length + 1 (so no head is 0, the
+  // empty slot) and F-data bytes 0..3; `rest` bytes 4..11 (0 beyond the
+  // length). For one length the packing is one-to-one, and the length is
+  // in `key`, so equal words are equal heads.
+  struct Key {
+    std::uint64_t key = 0;
+    std::uint64_t rest = 0;
+  };
+  static Key pack(std::span<const std::uint8_t> fdata, std::uint8_t cb_sb, std::uint16_t seed) {
+    const std::size_t n = fdata.size();  // <= kMaxCachedFData
+    const std::uint8_t* d = fdata.data();
+    std::uint64_t lo = 0, hi = 0;
+    if (n == 4) {  // the usual F-data (NORD: 4 bytes each way): one load
+      std::uint32_t w;
+      std::memcpy(&w, d, 4);
+      lo = w;
+    } else {
+      for (std::size_t i = 0; i < n && i < 4; ++i)
+        lo |= static_cast<std::uint64_t>(d[i]) << (8 * i);
+      for (std::size_t i = 4; i < n; ++i) hi |= static_cast<std::uint64_t>(d[i]) << (8 * (i - 4));
+    }
+    return {static_cast<std::uint64_t>(seed) | static_cast<std::uint64_t>(cb_sb) << 16 |
+                static_cast<std::uint64_t>(n + 1) << 24 | lo << 32,
+            hi};
+  }
+
+  // seal_pdu(), check_pdu() and this are always inline: four per exchange,
+  // each a few instructions when the head is cached.
+  [[gnu::always_inline]] std::uint32_t cached_crc2(std::span<const std::uint8_t> fdata,
+                                                   std::uint8_t cb_sb, std::uint32_t cons_nr,
+                                                   std::uint16_t crc1_seed) {
+    const Key k = pack(fdata, cb_sb, crc1_seed);
+    Head& h = heads_[(cb_sb >> 5) & 1u];
+    if (h.k.key != k.key || h.k.rest != k.rest) h.take(k, fdata, cb_sb, crc1_seed);
+    const auto& t = detail::kCrc2Tail;
+    // The middle and high bytes' part of TAIL, once per change of
+    // cons_nr >> 8 (every 256th telegram of a connection counting on).
+    const std::uint32_t hi = cons_nr >> 8;
+    if (hi != tail_hi_of_) {
+      tail_hi_of_ = hi;
+      tail_hi_ = t[1][hi & 0xFFu] ^ t[2][(hi >> 8) & 0xFFu];
+    }
+    return h.z4 ^ t[0][cons_nr & 0xFFu] ^ tail_hi_;
+  }
+
   struct Head {
-    bool valid = false;
-    std::uint8_t cb = 0;
-    std::uint8_t len = 0;
-    std::uint16_t seed = 0;
-    std::array<std::uint8_t, kMaxCachedFData> data{};
+    Key k;                 // the head (pack()); key 0: empty
     std::uint32_t z4 = 0;  // Z4(register after seed, cb, F-data reversed)
 
-    bool same(std::span<const std::uint8_t> fdata, std::uint8_t cb_sb, std::uint16_t s) const {
-      if (!valid || cb != cb_sb || seed != s || len != fdata.size()) return false;
-      for (std::size_t i = 0; i < fdata.size(); ++i)
-        if (data[i] != fdata[i]) return false;
-      return true;
-    }
-    void take(std::span<const std::uint8_t> fdata, std::uint8_t cb_sb, std::uint16_t s) {
-      valid = true;
-      cb = cb_sb;
-      seed = s;
-      len = static_cast<std::uint8_t>(fdata.size());
+    void take(const Key& key, std::span<const std::uint8_t> fdata, std::uint8_t cb_sb,
+              std::uint16_t s) {
+      k = key;
       std::uint32_t c = Engine::update_byte(s, cb_sb);
-      for (std::size_t i = fdata.size(); i-- > 0;) {
-        data[i] = fdata[i];
-        c = Engine::update_byte(c, fdata[i]);
-      }
-      for (int k = 0; k < 4; ++k) c = Engine::update_byte(c, 0x00);
+      for (std::size_t i = fdata.size(); i-- > 0;) c = Engine::update_byte(c, fdata[i]);
+      for (int j = 0; j < 4; ++j) c = Engine::update_byte(c, 0x00);
       z4 = c;
     }
   };
@@ -131,6 +173,9 @@ class Crc2Cache {
   }
 
   std::array<Head, 2> heads_{};
+  // kCrc2Tail[1][b1] ^ kCrc2Tail[2][b2] of the number bytes in tail_hi_of_
+  // (cons_nr >> 8); both 0 at first, which is that entry for number 0.
+  std::uint32_t tail_hi_of_ = 0, tail_hi_ = 0;
 };
 
 }  // namespace plc::safety

@@ -50,6 +50,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <span>
 
 #include "plc/fb/safety/crc2_cache.hpp"
@@ -88,7 +89,10 @@ class NordProfisafeModel : public io::DeviceModel {
   void set_si(bool si1, bool si2) { si_raw_ = {si1, si2}; }
   // What feeds SI1/SI2 (input 0/1): 0 = static 24 V, 1 = TAKT1, 2 = TAKT2.
   // With P806 assigning a clock, any other source is 5737/5738 (spec §4.5).
-  void set_si_source(int input, int clock) { si_source_[input & 1] = clock; }
+  void set_si_source(int input, int clock) {
+    si_source_[input & 1] = clock;
+    refresh_si_causes();
+  }
 
   // ---- fault injection (spec §8.4) ----
   // XOR `mask` into byte `byte` of the next n requests the device receives.
@@ -127,11 +131,19 @@ class NordProfisafeModel : public io::DeviceModel {
   }
 
   // ---- observation ----
+  // For tests of the kept q-error causes: as step() takes them, and each
+  // computed from the state (bit i: cause of q error i).
+  [[nodiscard]] std::uint32_t q_causes_kept();
+  [[nodiscard]] std::uint32_t q_causes_full() const;
+  // The F-data Out of a response built now (spec §2.4): as build_response()
+  // takes it (kept per change of what it depends on), and put bit by bit.
+  [[nodiscard]] std::array<std::uint8_t, 4> response_data();
+  [[nodiscard]] std::array<std::uint8_t, 4> response_data_full() const;
   [[nodiscard]] bool ossd(int i) const { return ossd_[i]; }  // 0..2 = SO1..SO3
   [[nodiscard]] bool fail_safe_active() const;
   [[nodiscard]] bool device_fault() const { return fatal_code_ != 0 || module_fault(); }
   [[nodiscard]] bool fatal() const { return fatal_code_ != 0; }
-  [[nodiscard]] bool fparams_ok() const { return fpar_ok_; }
+  [[nodiscard]] bool fparams_ok() const { return !pas_.no_fpar; }
   [[nodiscard]] std::uint16_t f_address() const { return f_address_; }
   [[nodiscard]] std::uint16_t current_code() const { return p841_; }   // P841
   [[nodiscard]] std::uint16_t previous_code() const { return p842_; }  // P842
@@ -187,15 +199,14 @@ class NordProfisafeModel : public io::DeviceModel {
   void update_q(TIME now);
   void raise_code(std::uint16_t code);
   void build_response();
+  std::array<std::uint8_t, 4> data_now();  // response_data(), inline in build_response()
   // Inline: a step asks three times.
-  bool passivated() const {
-    return !fpar_ok_ || fatal_code_ != 0 || fault_fv_ || host_fv_ || ce_crc_ || wd_timeout_ ||
-           module_fault();
-  }
-  bool module_fault() const { return module_fault_; }
+  bool passivated() const { return pas_.any() || fatal_code_ != 0; }
+  bool module_fault() const { return pas_.module_fault; }
   void refresh_module_fault();
   bool q_cause(int q) const;
   std::uint32_t q_causes();
+  void refresh_si_causes();
 
   NordIParams ip_;
   NordSafetyFunctions fn_;
@@ -213,18 +224,37 @@ class NordProfisafeModel : public io::DeviceModel {
   std::array<bool, 2> si_changing_{};
   std::array<TIME, 2> si_change_since_{};
   std::array<int, 2> si_source_{};
+  // q_causes(): the causes given by si_ and si_source_ alone (SI not
+  // enabled, P806 clock monitoring; the i-parameters are fixed), refreshed
+  // by refresh_si_causes() at each change of either.
+  std::uint32_t si_causes_ = 0;
   std::uint16_t config_fatal_ = 0;  // i-parameter / DIP fatal code found at power-on
 
   // F-parameters / protocol
-  bool fpar_ok_ = false;
+  // The causes of fail-safe values but a fatal code, one byte each in one
+  // 8-byte word: passivated(), asked three times a step, loads it once.
+  struct Passivation {
+    bool no_fpar = true;        // no F-parameter block accepted
+    bool fault_fv = true;       // fail-safe values until OA_Req
+    bool host_fv = true;        // host's activate_FV
+    bool ce_crc = false;        // CRC2 / consecutive-number error reported
+    bool wd_timeout = false;    // watchdog expired, reported
+    bool module_fault = false;  // an active q error passivates the module (refresh_module_fault)
+    bool unused[2] = {};
+    bool any() const {
+      std::uint64_t w;
+      std::memcpy(&w, this, sizeof w);  // bytes 0 or 1: nonzero iff one is set
+      return w != 0;
+    }
+  };
+  static_assert(sizeof(Passivation) == sizeof(std::uint64_t));
+  Passivation pas_;
   std::uint16_t crc1_ = 0;
   TIME wd_{};
   TIME now_{};
   std::uint32_t cn_ = 0;
   bool last_toggle_ = false;
-  bool ce_crc_ = false, wd_timeout_ = false, cons_nr_r_ = false;
-  bool fault_fv_ = true;  // fail-safe values until OA_Req
-  bool host_fv_ = true;   // host's activate_FV
+  bool cons_nr_r_ = false;
   TIME t_valid_{};
   std::array<std::uint8_t, 4> requested_{};  // F-data of the last valid request
   // q_causes(): the causes given by requested_ alone, for requested_ ==
@@ -236,7 +266,6 @@ class NordProfisafeModel : public io::DeviceModel {
   // Errors
   std::array<QError, kQCount> q_{};
   std::uint32_t active_q_ = 0;  // bit i: q_[i].active
-  bool module_fault_ = false;   // an active q error passivates the module (refresh_module_fault)
   std::uint16_t fatal_code_ = 0;
   std::uint16_t p841_ = 0, p842_ = 0, p848_ = 0;
   std::uint16_t code_events_ = 0;  // codes raised since power-on (diagnosis record)
@@ -250,6 +279,11 @@ class NordProfisafeModel : public io::DeviceModel {
 
   // Outputs
   std::array<bool, 3> ossd_{};
+  // data_now(): response_data_full() for the state whose inputs to it
+  // are data_key_ (the functions' status bits and SI1/SI2; SO1-3 and the
+  // SLS level request), kept from one change of those to the next.
+  std::uint64_t data_key_[2] = {~std::uint64_t{0}, ~std::uint64_t{0}};  // no state: first asks
+  std::array<std::uint8_t, 4> data_kept_{};
   std::array<std::uint8_t, kPdu> pdu_{};  // the response as sent
   // CRC2 of the requests checked and the responses sent (a cache: the
   // results are compute_crc2()'s whatever it holds).

@@ -44,7 +44,21 @@ class NordResponseChannel {
     delay_pending_ = true;
   }
 
+  struct Frame {
+    TIME arrive{};
+    Pdu pdu{};
+    NordFrameTag tag{};
+  };
+
   void send(TIME now, const Pdu& pdu, const NordFrameTag& tag) {
+    Frame& f = push(now);
+    f.pdu = pdu;
+    f.tag = tag;
+  }
+  // send() that leaves the PDU and the tag to the caller: it writes them
+  // into the frame returned (every field; no copy through a temporary),
+  // before it uses the channel again.
+  Frame& push(TIME now) {
     if (delay_pending_) {
       delay_until_ = now + delay_for_;
       delay_pending_ = false;
@@ -53,8 +67,10 @@ class NordResponseChannel {
     const TIME arrive = now + d > last_arrival_ ? now + d : last_arrival_;
     last_arrival_ = arrive;
     if (count_ == kFrames) pop();  // full: the oldest in flight is lost
-    ring_[(first_ + count_) % kFrames] = {arrive, pdu, tag};
+    Frame& f = ring_[(first_ + count_) % kFrames];
+    f.arrive = arrive;
     ++count_;
+    return f;
   }
 
   // Everything that has arrived by `now`; the newest becomes the one shown.
@@ -70,11 +86,6 @@ class NordResponseChannel {
   [[nodiscard]] std::size_t in_flight() const { return count_; }
 
  private:
-  struct Frame {
-    TIME arrive{};
-    Pdu pdu{};
-    NordFrameTag tag{};
-  };
   void pop() {
     first_ = (first_ + 1) % kFrames;
     --count_;

@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "plc/sim/nord_iparams.hpp"
 #include "plc/types.hpp"
@@ -51,15 +52,24 @@ class NordSafetyFunctions {
   [[nodiscard]] bool any_enabled() const { return enabled_ != 0; }
 
   // A violation tripped this function (latched until clear_trip()).
-  [[nodiscard]] bool tripped(int fn) const { return trip_[fn]; }
+  [[nodiscard]] bool tripped(int fn) const { return ((trip_ >> fn) & 1u) != 0; }
+  // tripped() of every function at once, bit fn for function fn.
+  [[nodiscard]] std::uint8_t trips() const { return trip_; }
   // The violation that tripped `fn` is still present (SLS/SSR: speed still
   // outside the limit in force at the trip; SDI/SOS: a one-time event).
   [[nodiscard]] bool cause_present(int fn, double speed_rpm) const;
-  void clear_trip(int fn) { trip_[fn] = false; }
+  void clear_trip(int fn) { trip_ = static_cast<std::uint8_t>(trip_ & ~(1u << fn)); }
 
   // Status bits of spec §2.4 (F-data Out).
   [[nodiscard]] bool ok(int fn) const { return ok_[fn]; }
   [[nodiscard]] bool ssm() const { return ssm_; }
+  // ok() of every function and ssm() in one word (a key: equal words,
+  // equal status bits): ok(fn) in byte fn, ssm() in byte kCount.
+  [[nodiscard]] std::uint64_t status_key() const {
+    std::uint64_t k = 0;
+    std::memcpy(&k, ok_.data(), kCount);
+    return k | static_cast<std::uint64_t>(ssm_) << (8 * kCount);
+  }
   [[nodiscard]] bool monitoring(int fn) const { return st_[fn].monitoring; }
 
   void reset();
@@ -79,7 +89,7 @@ class NordSafetyFunctions {
 
   const NordIParams& ip_;
   std::array<State, kCount> st_{};
-  std::array<bool, kCount> trip_{};
+  std::uint8_t trip_ = 0;  // bit fn: fn tripped (one word: the device reads all five per step)
   std::array<bool, kCount> ok_{};
   std::uint8_t trip_level_ = 0;
   bool ssm_ = false;

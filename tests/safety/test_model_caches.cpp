@@ -1,0 +1,110 @@
+// The simulated NORD F-device keeps parts of its per-step work from one
+// change of their inputs to the next (issue 23): the q-error causes and the
+// response's F-data Out (spec §2.4 table, nord_fdata_bits.hpp). Over many
+// random steps (SI levels and clock sources, speeds, host requests, faults,
+// power cycles, several i-parameter sets) what it keeps must be what it
+// would compute in full from its state at that moment (spec
+// nord-profisafe.md §8.3, q errors §1.5 / §2.8 / §4.5).
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdint>
+
+#include "safety_rig.hpp"
+
+namespace {
+
+using safety_test::Params;
+using safety_test::Random;
+using safety_test::Rig;
+
+// Counts the scans at which some q error had a cause and at which the
+// response carried F-data other than the fail-safe 0.
+int random_walk(Rig& r, Random& rnd, int scans, int& with_data) {
+  int with_cause = 0;
+  with_data = 0;
+  r.start();
+  for (int i = 0; i < scans; ++i) {
+    switch (rnd.below(40)) {
+      case 0:
+        r.model->set_si(rnd.below(2) != 0, rnd.below(2) != 0);
+        break;
+      case 1:
+        r.model->set_si_source(rnd.below(2), rnd.below(3));
+        break;
+      case 2:
+        // Mostly below every limit (a violation holds its q error 10 s).
+        r.model->set_speed_rpm(rnd.below(8) == 0 ? rnd.below(2400) - 1200 : rnd.below(80) - 40);
+        break;
+      case 3:
+        r.io.OSSD1 = rnd.below(2) != 0;
+        r.io.OSSD2 = rnd.below(2) != 0;
+        r.io.OSSD3 = rnd.below(2) != 0;
+        break;
+      case 4:
+        r.io.SOS = rnd.below(4) == 0;
+        r.io.SLS = rnd.below(3) == 0;
+        r.io.SLS_LEVEL = static_cast<plc::USINT>(rnd.below(4));
+        r.io.SDI_P = rnd.below(4) == 0;
+        r.io.SDI_N = rnd.below(4) == 0;
+        r.io.SSR = rnd.below(4) == 0;
+        break;
+      case 5:
+        r.io.CH_PASS_ACK = !r.io.CH_PASS_ACK;
+        break;
+      case 6:
+        r.io.FMOD.ACK_REI = !r.io.FMOD.ACK_REI;
+        break;
+      case 7:
+        if (rnd.below(8) == 0) r.model->inject_device_fault(5732 + rnd.below(4));
+        break;
+      case 8:
+        r.model->clear_device_fault();
+        break;
+      case 9:
+        if (rnd.below(20) == 0) r.model->power_cycle();
+        break;
+      case 10:
+        if (rnd.below(16) == 0) r.model->corrupt_requests(1, rnd.below(8), 0x10);
+        break;
+      default:
+        break;
+    }
+    // Acknowledge now and then, so that the walk also spends long spells
+    // in Run with process data.
+    if (r.io.ACK_REQ && rnd.below(3) == 0) r.ack();
+    r.scan(1 + rnd.below(3));
+    const std::uint32_t full = r.model->q_causes_full();
+    EXPECT_EQ(r.model->q_causes_kept(), full) << "scan " << i;
+    if (r.model->q_causes_kept() != full) return with_cause;
+    with_cause += full != 0;
+    const std::array<std::uint8_t, 4> data = r.model->response_data_full();
+    EXPECT_EQ(r.model->response_data(), data) << "scan " << i;
+    if (r.model->response_data() != data) return with_cause;
+    with_data += data != std::array<std::uint8_t, 4>{};
+  }
+  return with_cause;
+}
+
+TEST(SafetyModelCaches, KeptCausesAndResponseDataAreTheFullOnesOverRandomSteps_Spec8_3) {
+  const Params sets[] = {
+      {},
+      {{"p806_1", "1"}, {"p806_2", "2"}, {"p802_2", "0"}},
+      {{"p801", "1"}, {"p802_1", "0"}, {"p802_4", "0"}, {"p806_2", "1"}, {"p800_1", "1"}},
+      {{"p820_2", "0"}, {"p820_5", "0"}, {"p802_5", "0"}, {"p805", "2"}},
+  };
+  std::uint64_t seed = 2300;
+  int with_cause = 0, with_data = 0;  // over all sets: the walk reaches both
+  for (const Params& p : sets) {
+    Rig r(p);
+    Random rnd(++seed);
+    int data = 0;
+    with_cause += random_walk(r, rnd, 30000, data);
+    with_data += data;
+    EXPECT_FALSE(r.model->fatal());
+  }
+  EXPECT_GT(with_cause, 20000);
+  EXPECT_GT(with_data, 3000);
+}
+
+}  // namespace
