@@ -22,7 +22,11 @@
 // 6: plc::io::DeviceLink counts into its runtime's total of tracking links,
 // PR5510_Device and NORD_SAFE_IO keep their decoded status per change,
 // DriveAxis::begin() is inline (issue 23, second round).
-#define PLC_ABI_VERSION 6
+// 7: TaskRuntime::merge_bits, the Recorder's whole_image() override;
+// Crc2Cache's packed heads and number part, FHostProtocol::cycle() inline
+// (so F_MODULE and NORD_SAFE_IO), the weighing blocks' inline members
+// (issue 23, third round).
+#define PLC_ABI_VERSION 7
 
 // The exported symbol's name, for dlsym.
 #define PLC_CELL_ABI_SYMBOL "softplc_cell_abi_version"
