@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cstring>
 
 #include "plc/profinet/wire.hpp"
 
@@ -33,4 +34,25 @@ TEST(WireCodec, WriterOverflowWritesNothingPastTheEnd) {
   EXPECT_TRUE(w.failed());
   EXPECT_EQ(b[2], 0);
   EXPECT_EQ(b[3], 0);
+}
+
+// copy_io_bytes() (the per-frame IO data copy without a libc call) against
+// memcpy for every length up to past its memcpy threshold and every
+// offset of source and destination: the same bytes, nothing written
+// before or after the n bytes.
+TEST(WireCodec, CopyIoBytesIsMemcpy) {
+  std::array<std::uint8_t, 96> src{};
+  for (std::size_t i = 0; i < src.size(); ++i) src[i] = static_cast<std::uint8_t>(i * 37 + 11);
+  for (std::size_t n = 0; n <= 48; ++n) {
+    for (std::size_t from = 0; from < 8; ++from) {
+      for (std::size_t to = 0; to < 8; ++to) {
+        std::array<std::uint8_t, 96> fast{}, full{};
+        fast.fill(0xA5);
+        full.fill(0xA5);
+        pn::copy_io_bytes(fast.data() + to, src.data() + from, n);
+        std::memcpy(full.data() + to, src.data() + from, n);
+        ASSERT_EQ(fast, full) << "n " << n << " from " << from << " to " << to;
+      }
+    }
+  }
 }

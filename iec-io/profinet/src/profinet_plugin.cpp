@@ -8,6 +8,7 @@
 #include "plc/profinet/controller/device_params.hpp"
 #include "plc/profinet/device/pn_device.hpp"
 #include "plc/profinet/link/open_link.hpp"
+#include "plc/profinet/wire/cyclic.hpp"
 #include "plc/realtime_thread.hpp"
 #include "plc/thread_guard.hpp"
 
@@ -225,7 +226,7 @@ void ProfinetPlugin::run_realtime() {
 void ProfinetPlugin::latch_inputs(std::size_t device, std::span<std::uint8_t> dst) {
   const auto copy = [&] {
     const auto src = controller_->inputs(device);
-    std::copy_n(src.data(), std::min(src.size(), dst.size()), dst.data());
+    copy_io_bytes(dst.data(), src.data(), std::min(src.size(), dst.size()));
   };
   if (mode_ != io::ClockMode::RealTime) return copy();  // no lock object to build either
   std::lock_guard<std::mutex> lock(mutex_);
@@ -235,7 +236,7 @@ void ProfinetPlugin::latch_inputs(std::size_t device, std::span<std::uint8_t> ds
 void ProfinetPlugin::publish_outputs(std::size_t device, std::span<const std::uint8_t> src) {
   const auto copy = [&] {
     auto dst = controller_->outputs(device);
-    std::copy_n(src.data(), std::min(src.size(), dst.size()), dst.data());
+    copy_io_bytes(dst.data(), src.data(), std::min(src.size(), dst.size()));
   };
   if (mode_ != io::ClockMode::RealTime) return copy();
   std::lock_guard<std::mutex> lock(mutex_);

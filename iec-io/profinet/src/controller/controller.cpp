@@ -208,7 +208,7 @@ void Controller::on_ethernet(std::span<const std::uint8_t> frame, TIME now) {
         auto dst = std::span<std::uint8_t>(d.in).subspan(u.user_offset, u.object.length);
         if (iops(c.c_sdu, u.object) & iocr::kIoxsGood) {
           const auto src = io_data(c.c_sdu, u.object);
-          std::copy(src.begin(), src.end(), dst.begin());
+          copy_io_bytes(dst.data(), src.data(), src.size());
         } else {
           std::fill(dst.begin(), dst.end(), 0);
         }

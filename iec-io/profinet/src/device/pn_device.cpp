@@ -733,7 +733,7 @@ void PnDevice::on_cyclic(std::span<const std::uint8_t> frame, const PnFrameView&
     // substitute value zero.
     if (ar.model_out_proper && (iops(cv.c_sdu, o) & iocr::kIoxsGood)) {
       const auto d = io_data(cv.c_sdu, o);
-      std::copy_n(d.begin(), std::min(d.size(), from_plc_.size()), from_plc_.begin());
+      copy_io_bytes(from_plc_.data(), d.data(), std::min(d.size(), from_plc_.size()));
     } else {
       std::fill(from_plc_.begin(), from_plc_.end(), 0);
     }
@@ -786,7 +786,7 @@ void PnDevice::send_cyclic(nanoseconds now) {
   if (!ar.tx_built) build_cyclic_frame(ar);
   // From frame to frame only the model's inputs and the APDU status change.
   if (ar.model_in_bytes > 0)
-    std::memcpy(tx_.data() + ar.model_in_at, to_plc_.data(), ar.model_in_bytes);
+    copy_io_bytes(tx_.data() + ar.model_in_at, to_plc_.data(), ar.model_in_bytes);
   ar.cycle_counter = static_cast<std::uint16_t>(ar.cycle_counter + ar.counter_step);
   const std::size_t n = ar.tx_length > 0
                             ? put_cyclic_status(tx_, ar.in_layout.c_sdu_length, cfg_.vlan_tag,

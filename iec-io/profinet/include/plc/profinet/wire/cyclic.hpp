@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <optional>
 #include <span>
 #include <vector>
@@ -171,6 +172,35 @@ inline WireStatus decode_cyclic(const PnFrameView& v, std::size_t c_sdu_length, 
   return d >= 1 && d <= 61440;
 }
 
+// Copies the n bytes of one IO data object or device image (a few to a few
+// dozen bytes, per frame or scan) in place, without a call into libc's
+// memcpy, whose call costs more than the copy at these sizes: two moves of
+// 16, 8, 4 or 2 bytes that overlap in the middle (both loaded before either
+// is stored), one byte, or memcpy above 32 bytes. The same bytes as memcpy.
+[[gnu::always_inline]] inline void copy_io_bytes(std::uint8_t* dst, const std::uint8_t* src,
+                                                 std::size_t n) {
+  const auto two = [&]<std::size_t W>() {
+    unsigned char a[W], b[W];
+    std::memcpy(a, src, W);
+    std::memcpy(b, src + n - W, W);
+    std::memcpy(dst, a, W);
+    std::memcpy(dst + n - W, b, W);
+  };
+  if (n > 32) {
+    std::memcpy(dst, src, n);
+  } else if (n >= 16) {
+    two.template operator()<16>();
+  } else if (n >= 8) {
+    two.template operator()<8>();
+  } else if (n >= 4) {
+    two.template operator()<4>();
+  } else if (n >= 2) {
+    two.template operator()<2>();
+  } else if (n == 1) {
+    dst[0] = src[0];
+  }
+}
+
 // Accessors of one IO data object inside a C_SDU (no bounds beyond the
 // layout's own: the layout is checked once when computed). Inline: every
 // cyclic frame, sent or received, goes through them.
@@ -178,9 +208,10 @@ inline void put_io_data(std::span<std::uint8_t> c_sdu, const IoDataObject& o,
                         std::span<const std::uint8_t> data, std::uint8_t iops_value) {
   if (std::size_t{o.offset} + o.length + 1 > c_sdu.size()) return;
   const std::size_t n = std::min<std::size_t>(data.size(), o.length);
-  std::copy_n(data.begin(), n, c_sdu.begin() + o.offset);
-  std::fill_n(c_sdu.begin() + o.offset + static_cast<std::ptrdiff_t>(n), o.length - n,
-              std::uint8_t{0});
+  copy_io_bytes(c_sdu.data() + o.offset, data.data(), n);
+  if (n < o.length)  // mostly not: the data is the object's length
+    std::fill_n(c_sdu.begin() + o.offset + static_cast<std::ptrdiff_t>(n), o.length - n,
+                std::uint8_t{0});
   c_sdu[o.iops_offset()] = iops_value;
 }
 inline std::span<const std::uint8_t> io_data(std::span<const std::uint8_t> c_sdu,
