@@ -72,6 +72,17 @@ void fail_record(io::RecordRequest* r, io::RecordError e) {
     r->fail(e == io::RecordError::None ? io::RecordError::InvalidState : e);
 }
 
+// Whether run_device() would do nothing at all: online, no RPC call and no
+// AlarmAck out, the data hold not expired, no record request queued. Each
+// clause is one of run_device()'s conditions for acting (in its order);
+// most polls in data exchange meet them all and make no call.
+bool idle_online(const Controller::Device& d, TIME now, std::uint16_t data_hold_factor) {
+  return d.state == ArState::Online && d.call == RpcCall::None && !d.alarm[0].ack_pending &&
+         !d.alarm[1].ack_pending &&
+         !(d.cyclic && d.rx_seen && now - d.last_input > d.interval * data_hold_factor) &&
+         !d.link.maybe_queued();
+}
+
 std::string status_text(const PnioStatus& s) {
   char b[64];
   std::snprintf(b, sizeof b, "PNIO status %02X %02X %02X %02X", s.error_code, s.error_decode,
@@ -157,7 +168,7 @@ void Controller::poll(TIME now) {
   }
   TIME due = now + cfg_.send_interval();
   for (auto& d : devices_) {
-    run_device(*d, now);
+    if (!idle_online(*d, now, cfg_.data_hold_factor)) run_device(*d, now);
     if (d->cyclic) {
       // Due within half an interval: send now (a wake-up a little early
       // must not slip the frame by a whole interval).
