@@ -28,10 +28,12 @@ class MessagePool {
 
   // A buffer with a copy of `bytes` (at most max_bytes) and `extra`, with
   // one reference.
-  std::uint32_t put(std::span<const std::uint8_t> bytes, const Extra& extra) {
-    if (free_.empty()) grow();
-    const std::uint32_t id = free_.back();
-    free_.pop_back();
+  // Inline: every send's one copy of its message (GCC would keep it out
+  // of line, a call per frame).
+  [[gnu::always_inline]] std::uint32_t put(std::span<const std::uint8_t> bytes,
+                                           const Extra& extra) {
+    if (free_count_ == 0) grow();
+    const std::uint32_t id = free_[--free_count_];
     const std::size_t n = std::min(bytes.size(), stride_);
     Slot& slot = slots_[id];
     if (n > 0) std::memcpy(slot.data, bytes.data(), n);
@@ -43,7 +45,9 @@ class MessagePool {
   void add_ref(std::uint32_t id) { ++slots_[id].refs; }
   // Drops one reference; the last one frees the buffer.
   void release(std::uint32_t id) {
-    if (--slots_[id].refs == 0) free_.push_back(id);  // within the reserved capacity
+    // free_ has room for every buffer: a store, no push_back() (whose growth
+    // path would make each caller save registers for a call never made).
+    if (--slots_[id].refs == 0) free_[free_count_++] = id;
   }
   // Where the buffer's bytes are: the same address for as long as the pool
   // lives (blocks are added, never moved).
@@ -68,13 +72,16 @@ class MessagePool {
     slots_.resize(n);
     for (std::size_t i = old; i < n; ++i)
       slots_[i].data = blocks_[i / kBlockBuffers].get() + (i % kBlockBuffers) * stride_;
-    free_.reserve(n);  // every buffer free at once fits: release() never allocates
-    for (std::size_t i = n; i > old; --i) free_.push_back(static_cast<std::uint32_t>(i - 1));
+    free_.resize(n);  // every buffer free at once fits: release() never allocates
+    for (std::size_t i = n; i > old; --i) free_[free_count_++] = static_cast<std::uint32_t>(i - 1);
   }
   std::size_t stride_;
   std::vector<std::unique_ptr<std::uint8_t[]>> blocks_;
   std::vector<Slot> slots_;
-  std::vector<std::uint32_t> free_;  // numbers of the free buffers
+  // The numbers of the free buffers: the first free_count_ of free_ (a
+  // stack: the last freed is the next taken).
+  std::vector<std::uint32_t> free_;
+  std::size_t free_count_ = 0;
 };
 
 }  // namespace plc::profinet::detail
