@@ -191,6 +191,8 @@ class PnDevice {
   [[nodiscard]] bool quiet() const { return faults_.silent || !model_->answering(); }
   [[nodiscard]] DcpIdentity identity() const;
   void read_ethernet(std::chrono::nanoseconds now);
+  // on_frame()'s body, inline in read_ethernet() (pn_device.cpp).
+  inline void take_frame(std::span<const std::uint8_t> frame, std::chrono::nanoseconds now);
   void read_udp(std::chrono::nanoseconds now);
   void on_dcp(std::uint16_t frame_id, const Mac& src, std::span<const std::uint8_t> pdu,
               std::chrono::nanoseconds now);
