@@ -126,7 +126,8 @@ class Controller {
   struct Device;  // controller_device.hpp (the per-AR state)
 
  private:
-  void on_ethernet(std::span<const std::uint8_t> frame, TIME now);
+  inline void on_ethernet(std::span<const std::uint8_t> frame, TIME now);  // inline in poll()
+  void on_acyclic(const PnFrameView& v, TIME now);  // on_ethernet(): alarms, DCP
   void on_alarm(Device& d, std::uint16_t frame_id, std::span<const std::uint8_t> pdu, TIME now);
   void on_udp(std::span<const std::uint8_t> data, Ipv4 ip, std::uint16_t port, TIME now);
   void on_rpc_request(Device& d, const RpcPdu& pdu, Ipv4 ip, std::uint16_t port, TIME now);

@@ -196,8 +196,8 @@ class PnDevice {
   void read_udp(std::chrono::nanoseconds now);
   void on_dcp(std::uint16_t frame_id, const Mac& src, std::span<const std::uint8_t> pdu,
               std::chrono::nanoseconds now);
-  void on_cyclic(std::span<const std::uint8_t> frame, const PnFrameView& v,
-                 std::chrono::nanoseconds now);
+  inline void on_cyclic(std::span<const std::uint8_t> frame, const PnFrameView& v,
+                        std::chrono::nanoseconds now);
   void on_alarm(std::uint16_t frame_id, const Mac& src, std::span<const std::uint8_t> pdu,
                 std::chrono::nanoseconds now);
   void on_rpc(std::span<const std::uint8_t> dgram, Ipv4 from, std::uint16_t port,
