@@ -802,7 +802,8 @@ void Controller::start_cyclic(Device& d, TIME now) {
 
 void Controller::stop_cyclic(Device& d) { d.cyclic = false; }
 
-void Controller::send_cyclic(Device& d, TIME now) {
+// Inline in poll() (and start_cyclic()): one call less per output frame.
+[[gnu::always_inline]] inline void Controller::send_cyclic(Device& d, TIME now) {
   // Missed intervals (a late wake-up) are skipped and counted, not sent
   // in a burst.
   if (now >= d.next_send + d.interval) {

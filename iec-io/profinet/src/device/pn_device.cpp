@@ -788,7 +788,8 @@ void PnDevice::build_cyclic_frame(Ar& ar) {
   ar.tx_length = finish_cyclic(tx_, h, length);
 }
 
-void PnDevice::send_cyclic(nanoseconds now) {
+// Inline in poll(), its one caller: one call less per input frame.
+[[gnu::always_inline]] inline void PnDevice::send_cyclic(nanoseconds now) {
   Ar& ar = *ar_;
   if (now < ar.next_send) return;
   step_model(now);

@@ -143,7 +143,7 @@ class Controller {
             TIME now, TIME timeout);
   void start_cyclic(Device& d, TIME now);
   void stop_cyclic(Device& d);
-  void send_cyclic(Device& d, TIME now);
+  inline void send_cyclic(Device& d, TIME now);  // inline in poll()
   void drop_link(Device& d);
   void lose(Device& d, TIME now, const std::string& why);
   void fault(Device& d, TIME now, const std::string& why);

@@ -220,7 +220,7 @@ class PnDevice {
   void maybe_enter_data_exchange(std::chrono::nanoseconds now);
   void timers(std::chrono::nanoseconds now);
   [[gnu::noinline]] void timers_due(std::chrono::nanoseconds now);  // the rest of timers()
-  void send_cyclic(std::chrono::nanoseconds now);
+  inline void send_cyclic(std::chrono::nanoseconds now);            // inline in poll()
   void build_cyclic_frame(Ar& ar);
   void flush_delayed(std::chrono::nanoseconds now);
   void step_model(std::chrono::nanoseconds now);
