@@ -217,7 +217,8 @@ void PnDevice::poll(nanoseconds now) {
   }
 }
 
-void PnDevice::read_ethernet(nanoseconds now) {
+// Inline in poll(), its one caller: no call per poll.
+[[gnu::always_inline]] inline void PnDevice::read_ethernet(nanoseconds now) {
   // Each frame read where the port holds it (the memory hub's buffer: no
   // copy), valid until the next receive.
   for (int i = 0; i < kMaxFramesPerPoll && may_hold(eth_queued_); ++i) {

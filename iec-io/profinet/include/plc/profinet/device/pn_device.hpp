@@ -190,7 +190,7 @@ class PnDevice {
   // in and out, so inline.
   [[nodiscard]] bool quiet() const { return faults_.silent || !model_->answering(); }
   [[nodiscard]] DcpIdentity identity() const;
-  void read_ethernet(std::chrono::nanoseconds now);
+  inline void read_ethernet(std::chrono::nanoseconds now);  // inline in poll()
   // on_frame()'s body, inline in read_ethernet() (pn_device.cpp).
   inline void take_frame(std::span<const std::uint8_t> frame, std::chrono::nanoseconds now);
   void read_udp(std::chrono::nanoseconds now);
