@@ -27,8 +27,10 @@ class MessageRing {
   }
 
  private:
-  // A power of two, so that positions wrap with a mask.
-  void grow() {
+  // A power of two, so that positions wrap with a mask. Out of line: rare
+  // (until the deepest queue), and push_back()'s callers then keep fewer
+  // registers for it.
+  [[gnu::noinline]] void grow() {
     std::vector<T> bigger(std::max<std::size_t>(kFirstCapacity, items_.size() * 2));
     for (std::size_t i = 0; i < size_; ++i) bigger[i] = items_[(head_ + i) & (items_.size() - 1)];
     items_ = std::move(bigger);
