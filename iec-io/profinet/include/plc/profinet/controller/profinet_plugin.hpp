@@ -62,6 +62,9 @@ class ProfinetPlugin final : public io::Plugin {
 
  private:
   void open();
+  [[gnu::noinline]] void latch_inputs_locked(std::size_t device, std::span<std::uint8_t> dst);
+  [[gnu::noinline]] void publish_outputs_locked(std::size_t device,
+                                                std::span<const std::uint8_t> src);
   void tick(TIME now);
   void run_realtime();
 
