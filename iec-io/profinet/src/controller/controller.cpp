@@ -128,12 +128,12 @@ std::size_t Controller::add(const ControllerDevice& cfg) {
       d->cfg.record_subslot = s->subslot;
     }
   }
+  in_views_.emplace_back(d->in);
+  out_views_.emplace_back(d->out);
   devices_.push_back(std::move(d));
   return devices_.size() - 1;
 }
 
-std::span<const std::uint8_t> Controller::inputs(std::size_t d) const { return devices_[d]->in; }
-std::span<std::uint8_t> Controller::outputs(std::size_t d) { return devices_[d]->out; }
 io::DeviceLink& Controller::link(std::size_t d) { return devices_[d]->link; }
 ArState Controller::state(std::size_t d) const { return devices_[d]->state; }
 const DeviceCounters& Controller::counters(std::size_t d) const { return devices_[d]->counters; }

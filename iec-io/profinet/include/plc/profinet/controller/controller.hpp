@@ -27,6 +27,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -112,8 +113,9 @@ class Controller {
 
   // Cyclic data (callers synchronise: the plugin holds its mutex). Inputs
   // are zero while the device is not Online.
-  [[nodiscard]] std::span<const std::uint8_t> inputs(std::size_t d) const;
-  [[nodiscard]] std::span<std::uint8_t> outputs(std::size_t d);
+  // Inline: the plugin copies them every scan.
+  [[nodiscard]] std::span<const std::uint8_t> inputs(std::size_t d) const { return in_views_[d]; }
+  [[nodiscard]] std::span<std::uint8_t> outputs(std::size_t d) { return out_views_[d]; }
   io::DeviceLink& link(std::size_t d);
   [[nodiscard]] ArState state(std::size_t d) const;
   [[nodiscard]] const DeviceCounters& counters(std::size_t d) const;
@@ -158,6 +160,10 @@ class Controller {
   const std::atomic<std::size_t>* eth_queued_ = nullptr;
   const std::atomic<std::size_t>* udp_queued_ = nullptr;
   std::vector<std::unique_ptr<Device>> devices_;
+  // Each device's in and out (its staging buffers), taken in add(): sized
+  // there and never again, they stay where they are.
+  std::vector<std::span<const std::uint8_t>> in_views_;
+  std::vector<std::span<std::uint8_t>> out_views_;
   std::vector<std::uint8_t> rx_;  // one frame / datagram
   std::uint32_t next_ar_ = 1;     // AR UUIDs and session keys
   std::uint16_t next_frame_id_ = 0xC000;
