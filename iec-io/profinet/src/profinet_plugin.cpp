@@ -179,8 +179,24 @@ void ProfinetPlugin::stop() {
   }
 }
 
-void ProfinetPlugin::tick(TIME now) {
-  std::lock_guard<std::mutex> lock(mutex_);
+namespace {
+// Holds ProfinetPlugin::stepping_ while it lives (a waiter yields: the
+// holder is a diagnostics() call or a step, both short).
+class StepFlag {
+ public:
+  explicit StepFlag(std::atomic<bool>& f) : f_(f) {
+    while (f_.exchange(true, std::memory_order_acquire)) std::this_thread::yield();
+  }
+  ~StepFlag() { f_.store(false, std::memory_order_release); }
+  StepFlag(const StepFlag&) = delete;
+  StepFlag& operator=(const StepFlag&) = delete;
+
+ private:
+  std::atomic<bool>& f_;
+};
+}  // namespace
+
+[[gnu::always_inline]] inline void ProfinetPlugin::run_tick(TIME now) {
   last_now_ = now;
   controller_->poll(now);
   if (sim_.empty()) return;
@@ -189,6 +205,20 @@ void ProfinetPlugin::tick(TIME now) {
   // scan after their outputs, as over the sim plugin.
   for (auto& s : sim_) s->poll(now);
   controller_->poll(now);
+}
+
+// Real time: the cyclic thread's tick excludes the scan's latch/publish
+// (mutex_). Virtual time: the scan thread is the only one that steps, so
+// only diagnostics() needs keeping out (stepping_).
+void ProfinetPlugin::tick(TIME now) {
+  if (mode_ == io::ClockMode::RealTime) return tick_locked(now);
+  StepFlag hold(stepping_);
+  run_tick(now);
+}
+
+void ProfinetPlugin::tick_locked(TIME now) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  run_tick(now);
 }
 
 void ProfinetPlugin::step(TIME now, TIME) {
@@ -260,6 +290,7 @@ WakeStats ProfinetPlugin::wake_stats() const {
 
 std::string ProfinetPlugin::diagnostics(std::size_t device) const {
   std::lock_guard<std::mutex> lock(mutex_);
+  StepFlag hold(stepping_);  // not mid-step in virtual time either
   std::string s = controller_->diagnostics(device);
   if (mode_ == io::ClockMode::RealTime && wake_.wakes > 0) {
     char b[160];
