@@ -13,6 +13,8 @@
 #include <new>
 
 #include "hiwin_e1/hiwin_e1_model.hpp"
+#include "plc/io/byte_order.hpp"
+#include "plc/io/record_request.hpp"
 #include "plc/profinet/controller/profinet_plugin.hpp"
 #include "profinet/pn_loop.hpp"
 
@@ -45,6 +47,11 @@ void* operator new(std::size_t n, std::align_val_t a) {
 void* operator new[](std::size_t n, std::align_val_t a) { return ::operator new(n, a); }
 void* operator new(std::size_t n, const std::nothrow_t&) noexcept { return counted_alloc(n, 0); }
 void* operator new[](std::size_t n, const std::nothrow_t&) noexcept { return counted_alloc(n, 0); }
+// The replacements allocate with malloc/aligned_alloc, so free() is the
+// right match; GCC, inlining a std::function's new/delete pair, warns
+// otherwise (-Wmismatched-new-delete, a false positive here).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
@@ -53,6 +60,7 @@ void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+#pragma GCC diagnostic pop
 
 namespace {
 
@@ -130,6 +138,50 @@ TEST(PnNoAllocation, CyclicFramesThroughTheHubAllocateNothing) {
     EXPECT_EQ(loop.devices[i].dev->counters().frames_sent - sent0[i], std::uint64_t{kCycles});
     EXPECT_EQ(loop.ctrl->counters(i).bad_total(), 0u);
   }
+}
+
+// Record exchanges once the AR is up (hiwin-e1-profinet.md §6.4: a
+// PROFIdrive parameter request as WRREC + RDREC, carried by RPC Write and
+// Read over the UDP network): the controller's and PnDevice's RPC args,
+// NDR bodies and datagrams are built into reused buffers, so after the
+// first exchange (the buffers grow to the longest message) none allocates.
+TEST(PnNoAllocation, RecordWritesAndReadsAllocateNothingOnceWarm) {
+  PnLoop loop;
+  loop.add("hiwin_e1", params({{"telegram", "111"}}),
+           std::make_unique<plc::sim::HiwinE1Model>(plc::sim::HiwinE1Config{}));
+  ASSERT_TRUE(loop.run_until(
+      [&] { return loop.online(0) && loop.devices[0].dev->state() == PnDeviceState::DataExchange; },
+      3000));
+  loop.run_until([] { return false; }, 100);
+  io::RecordRequest wr, rd;
+  // Read PNU 922 (telegram selection), reference `ref`.
+  auto exchange = [&](std::uint8_t ref) {
+    const std::uint8_t req[] = {ref, 0x01, 0x00, 0x01, 0x10, 0x00, 0x03, 0x9A, 0x00, 0x00};
+    if (!wr.prepare_write(0xB02E, req) || !loop.ctrl->link(0).submit(wr)) return false;
+    if (!loop.run_until([&] { return !wr.busy(); }, 100)) return false;
+    if (wr.status() != io::RecordStatus::Done) return false;
+    wr.reset();
+    rd.prepare_read(0xB02E);
+    if (!loop.ctrl->link(0).submit(rd)) return false;
+    if (!loop.run_until([&] { return !rd.busy(); }, 100)) return false;
+    const bool ok = rd.status() == io::RecordStatus::Done && rd.data().size() >= 8 &&
+                    rd.data()[0] == ref && io::load_be<std::uint16_t>(rd.data(), 6) == 111;
+    rd.reset();
+    return ok;
+  };
+  ASSERT_TRUE(exchange(1));  // warm-up: the buffers grow here
+  constexpr int kExchanges = 50;
+  int ok = 0;
+  std::uint64_t allocations = 0;
+  {
+    AllocationWindow w;
+    for (int k = 0; k < kExchanges; ++k) ok += exchange(static_cast<std::uint8_t>(2 + k));
+    allocations = w.count();
+  }
+  EXPECT_EQ(ok, kExchanges);
+  EXPECT_EQ(allocations, 0u) << "heap allocations in " << kExchanges << " record write+read pairs";
+  EXPECT_EQ(loop.ctrl->counters(0).records_ok, 2u * (kExchanges + 1));
+  EXPECT_TRUE(loop.online(0));
 }
 
 // The `profinet` plugin as the PROFINET filling cell runs it

@@ -637,19 +637,20 @@ void Controller::run_device(Device& d, TIME now) {
       h.subslot = d.cfg.record_subslot;
       h.index = r->index();
       h.record_data_length = io::kRecordMaxBytes;
-      call(d, RpcCall::Read, rpc::kOpRead, encode_read_request(h), now, cfg_.record_timeout);
+      encode_read_request_to(call_args_, h);
+      call(d, RpcCall::Read, rpc::kOpRead, call_args_, now, cfg_.record_timeout);
     } else {
-      RecordWrite w;
-      w.api = d.cfg.record_api;
-      w.slot = d.cfg.record_slot;
-      w.subslot = d.cfg.record_subslot;
-      w.index = r->index();
-      const auto data = r->data();
-      w.data.assign(data.begin(), data.end());
-      const std::uint16_t seq = d.record_seq++;
-      call(d, RpcCall::RecordWrite, rpc::kOpWrite,
-           encode_write_request(seq, d.ar_uuid, std::span<const RecordWrite>(&w, 1)), now,
-           cfg_.record_timeout);
+      // One record, not as MultipleWrite (encode_write_request() with one
+      // RecordWrite builds the same bytes).
+      RecordRequestHeader h;
+      h.seq_number = d.record_seq++;
+      h.ar_uuid = d.ar_uuid;
+      h.api = d.cfg.record_api;
+      h.slot = d.cfg.record_slot;
+      h.subslot = d.cfg.record_subslot;
+      h.index = r->index();
+      encode_write_request_to(call_args_, h, r->data());
+      call(d, RpcCall::RecordWrite, rpc::kOpWrite, call_args_, now, cfg_.record_timeout);
     }
   }
 }
@@ -750,7 +751,7 @@ void Controller::release_all(TIME now) {
 }
 
 void Controller::call(Device& d, RpcCall call, std::uint16_t opnum,
-                      const std::vector<std::uint8_t>& args, TIME now, TIME timeout) {
+                      std::span<const std::uint8_t> args, TIME now, TIME timeout) {
   RpcHeader h;
   h.packet_type = rpc::kRequest;
   h.flags1 = rpc::kFlagIdempotent;
@@ -760,12 +761,12 @@ void Controller::call(Device& d, RpcCall call, std::uint16_t opnum,
   h.activity = d.activity;
   h.sequence_number = d.rpc_seq++;
   h.opnum = opnum;
-  const auto body = encode_ndr_request(rpc::kMaxArgs, args, true);
-  const auto dgram = encode_rpc(h, body);
+  encode_ndr_request_to(call_body_, rpc::kMaxArgs, args, true);
+  encode_rpc_to(call_dgram_, h, call_body_);
   d.call = call;
   d.call_seq = h.sequence_number;
   d.call_deadline = now + timeout;
-  udp_->send_to(d.cfg.desc.ip, kRpcUdpPort, dgram);
+  udp_->send_to(d.cfg.desc.ip, kRpcUdpPort, call_dgram_);
 }
 
 // ---- cyclic data ------------------------------------------------------------

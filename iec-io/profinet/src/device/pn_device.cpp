@@ -394,7 +394,8 @@ void PnDevice::on_rpc(std::span<const std::uint8_t> dgram, Ipv4 from, std::uint1
   }
   NdrRequest ndr;
   PnioStatus status;
-  std::vector<std::uint8_t> args;
+  std::vector<std::uint8_t>& args = rpc_args_;
+  args.clear();  // empty unless the service answers with args
   if (!decode_ndr_request(pdu.body, h.little_endian, ndr)) {
     ++counters_.rpc_bad;
     status = connect_refusal(connect_error::kCmrpc, connect_error::kCmrpcArgsLengthInvalid);
@@ -422,8 +423,8 @@ void PnDevice::on_rpc(std::span<const std::uint8_t> dgram, Ipv4 from, std::uint1
         break;
     }
   }
-  const auto body = encode_ndr_response(status, ndr.args_maximum, args, h.little_endian);
-  last_response_ = encode_rpc(response_header_for(h), body);
+  encode_ndr_response_to(rpc_body_, status, ndr.args_maximum, args, h.little_endian);
+  encode_rpc_to(last_response_, response_header_for(h), rpc_body_);
   last_activity_ = h.activity;
   last_seq_ = h.sequence_number;
   send_udp(from, port, last_response_);
@@ -684,7 +685,7 @@ PnioStatus PnDevice::serve_write(std::span<const std::uint8_t> args,
   // Our reading for MultipleWrite: each record's own status in its result;
   // the outer header and the NDR status carry the first failure.
   res.header = result_for(req.header, first_error);
-  out = encode_write_response(res);
+  encode_write_response_to(out, res);
   return first_error;
 }
 
@@ -713,7 +714,7 @@ PnioStatus PnDevice::serve_read(std::span<const std::uint8_t> args, std::uint16_
     len = 0;
   }
   r.record_data_length = static_cast<std::uint32_t>(len);
-  out = encode_read_response(r, std::span<const std::uint8_t>(buf.data(), len));
+  encode_read_response_to(out, r, std::span<const std::uint8_t>(buf.data(), len));
   return s;
 }
 

@@ -639,8 +639,7 @@ std::vector<std::uint8_t> encode_write_request(std::uint16_t seq, const Uuid& ar
         seq, ar_uuid, w.api, w.slot, w.subslot, w.index, static_cast<std::uint32_t>(w.data.size())};
   };
   if (records.size() == 1 && !force_multiple) {
-    encode_block(b, block::kWriteReqHeader, header_of(records[0]));
-    b.bytes(records[0].data);
+    encode_write_request_to(out, header_of(records[0]), records[0].data);
     return out;
   }
   const std::size_t outer = b.pos();
@@ -699,8 +698,24 @@ WireStatus decode_write_request(std::span<const std::uint8_t> args, WriteRequest
   return kWireOk;
 }
 
+void encode_write_request_to(std::vector<std::uint8_t>& out, const RecordRequestHeader& h,
+                             std::span<const std::uint8_t> data) {
+  out.clear();
+  ByteBuilder b(out);
+  RecordRequestHeader hh = h;
+  hh.record_data_length = static_cast<std::uint32_t>(data.size());
+  encode_block(b, block::kWriteReqHeader, hh);
+  b.bytes(data);
+}
+
 std::vector<std::uint8_t> encode_write_response(const WriteResponse& res) {
   std::vector<std::uint8_t> out;
+  encode_write_response_to(out, res);
+  return out;
+}
+
+void encode_write_response_to(std::vector<std::uint8_t>& out, const WriteResponse& res) {
+  out.clear();
   ByteBuilder b(out);
   encode_block(b, block::kWriteResHeader, res.header);
   const std::size_t data_start = b.pos();
@@ -708,7 +723,6 @@ std::vector<std::uint8_t> encode_write_response(const WriteResponse& res) {
     if (i > 0) b.align(4, data_start);
     encode_block(b, block::kWriteResHeader, res.sub_results[i]);
   }
-  return out;
 }
 
 WireStatus decode_write_response(std::span<const std::uint8_t> args, WriteResponse& out) {
@@ -737,9 +751,14 @@ WireStatus decode_write_response(std::span<const std::uint8_t> args, WriteRespon
 
 std::vector<std::uint8_t> encode_read_request(const RecordRequestHeader& h) {
   std::vector<std::uint8_t> out;
+  encode_read_request_to(out, h);
+  return out;
+}
+
+void encode_read_request_to(std::vector<std::uint8_t>& out, const RecordRequestHeader& h) {
+  out.clear();
   ByteBuilder b(out);
   encode_block(b, block::kReadReqHeader, h);
-  return out;
 }
 
 WireStatus decode_read_request(std::span<const std::uint8_t> args, RecordRequestHeader& out) {
@@ -756,12 +775,18 @@ WireStatus decode_read_request(std::span<const std::uint8_t> args, RecordRequest
 std::vector<std::uint8_t> encode_read_response(const RecordResponseHeader& h,
                                                std::span<const std::uint8_t> data) {
   std::vector<std::uint8_t> out;
+  encode_read_response_to(out, h, data);
+  return out;
+}
+
+void encode_read_response_to(std::vector<std::uint8_t>& out, const RecordResponseHeader& h,
+                             std::span<const std::uint8_t> data) {
+  out.clear();
   ByteBuilder b(out);
   RecordResponseHeader hh = h;
   hh.record_data_length = static_cast<std::uint32_t>(data.size());
   encode_block(b, block::kReadResHeader, hh);
   b.bytes(data);
-  return out;
 }
 
 WireStatus decode_read_response(std::span<const std::uint8_t> args, RecordResponseHeader& out,

@@ -136,6 +136,13 @@ WireStatus decode_rpc(std::span<const std::uint8_t> d, RpcPdu& out) {
 std::vector<std::uint8_t> encode_rpc(const RpcHeader& h, std::span<const std::uint8_t> body) {
   std::vector<std::uint8_t> out;
   out.reserve(rpc::kHeaderLength + body.size());
+  encode_rpc_to(out, h, body);
+  return out;
+}
+
+void encode_rpc_to(std::vector<std::uint8_t>& out, const RpcHeader& h,
+                   std::span<const std::uint8_t> body) {
+  out.clear();
   ByteBuilder b(out);
   const bool le = h.little_endian;
   b.u8(rpc::kVersion);
@@ -160,7 +167,6 @@ std::vector<std::uint8_t> encode_rpc(const RpcHeader& h, std::span<const std::ui
   b.u8(h.auth_protocol);
   b.u8(h.serial);
   b.bytes(body);
-  return out;
 }
 
 namespace {
@@ -204,6 +210,13 @@ WireStatus decode_ndr_response(std::span<const std::uint8_t> body, bool le, NdrR
 std::vector<std::uint8_t> encode_ndr_request(std::uint32_t args_maximum,
                                              std::span<const std::uint8_t> args, bool le) {
   std::vector<std::uint8_t> out;
+  encode_ndr_request_to(out, args_maximum, args, le);
+  return out;
+}
+
+void encode_ndr_request_to(std::vector<std::uint8_t>& out, std::uint32_t args_maximum,
+                           std::span<const std::uint8_t> args, bool le) {
+  out.clear();
   ByteBuilder b(out);
   const auto len = static_cast<std::uint32_t>(args.size());
   b.u32(args_maximum, le);
@@ -212,12 +225,19 @@ std::vector<std::uint8_t> encode_ndr_request(std::uint32_t args_maximum,
   b.u32(0, le);
   b.u32(len, le);
   b.bytes(args);
-  return out;
 }
 
 std::vector<std::uint8_t> encode_ndr_response(const PnioStatus& s, std::uint32_t args_maximum,
                                               std::span<const std::uint8_t> args, bool le) {
   std::vector<std::uint8_t> out;
+  encode_ndr_response_to(out, s, args_maximum, args, le);
+  return out;
+}
+
+void encode_ndr_response_to(std::vector<std::uint8_t>& out, const PnioStatus& s,
+                            std::uint32_t args_maximum, std::span<const std::uint8_t> args,
+                            bool le) {
+  out.clear();
   ByteBuilder b(out);
   const auto len = static_cast<std::uint32_t>(args.size());
   put_pnio_status(b, s);
@@ -226,7 +246,6 @@ std::vector<std::uint8_t> encode_ndr_response(const PnioStatus& s, std::uint32_t
   b.u32(0, le);
   b.u32(len, le);
   b.bytes(args);
-  return out;
 }
 
 RpcHeader response_header_for(const RpcHeader& req) {

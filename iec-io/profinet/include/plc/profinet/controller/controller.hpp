@@ -141,7 +141,7 @@ class Controller {
   void write_startup(Device& d, TIME now);
   void prm_end(Device& d, TIME now);
   void release(Device& d, TIME now);
-  void call(Device& d, RpcCall call, std::uint16_t opnum, const std::vector<std::uint8_t>& args,
+  void call(Device& d, RpcCall call, std::uint16_t opnum, std::span<const std::uint8_t> args,
             TIME now, TIME timeout);
   void start_cyclic(Device& d, TIME now);
   void stop_cyclic(Device& d);
@@ -165,7 +165,11 @@ class Controller {
   std::vector<std::span<const std::uint8_t>> in_views_;
   std::vector<std::span<std::uint8_t>> out_views_;
   std::vector<std::uint8_t> rx_;  // one frame / datagram
-  std::uint32_t next_ar_ = 1;     // AR UUIDs and session keys
+  // An RPC call's args (record requests), NDR body and datagram, built in
+  // place (the wire *_to() encoders): reused, they allocate only until they
+  // have grown to the longest call, so a record exchange allocates nothing.
+  std::vector<std::uint8_t> call_args_, call_body_, call_dgram_;
+  std::uint32_t next_ar_ = 1;  // AR UUIDs and session keys
   std::uint16_t next_frame_id_ = 0xC000;
   TIME next_due_{0};
   std::uint64_t unmatched_ = 0;  // frames for no AR of ours (other traffic on the wire)

@@ -264,6 +264,10 @@ class PnDevice {
   std::vector<std::uint8_t> udp_rx_;
   // The last RPC answer, for a repeated request.
   std::vector<std::uint8_t> last_response_;
+  // An answer's args and NDR body, built in place (the wire *_to()
+  // encoders, as last_response_): reused, a record read or write allocates
+  // nothing once they have grown to the longest answer.
+  std::vector<std::uint8_t> rpc_args_, rpc_body_;
   Uuid last_activity_;
   std::uint32_t last_seq_ = 0;
   bool started_ = false;

@@ -392,6 +392,12 @@ struct RecordWrite {
 std::vector<std::uint8_t> encode_write_request(std::uint16_t seq_number, const Uuid& ar_uuid,
                                                std::span<const RecordWrite> records,
                                                bool force_multiple = false);
+// One record, not as MultipleWrite (the same bytes as encode_write_request()
+// with that one record), into `out`: cleared first, capacity kept (a reused
+// buffer allocates nothing, rpc.hpp: the *_to() twins). `h` names the
+// record; its RecordDataLength is taken from `data`.
+void encode_write_request_to(std::vector<std::uint8_t>& out, const RecordRequestHeader& h,
+                             std::span<const std::uint8_t> data);
 struct WriteRequest {
   RecordRequestHeader header;                    // the outer header (index 0xE040 for multiple)
   std::span<const std::uint8_t> data;            // single write: the record data
@@ -407,13 +413,17 @@ struct WriteResponse {
   std::vector<RecordResponseHeader> sub_results;
 };
 std::vector<std::uint8_t> encode_write_response(const WriteResponse& res);
+void encode_write_response_to(std::vector<std::uint8_t>& out, const WriteResponse& res);
 WireStatus decode_write_response(std::span<const std::uint8_t> args, WriteResponse& out);
 
 // Read request args (IODReadReqHeader) and response (IODReadResHeader + data).
 std::vector<std::uint8_t> encode_read_request(const RecordRequestHeader& h);
+void encode_read_request_to(std::vector<std::uint8_t>& out, const RecordRequestHeader& h);
 WireStatus decode_read_request(std::span<const std::uint8_t> args, RecordRequestHeader& out);
 std::vector<std::uint8_t> encode_read_response(const RecordResponseHeader& h,
                                                std::span<const std::uint8_t> data);
+void encode_read_response_to(std::vector<std::uint8_t>& out, const RecordResponseHeader& h,
+                             std::span<const std::uint8_t> data);
 WireStatus decode_read_response(std::span<const std::uint8_t> args, RecordResponseHeader& out,
                                 std::span<const std::uint8_t>& data);
 

@@ -159,6 +159,13 @@ struct RpcPdu {
 WireStatus decode_rpc(std::span<const std::uint8_t> datagram, RpcPdu& out);
 // Header + body as one datagram (body_length taken from body).
 std::vector<std::uint8_t> encode_rpc(const RpcHeader& h, std::span<const std::uint8_t> body);
+// The *_to() twins of the encoders build the same bytes into `out`, which
+// they clear first: its capacity is kept, so a buffer reused for every
+// call (the controller's and PnDevice's record exchanges) allocates nothing
+// once it has grown to the longest message. The vector-returning versions
+// call them.
+void encode_rpc_to(std::vector<std::uint8_t>& out, const RpcHeader& h,
+                   std::span<const std::uint8_t> body);
 
 // The NDR header of a PROFINET IO request/response body.
 struct NdrRequest {
@@ -182,6 +189,11 @@ std::vector<std::uint8_t> encode_ndr_request(std::uint32_t args_maximum,
 std::vector<std::uint8_t> encode_ndr_response(const PnioStatus& status, std::uint32_t args_maximum,
                                               std::span<const std::uint8_t> args,
                                               bool little_endian = true);
+void encode_ndr_request_to(std::vector<std::uint8_t>& out, std::uint32_t args_maximum,
+                           std::span<const std::uint8_t> args, bool little_endian = true);
+void encode_ndr_response_to(std::vector<std::uint8_t>& out, const PnioStatus& status,
+                            std::uint32_t args_maximum, std::span<const std::uint8_t> args,
+                            bool little_endian = true);
 
 // The response header to a request: same object/interface/activity UUIDs,
 // sequence number, opnum and drep; packet type response, flags1 fitting.
