@@ -126,15 +126,6 @@ void ByteWriter::patch_u32(std::size_t at, std::uint32_t v, bool little_endian) 
   }
 }
 
-void ByteBuilder::u16(std::uint16_t v, bool little_endian) {
-  out_.push_back(0);
-  out_.push_back(0);
-  patch_u16(out_.size() - 2, v, little_endian);
-}
-void ByteBuilder::u32(std::uint32_t v, bool little_endian) {
-  out_.insert(out_.end(), 4, 0);
-  patch_u32(out_.size() - 4, v, little_endian);
-}
 void ByteBuilder::patch_u16(std::size_t at, std::uint16_t v, bool little_endian) {
   out_.at(at + (little_endian ? 1 : 0)) = static_cast<std::uint8_t>(v >> 8);
   out_.at(at + (little_endian ? 0 : 1)) = static_cast<std::uint8_t>(v);

@@ -98,8 +98,18 @@ class ByteBuilder {
  public:
   explicit ByteBuilder(std::vector<std::uint8_t>& out) : out_(out) {}
   void u8(std::uint8_t v) { out_.push_back(v); }
-  void u16(std::uint16_t v, bool little_endian = false);
-  void u32(std::uint32_t v, bool little_endian = false);
+  // Inline (a record exchange builds ~100 fields; the vector's capacity is
+  // mostly kept, rpc.hpp *_to()). push_back, not insert: GCC 12 warns
+  // falsely (-Wstringop-overflow) on an inlined insert into a new vector.
+  void u16(std::uint16_t v, bool little_endian = false) {
+    const auto hi = static_cast<std::uint8_t>(v >> 8), lo = static_cast<std::uint8_t>(v);
+    out_.push_back(little_endian ? lo : hi);
+    out_.push_back(little_endian ? hi : lo);
+  }
+  void u32(std::uint32_t v, bool little_endian = false) {
+    for (std::size_t i = 0; i < 4; ++i)
+      out_.push_back(static_cast<std::uint8_t>(v >> (little_endian ? 8 * i : 8 * (3 - i))));
+  }
   void bytes(std::span<const std::uint8_t> v);
   void zeros(std::size_t n) { out_.insert(out_.end(), n, 0); }
   void patch_u16(std::size_t at, std::uint16_t v, bool little_endian = false);
