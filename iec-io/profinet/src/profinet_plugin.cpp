@@ -180,19 +180,22 @@ void ProfinetPlugin::stop() {
 }
 
 namespace {
-// Holds ProfinetPlugin::stepping_ while it lives (a waiter yields: the
-// holder is a diagnostics() call or a step, both short).
-class StepFlag {
+// Holds ProfinetPlugin's step lock (a ticket lock: step_next_ hands out
+// tickets, step_serving_ says whose turn it is) while it lives. A waiter
+// yields: the holder is a diagnostics() call or a step, both short.
+class StepLock {
  public:
-  explicit StepFlag(std::atomic<bool>& f) : f_(f) {
-    while (f_.exchange(true, std::memory_order_acquire)) std::this_thread::yield();
+  StepLock(std::atomic<std::uint32_t>& next, std::atomic<std::uint32_t>& serving)
+      : serving_(serving), ticket_(next.fetch_add(1, std::memory_order_relaxed)) {
+    while (serving_.load(std::memory_order_acquire) != ticket_) std::this_thread::yield();
   }
-  ~StepFlag() { f_.store(false, std::memory_order_release); }
-  StepFlag(const StepFlag&) = delete;
-  StepFlag& operator=(const StepFlag&) = delete;
+  ~StepLock() { serving_.store(ticket_ + 1, std::memory_order_release); }
+  StepLock(const StepLock&) = delete;
+  StepLock& operator=(const StepLock&) = delete;
 
  private:
-  std::atomic<bool>& f_;
+  std::atomic<std::uint32_t>& serving_;
+  const std::uint32_t ticket_;
 };
 }  // namespace
 
@@ -209,10 +212,10 @@ class StepFlag {
 
 // Real time: the cyclic thread's tick excludes the scan's latch/publish
 // (mutex_). Virtual time: the scan thread is the only one that steps, so
-// only diagnostics() needs keeping out (stepping_).
+// only diagnostics() needs keeping out (the step lock).
 void ProfinetPlugin::tick(TIME now) {
   if (mode_ == io::ClockMode::RealTime) return tick_locked(now);
-  StepFlag hold(stepping_);
+  StepLock hold(step_next_, step_serving_);
   run_tick(now);
 }
 
@@ -290,7 +293,7 @@ WakeStats ProfinetPlugin::wake_stats() const {
 
 std::string ProfinetPlugin::diagnostics(std::size_t device) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  StepFlag hold(stepping_);  // not mid-step in virtual time either
+  StepLock hold(step_next_, step_serving_);  // not mid-step in virtual time either
   std::string s = controller_->diagnostics(device);
   if (mode_ == io::ClockMode::RealTime && wake_.wakes > 0) {
     char b[160];

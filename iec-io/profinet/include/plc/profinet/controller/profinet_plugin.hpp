@@ -85,13 +85,14 @@ class ProfinetPlugin final : public io::Plugin {
   std::vector<std::unique_ptr<PnDevice>> sim_;
   std::unique_ptr<Controller> controller_;
   mutable std::mutex mutex_;
-  // Virtual time: tick() runs on the scan thread alone and takes this flag
+  // Virtual time: tick() runs on the scan thread alone and takes this lock
   // instead of mutex_. It only keeps diagnostics() (which another thread,
   // e.g. the HMI host's, may call) from reading the controller mid-step;
-  // uncontended, an exchange and a store cost a few instructions where
-  // pthread's lock and unlock cost ~55 per tick. diagnostics() takes it
-  // (after mutex_) in either mode.
-  mutable std::atomic<bool> stepping_{false};
+  // uncontended, a ticket lock costs a few instructions where pthread's
+  // lock and unlock cost ~55 per tick, and being first come, first served
+  // a virtual-time cell stepping flat out cannot starve that reader.
+  // diagnostics() takes it (after mutex_) in either mode.
+  mutable std::atomic<std::uint32_t> step_next_{0}, step_serving_{0};
   std::thread thread_;
   std::atomic<bool> running_{false};
   io::ClockMode mode_ = io::ClockMode::Virtual;
