@@ -139,6 +139,46 @@ TEST(ProfinetPlugin, VirtualTimeDeclaresTheMemoryLinkSingleThreaded) {
   }
 }
 
+// Virtual time: latch_inputs()/publish_outputs() only copy the controller's
+// staging buffers, so the plugin offers them for the scan to copy itself
+// (Plugin::direct_io): the device's sizes, where they stay, the same bytes
+// the copies give. Real time: not offered (the copies take the mutex).
+TEST(ProfinetPlugin, VirtualTimeOffersTheStagingBuffersForDirectCopies) {
+  for (const io::ClockMode mode : {io::ClockMode::Virtual, io::ClockMode::RealTime}) {
+    ProfinetPlugin plugin;
+    plugin.configure(
+        params({{"interface", "mem:plugin-direct"}, {"simulate", "true"}, {"log", "false"}}));
+    const io::DeviceSizes sizes = plugin.add_device(
+        {"conveyor", "hiwin_e1",
+         params({{"telegram", "111"}, {"station_name", "conveyor"}, {"ip", "192.168.0.10"}})});
+    plugin.start(mode);
+    const auto direct = plugin.direct_io(0);
+    if (mode == io::ClockMode::RealTime) {
+      EXPECT_FALSE(direct.has_value());
+      plugin.stop();
+      continue;
+    }
+    ASSERT_TRUE(direct.has_value());
+    EXPECT_EQ(direct->in.size(), sizes.input_bytes);
+    EXPECT_EQ(direct->out.size(), sizes.output_bytes);
+    std::vector<std::uint8_t> in(sizes.input_bytes), out(sizes.output_bytes);
+    for (int ms = 1; ms <= 300; ++ms) {
+      plugin.latch_inputs(0, in);
+      ASSERT_TRUE(std::equal(in.begin(), in.end(), direct->in.begin())) << "ms " << ms;
+      out[1] = static_cast<std::uint8_t>(ms);
+      direct->out[1] = static_cast<std::uint8_t>(ms + 1);
+      plugin.publish_outputs(0, out);  // writes where the direct copy writes
+      ASSERT_EQ(direct->out[1], static_cast<std::uint8_t>(ms));
+      plugin.step(std::chrono::milliseconds(ms), {});
+      const auto again = plugin.direct_io(0);
+      ASSERT_EQ(again->in.data(), direct->in.data()) << "the staging buffers never move";
+      ASSERT_EQ(again->out.data(), direct->out.data());
+    }
+    EXPECT_EQ(plugin.link(0).live_state(), io::DeviceState::Online) << plugin.diagnostics(0);
+    plugin.stop();
+  }
+}
+
 // Virtual time: the scan thread steps without the mutex; diagnostics()
 // from another thread (the HMI host's) still never reads mid-step (TSan
 // checks this test).

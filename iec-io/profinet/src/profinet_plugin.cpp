@@ -282,6 +282,16 @@ void ProfinetPlugin::publish_outputs_locked(std::size_t device, std::span<const 
   copy_io_bytes(dst.data(), src.data(), std::min(src.size(), dst.size()));
 }
 
+// Virtual time: latch_inputs()/publish_outputs() only copy from and to the
+// controller's staging buffers, which add() sized once and which never
+// move: the scan may copy them itself (the runtime takes them only if
+// their sizes are the device's).
+std::optional<io::Plugin::DirectIo> ProfinetPlugin::direct_io(std::size_t device) {
+  if (mode_ != io::ClockMode::Virtual || !controller_ || device >= entries_.size())
+    return std::nullopt;
+  return DirectIo{controller_->inputs(device), controller_->outputs(device)};
+}
+
 PnDevice* ProfinetPlugin::simulated(std::size_t device) {
   return device < sim_.size() ? sim_[device].get() : nullptr;
 }

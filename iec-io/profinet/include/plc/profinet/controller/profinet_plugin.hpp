@@ -20,6 +20,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -52,6 +53,7 @@ class ProfinetPlugin final : public io::Plugin {
   void step(TIME now, TIME dt) override;
   void latch_inputs(std::size_t device, std::span<std::uint8_t> dst) override;
   void publish_outputs(std::size_t device, std::span<const std::uint8_t> src) override;
+  std::optional<DirectIo> direct_io(std::size_t device) override;
   io::DeviceLink& link(std::size_t device) override { return controller_->link(device); }
   std::string diagnostics(std::size_t device) const override;
 
