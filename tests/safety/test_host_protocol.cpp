@@ -297,7 +297,7 @@ TEST(SafetyHostProtocol, SteadyPathEqualsTheGeneralPath) {
     if (chance(3)) cmd.ipar_en = !cmd.ipar_en;
     if (chance(30)) out[rng() % 4] = static_cast<std::uint8_t>(rng());
     const bool was_run = fast.state() == FHostState::Run;
-    fast.cycle(now, resp, req_fast, out, in_fast, cmd);
+    fast.cycle<true, 4, 4>(now, resp, req_fast, out, in_fast, cmd);  // as F_MODULE<4, 4>
     full.cycle<false>(now, resp, req_full, out, in_full, cmd);
     ASSERT_EQ(req_fast, req_full) << step;
     ASSERT_EQ(in_fast, in_full) << step;
