@@ -5,6 +5,10 @@
 
 #include <array>
 #include <chrono>
+#include <cstring>
+#include <random>
+#include <type_traits>
+#include <vector>
 
 #include "plc/fb/safety/control_status_byte.hpp"
 #include "plc/fb/safety/f_host_diag.hpp"
@@ -243,6 +247,81 @@ TEST(SafetyHostProtocol, AckEdgeBeforeAckReqShownIgnored_Anchors4_4) {
   EXPECT_EQ(l.host.state(), FHostState::Reintegrating);
   EXPECT_TRUE(l.req[4] & cb::kOaReq);
   EXPECT_GE(l.host.cons_nr(), 2u);
+}
+
+// The F-host's steady path (cycle() in Run with a valid, in-time, fault-free
+// answer) against the general path (cycle<false>()): two hosts fed the same
+// telegrams, times and commands over a random walk of good answers, silences,
+// watchdog trips, corrupted telegrams, status faults, FV_activated, iPar_OK
+// and changing PASS_ON/ACK/IPAR_EN/output data give the same requests, the
+// same application data and the same protocol state (every reflected field)
+// after every scan. Fails with any step of the steady path left out or
+// changed (e.g. the R_cons_nr reset, the toggle or ++deliveries).
+struct StateBytes {
+  std::vector<std::uint8_t> bytes;
+  template <class T>
+  void operator()(const char*, T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    std::uint8_t b[sizeof(T)];
+    std::memcpy(b, &v, sizeof(T));
+    bytes.insert(bytes.end(), b, b + sizeof(T));
+  }
+};
+std::vector<std::uint8_t> state_bytes(FHostProtocol& h) {
+  StateBytes s;
+  h.reflect(s);
+  return s.bytes;
+}
+
+TEST(SafetyHostProtocol, SteadyPathEqualsTheGeneralPath) {
+  FHostProtocol fast, full;
+  fast.configure(kCrc1, 4, 4, 100ms);
+  full.configure(kCrc1, 4, 4, 100ms);
+  plc::TIME now{};
+  fast.start(now);
+  full.start(now);
+  std::array<std::uint8_t, 8> req_fast{}, req_full{}, resp{};
+  std::array<std::uint8_t, 4> out{0x11, 0x22, 0x33, 0x44}, in_fast{}, in_full{};
+  std::array<std::uint8_t, 4> dev_data{0xA1, 0x02, 0x03, 0x04};
+  FHostCommand cmd;
+  std::uint32_t dev_cn = 0;
+  bool dev_fv = true;
+  std::mt19937 rng(23);
+  auto chance = [&](unsigned per_mille) { return rng() % 1000 < per_mille; };
+  std::uint64_t steady = 0;
+  for (int step = 0; step < 300000; ++step) {
+    now += chance(5) ? std::chrono::milliseconds(40 + rng() % 80) : 1ms;
+    if (chance(2)) cmd.pass_on = !cmd.pass_on;
+    if (chance(20)) cmd.ack_rei = !cmd.ack_rei;
+    if (chance(2)) cmd.ack_nec = !cmd.ack_nec;
+    if (chance(3)) cmd.ipar_en = !cmd.ipar_en;
+    if (chance(30)) out[rng() % 4] = static_cast<std::uint8_t>(rng());
+    const bool was_run = fast.state() == FHostState::Run;
+    fast.cycle<true, 4, 4>(now, resp, req_fast, out, in_fast, cmd);  // as F_MODULE<4, 4>
+    full.cycle<false>(now, resp, req_full, out, in_full, cmd);
+    ASSERT_EQ(req_fast, req_full) << step;
+    ASSERT_EQ(in_fast, in_full) << step;
+    ASSERT_EQ(state_bytes(fast), state_bytes(full)) << step;
+    steady += was_run && fast.state() == FHostState::Run;
+    // The device: mostly a good answer to the request, sometimes silent,
+    // corrupt or reporting a fault.
+    if (chance(30)) continue;  // silent this scan
+    const std::uint8_t control = req_fast[4];
+    dev_cn = (control & cb::kRConsNr) ? 0 : next_cons_nr(dev_cn);
+    if (control & cb::kOaReq) dev_fv = false;
+    std::uint8_t status = (control & cb::kToggleH) ? sb::kToggleD : 0;
+    if (dev_fv || (control & cb::kActivateFv)) status |= sb::kFvActivated;
+    if (control & cb::kRConsNr) status |= sb::kConsNrR;
+    if (chance(2)) status |= sb::kCeCrc;
+    if (chance(2)) status |= sb::kWdTimeout;
+    if (chance(2)) status |= sb::kDeviceFault;
+    if (chance(2)) status |= sb::kFvActivated;
+    if (chance(100)) status |= sb::kIparOk;
+    if (chance(30)) dev_data[rng() % 4] = static_cast<std::uint8_t>(rng());
+    write_pdu(resp, dev_data, status, dev_cn, kCrc1);
+    if (chance(3)) resp[rng() % 8] ^= static_cast<std::uint8_t>(1u << (rng() % 8));
+  }
+  EXPECT_GT(steady, 50000u);  // the steady path did run
 }
 
 }  // namespace

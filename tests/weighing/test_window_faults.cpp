@@ -5,6 +5,10 @@
 
 #include <array>
 #include <chrono>
+#include <cstring>
+#include <string_view>
+#include <type_traits>
+#include <vector>
 
 #include "plc/fb/weighing/command.hpp"
 #include "plc/fb/weighing/write_value.hpp"
@@ -47,6 +51,86 @@ std::uint16_t run_to_error(Scripted& s, FB& fb, std::chrono::milliseconds limit)
 }
 
 }  // namespace
+
+// The device block's steady read path (the holder alone requests its
+// code, echoed, no read error) against the general arbitration
+// (scan_general()): two devices fed the same requests and window bytes
+// over a random walk of clients coming and going, urgent and normal
+// requests, new codes, missing and wrong echoes, echo timeouts, status
+// changes and off-line scans write the same window bytes and end every
+// scan in the same state (every reflected field but the port). Fails with
+// any step of the steady path left out (e.g. holder_served_).
+struct DeviceStateBytes {
+  std::vector<std::uint8_t> bytes;
+  template <class T>
+  void operator()(const char* name, T& v) {
+    if (std::string_view(name) == "port") return;
+    if constexpr (std::is_trivially_copyable_v<T>) {
+      std::uint8_t b[sizeof(T)];
+      std::memcpy(b, &v, sizeof(T));
+      bytes.insert(bytes.end(), b, b + sizeof(T));
+    } else {
+      ADD_FAILURE() << name << " is not compared";
+    }
+  }
+};
+std::vector<std::uint8_t> device_state(wg::PR5510_Device& d) {
+  DeviceStateBytes s;
+  d.reflect(s);
+  return s.bytes;
+}
+
+TEST(Pr5510Faults, ReadPathsAgree) {
+  Scripted a, b;
+  a.echo = b.echo = false;  // the walk plays the echo
+  a.dev.EchoTimeout = b.dev.EchoTimeout = 50ms;
+  for (int i = 0; i < 3; ++i) ASSERT_EQ(a.dev.attach(), b.dev.attach());
+  std::uint32_t x = 0x9E3779B9U;
+  auto next = [&x] {
+    x ^= x << 13;
+    x ^= x >> 17;
+    x ^= x << 5;
+    return x;
+  };
+  constexpr std::array<std::uint8_t, 4> kCodes{0x09, 0x0E, 0x04, 0x20};
+  std::array<std::uint8_t, 4> code{0x09, 0x09, 0x20, 0x09};  // per slot
+  std::array<bool, 4> wants{false, true, true, false}, urgent{};
+  std::uint64_t steady = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const std::uint32_t v = next();
+    if (v % 50 == 0) wants[1 + (v >> 8) % 3] = !wants[1 + (v >> 8) % 3];
+    if (v % 70 == 1) code[1 + (v >> 8) % 3] = kCodes[(v >> 12) % 4];
+    if (v % 90 == 2) urgent[1 + (v >> 8) % 3] = !urgent[1 + (v >> 8) % 3];
+    // The echo: mostly the code asked for, sometimes late, wrong or none.
+    const std::uint32_t e = (v >> 16) % 100;
+    std::uint8_t echo = a.out[wg::w::kReadValueSelect];
+    if (e < 3) echo = kCodes[(v >> 24) % 4];
+    if (e >= 3 && e < 8) echo = a.in[wg::r::kReadValueSelected];  // not yet
+    for (Scripted* s : {&a, &b}) {
+      s->in[wg::r::kReadValueSelected] = echo;
+      if (e == 8) s->in[wg::r::kStatus] ^= static_cast<std::uint8_t>(1U << ((v >> 24) % 8));
+      if (e == 9) s->link.set_state(plc::io::DeviceState::Offline);
+      if (e == 10) s->ctx.now += 60ms;  // past the echo timeout
+      for (int slot = 1; slot < 4; ++slot)
+        if (wants[static_cast<std::size_t>(slot)])
+          s->dev.request_read(slot, code[static_cast<std::size_t>(slot)],
+                              urgent[static_cast<std::size_t>(slot)]);
+    }
+    const bool was_held = a.dev.ReadHolder >= 0;
+    a.scan([] {});
+    b.ctx.now += 1ms;
+    b.dev.scan_general(b.ctx);
+    a.link.set_state(plc::io::DeviceState::Online);
+    b.link.set_state(plc::io::DeviceState::Online);
+    ASSERT_EQ(a.out, b.out) << "scan " << i;
+    ASSERT_EQ(device_state(a.dev), device_state(b.dev)) << "scan " << i;
+    for (int slot = 0; slot < 4; ++slot)
+      for (std::uint8_t c : kCodes)
+        ASSERT_EQ(a.dev.read_valid(slot, c), b.dev.read_valid(slot, c)) << "scan " << i;
+    steady += was_held && a.dev.ReadHolder >= 0;
+  }
+  EXPECT_GT(steady, 50000u);  // the steady path did run
+}
 
 // §3.6 step 1: Write_Active (R[5].7) never drops: 16#8011.
 TEST(Pr5510Faults, Spec36_WriteActiveStuckHigh) {

@@ -119,7 +119,8 @@ void PR5510_Device::go_offline() {
   cmd_pending_ = 0;
 }
 
-void PR5510_Device::operator()(const ScanContext& ctx) {
+template <bool SteadyRead>
+void PR5510_Device::scan(const ScanContext& ctx) {
   const bool usable = port.bound() && port.online() && port.in().size() >= kWindowSize &&
                       port.out().size() >= kWindowSize;
   if (!usable) {
@@ -164,7 +165,7 @@ void PR5510_Device::operator()(const ScanContext& ctx) {
     Ready = FormatReads > 0;
   else
     run_own_reader();
-  arbitrate_read(ctx.now);
+  arbitrate_read<SteadyRead>(ctx.now);
   // Idle with nothing pending, run_write() and run_command() do nothing
   // (next_in() of an empty mask is kNoSlot): most scans, so no call.
   if (wr_phase_ != WrPhase::Idle || wr_pending_ != 0) run_write(ctx.now);
@@ -211,8 +212,24 @@ void PR5510_Device::run_own_reader() {
   }
 }
 
+template <bool SteadyRead>
 void PR5510_Device::arbitrate_read(TIME now) {
   const auto in = port.in();
+  // The steady read: the holder alone requests, the same code, echoed, no
+  // read error anywhere. What the general path below does then: the holder
+  // keeps the window (nobody to pass it on to, no urgent request to
+  // preempt it), counts as served, and W[4] carries its code.
+  // ReadPathsAgree (test_window_faults.cpp) compares it with the general
+  // path over a random walk of requests, echoes, timeouts and faults.
+  if (SteadyRead && holder_ != kNoSlot && rd_req_ == bit(holder_) && rd_err_ == 0 &&
+      rd_code_[idx(holder_)] == holder_code_ && in[r::kReadValueSelected] == holder_code_) {
+    holder_served_ = true;
+    port.out()[w::kReadValueSelect] = holder_code_;
+    ReadHolder = static_cast<SINT>(holder_);
+    rd_req_ = 0;
+    rd_urgent_ = 0;
+    return;
+  }
   const std::uint8_t waiting = static_cast<std::uint8_t>(rd_req_ & ~rd_err_);
   if (holder_ != kNoSlot) {
     const std::size_t h = idx(holder_);
@@ -417,5 +434,8 @@ void PR5510_Device::run_command(TIME now) {
       break;
   }
 }
+
+void PR5510_Device::operator()(const ScanContext& ctx) { scan<true>(ctx); }
+void PR5510_Device::scan_general(const ScanContext& ctx) { scan<false>(ctx); }
 
 }  // namespace plc::weighing

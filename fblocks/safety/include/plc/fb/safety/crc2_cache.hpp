@@ -109,7 +109,8 @@ class Crc2Cache {
     std::uint64_t key = 0;
     std::uint64_t rest = 0;
   };
-  static Key pack(std::span<const std::uint8_t> fdata, std::uint8_t cb_sb, std::uint16_t seed) {
+  [[gnu::always_inline]] static Key pack(std::span<const std::uint8_t> fdata, std::uint8_t cb_sb,
+                                         std::uint16_t seed) {
     const std::size_t n = fdata.size();  // <= kMaxCachedFData
     const std::uint8_t* d = fdata.data();
     std::uint64_t lo = 0, hi = 0;

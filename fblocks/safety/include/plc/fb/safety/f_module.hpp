@@ -130,7 +130,8 @@ class F_MODULE {
     std::uint8_t app_in[NIn];
     for (std::size_t i = 0; i < NIn; ++i) app_in[i] = IN_DATA[i];
     FHostCommand cmd{PASS_ON, ACK_NEC, ACK_REI, IPAR_EN};
-    proto_.cycle(ctx.now, port.in().first(kInPdu), port.out().first(kOutPdu), app_out, app_in, cmd);
+    proto_.cycle<true, NIn, NOut>(ctx.now, port.in().first(kInPdu), port.out().first(kOutPdu),
+                                  app_out, app_in, cmd);
     for (std::size_t i = 0; i < NIn; ++i) IN_DATA[i] = app_in[i];
     if (phase_ == Phase::Cyclic) poll_device_diag(ctx.now);
 

@@ -112,6 +112,8 @@ class PR5510_Device {
                cmd_slot_, cmd_next_, cmd_epoch_, cmd_since_, outputs_)
 
   void operator()(const ScanContext& ctx);
+  // operator() without its steady read path (tests compare the two).
+  void scan_general(const ScanContext& ctx);
 
   // ---- client side (the other weighing blocks) ----
   // A slot for one block, or kNoSlot when all are taken.
@@ -197,8 +199,12 @@ class PR5510_Device {
   static int next_in(std::uint8_t mask, int from);
   void go_offline();
   void run_own_reader();
-  // Called from operator() alone, every scan: inline, no call and no
-  // register saves.
+  // operator()'s work; SteadyRead false: scan_general().
+  template <bool SteadyRead>
+  [[gnu::always_inline]] inline void scan(const ScanContext& ctx);
+  // Called from scan() alone, every scan: inline, no call and no register
+  // saves.
+  template <bool SteadyRead>
   [[gnu::always_inline]] inline void arbitrate_read(TIME now);
   void run_write(TIME now);
   void run_command(TIME now);
