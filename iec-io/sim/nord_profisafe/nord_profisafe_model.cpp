@@ -500,8 +500,8 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
   if (cons_nr_r_) status |= sbit::kConsNrR;
 
   // The frame is written in its place on the channel (nothing else uses
-  // the channel before the end of this function).
-  NordResponseChannel::Frame& frame = channel_.push(now_);
+  // the channel before the end of this function; step() delivers next).
+  NordResponseChannel::Frame& frame = channel_.push_delivered(now_);
   NordFrameTag& tag = frame.tag;
   tag.id = ++frames_sent_;
   tag.sent = tag.produced = now_;
