@@ -25,9 +25,9 @@ using safety_test::Rig;
 
 // Counts the scans at which some q error had a cause and at which the
 // response carried F-data other than the fail-safe 0.
-int random_walk(Rig& r, Random& rnd, int scans, int& with_data) {
+int random_walk(Rig& r, Random& rnd, int scans, int& with_data, int& with_so) {
   int with_cause = 0;
-  with_data = 0;
+  with_data = with_so = 0;
   r.start();
   for (int i = 0; i < scans; ++i) {
     switch (rnd.below(40)) {
@@ -86,6 +86,12 @@ int random_walk(Rig& r, Random& rnd, int scans, int& with_data) {
     const std::array<std::uint8_t, 4> data = r.model->response_data_full();
     EXPECT_EQ(r.model->response_data(), data) << "scan " << i;
     if (r.model->response_data() != data) return with_cause;
+    const std::array<bool, 3> so = r.model->ossd_full();
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(r.model->ossd(k), so[k]) << "SO" << k + 1 << ", scan " << i;
+    if (so != std::array<bool, 3>{r.model->ossd(0), r.model->ossd(1), r.model->ossd(2)})
+      return with_cause;
+    with_so += so != std::array<bool, 3>{};
     with_data += data != std::array<std::uint8_t, 4>{};
   }
   return with_cause;
@@ -97,19 +103,23 @@ TEST(SafetyModelCaches, KeptCausesAndResponseDataAreTheFullOnesOverRandomSteps_S
       {{"p806_1", "1"}, {"p806_2", "2"}, {"p802_2", "0"}},
       {{"p801", "1"}, {"p802_1", "0"}, {"p802_4", "0"}, {"p806_2", "1"}, {"p800_1", "1"}},
       {{"p820_2", "0"}, {"p820_5", "0"}, {"p802_5", "0"}, {"p805", "2"}},
+      {{"p800_2", "1"}, {"p801", "1"}, {"p802_4", "0"}},  // SO1/SO2 dual channel
   };
   std::uint64_t seed = 2300;
-  int with_cause = 0, with_data = 0;  // over all sets: the walk reaches both
+  int with_cause = 0, with_data = 0, with_so = 0;  // over all sets: the walk reaches each
   for (const Params& p : sets) {
     Rig r(p);
     Random rnd(++seed);
-    int data = 0;
-    with_cause += random_walk(r, rnd, 30000, data);
+    int data = 0, so = 0;
+    with_cause += random_walk(r, rnd, 30000, data, so);
     with_data += data;
+    EXPECT_GT(so, 10);  // some SO on in every set
+    with_so += so;
     EXPECT_FALSE(r.model->fatal());
   }
   EXPECT_GT(with_cause, 20000);
   EXPECT_GT(with_data, 3000);
+  EXPECT_GT(with_so, 2000);
 }
 
 // Two channels get the same frames, delays and deliveries; one takes each
