@@ -446,7 +446,8 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
     return;
   }
   // ossd_full() by table: the requests pick the entry, a passive channel
-  // clears its byte (bools are bytes 0/1, so ~passive keeps or clears bit 0).
+  // clears its byte (bools are bytes 0/1, so ~passive keeps or clears bit 0;
+  // byte 3 is 0 in the table).
   static_assert(nin::kOssd1.byte == 0 && nin::kOssd1.bit == 0 && nin::kOssd2.byte == 3 &&
                 nin::kOssd2.bit == 0 && nin::kOssd3.byte == 3 && nin::kOssd3.bit == 1);
   const unsigned so = (a[0] & 1u) | (a[3] & 3u) << 1;

@@ -274,14 +274,15 @@ class NordProfisafeModel : public io::DeviceModel {
   std::uint16_t code_events_ = 0;  // codes raised since power-on (diagnosis record)
   TIME code_since_{};              // when p841_ got its value (blink code start)
   bool injected_cause_ = false;
-  std::array<bool, 3> chan_passive_{};
+  // SO1..SO3 and a 4th always false: evaluate() reads the four as one word.
+  std::array<bool, 4> chan_passive_{};
   TIME discrepancy_since_{};
   bool discrepancy_timing_ = false;
   bool discrepancy_fault_ = false;
   bool respond_pending_ = false;
 
   // Outputs
-  std::array<bool, 3> ossd_{};
+  std::array<bool, 4> ossd_{};  // SO1..SO3, the 4th always false (written as one word)
   // evaluate(): SO1..SO3 (bytes 0..2, 0/1) for each combination of the three
   // SO requests (index bit 0: In 0.0, bit 1: In 3.0, bit 2: In 3.1) before
   // channel passivation; derived once from P800/P802, which are fixed.
