@@ -814,8 +814,41 @@ void HiwinE1Model::update_speed_mode(double dt) {
 }
 
 // ------------------------------------------------------------------ step
-void HiwinE1Model::step(TIME /*now*/, TIME dt_ns, std::span<const std::uint8_t> from_plc,
+void HiwinE1Model::step(TIME now, TIME dt_ns, std::span<const std::uint8_t> from_plc,
                         std::span<std::uint8_t> to_plc) {
+  // The drive at rest repeating itself (rest_repeat_; no reboot or 3200h
+  // clear can be running then): the PLC's bytes but STW2 are the last
+  // step's, which changed nothing, so stw1_, POS_STW2 and the setpoints stay
+  // and no edge rises; the state machine, the motion update and the
+  // telegram's key would find what they found then. What is left is what
+  // step_full() does with STW2 (the decoded word, the setpoints' copy, the
+  // sign-of-life) and the telegram copy. A sign-of-life failure (tried on a
+  // copy of the monitor) takes step_full() from the start instead.
+  using T = Telegram111Out;
+  if (rest_repeat_ && dt_ns > TIME::zero() && from_plc.size() >= T::kBytes) {
+    const std::uint8_t* p = from_plc.data();
+    if (std::memcmp(p, decoded_bytes_.data(), T::kStw2) == 0 &&
+        std::memcmp(p + T::kStw2 + 2, decoded_bytes_.data() + T::kStw2 + 2,
+                    T::kBytes - T::kStw2 - 2) == 0) {
+      const Stw2 stw2 = Stw2::from(wire::u16(from_plc, T::kStw2));
+      SignOfLifeMonitor monitor = sol_monitor_;
+      if (!cfg_.sign_of_life_monitoring ||
+          monitor.update(stw2.controller_sign_of_life,
+                         static_cast<std::uint16_t>(act_.sol_tolerance))) {
+        decoded_.stw2 = stw2;
+        if (decoded_.stw1.control_by_plc) cmd_.stw2 = stw2;
+        sol_monitor_ = monitor;
+        if (!sol_frozen_) sol_ = next_sign_of_life(sol_);
+        put_inputs(to_plc);
+        return;
+      }
+    }
+  }
+  step_full(now, dt_ns, from_plc, to_plc);
+}
+
+void HiwinE1Model::step_full(TIME /*now*/, TIME dt_ns, std::span<const std::uint8_t> from_plc,
+                             std::span<std::uint8_t> to_plc) {
   const double dt = static_cast<double>(dt_ns.count()) * 1e-9;
   const double dt_ms = dt * 1000.0;
   if (reboot_left_ms_ > 0) {
@@ -907,17 +940,6 @@ void HiwinE1Model::step(TIME /*now*/, TIME dt_ns, std::span<const std::uint8_t> 
     if (!sol_monitor_.update(sol_in, tol)) enter_fault(kFaultSignOfLife);
   }
 
-  // The drive at rest repeating itself (rest_repeat_): the same PLC words
-  // as in the last step, which changed nothing; the sign-of-life above did
-  // not trip a fault. The state machine, the motion update and the
-  // telegram's key would find what they found then: only the copy is left.
-  // (same_words implies that stw1_, pos_stw2 and the setpoints are the last
-  // step's, so no edge rises.)
-  if (rest_repeat_ && same_words && state_ == State::S4 && dt_ns > TIME::zero()) {
-    prev_stw1_ = stw1_;
-    put_inputs(to_plc);
-    return;
-  }
   const bool in_s4 = state_ == State::S4;
   update_state_machine(has(rise, Stw1Pos::kFaultAck));
   bool still = false;

@@ -186,7 +186,11 @@ class HiwinE1Model : public io::DeviceModel {
   void serve_parameter_request(std::span<const std::uint8_t> req);
   void restart(bool reload_flash);
 
-  // step()'s parts, each called from step() alone, every step: inline, so
+  // step() but the rest repeat (rest_repeat_), out of line: the repeat
+  // saves no registers for it.
+  [[gnu::noinline]] void step_full(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
+                                   std::span<std::uint8_t> to_plc);
+  // step_full()'s parts, each called from it alone, every step: inline, so
   // they cost no call and save no registers.
   [[gnu::always_inline]] inline void update_state_machine(bool rise_ack);
   // Returns true when it took the rest shortcut and that changed nothing
@@ -286,8 +290,8 @@ class HiwinE1Model : public io::DeviceModel {
   // shortcut's writes left every bit as it was and the telegram stayed
   // encoded. Cleared by everything else that changes the model (the public
   // calls, restart(), enter_fault()). While it holds, a step with the same
-  // PLC bytes but STW2 computes that same nothing again, and step() skips
-  // to the telegram copy after the sign-of-life (the conveyor stands most
+  // PLC bytes but STW2 computes that same nothing again, and step() does
+  // only the sign-of-life and the telegram copy (the conveyor stands most
   // of the time).
   bool rest_repeat_ = false;
   std::array<std::uint8_t, drive::Telegram111In::kBytes> encoded_{};
