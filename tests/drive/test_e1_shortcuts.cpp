@@ -7,6 +7,9 @@
 // telegrams (Tables 3.1.1, 3.3.1, 3.4.1 of the spec: every byte) and their
 // encoder position, position and speed (every bit) must be equal at every
 // step. A shortcut that missed one of its inputs or conditions fails here.
+// The calls besides the telegram also come while the words stand still, so
+// that the rest repeat (a step that skips to the telegram copy after a step
+// that changed nothing) must notice each of them.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -16,6 +19,7 @@
 #include <vector>
 
 #include "hiwin_e1/hiwin_e1_model.hpp"
+#include "plc/fb/drive/parameter_channel.hpp"
 #include "plc/fb/drive/scaling.hpp"
 #include "plc/fb/drive/sign_of_life.hpp"
 #include "plc/fb/drive/telegrams.hpp"
@@ -66,7 +70,8 @@ void run_pair(TelegramType tg, std::uint32_t seed) {
 
   TIME now{};
   std::uint8_t sol = 0;
-  int hold = 0, changed = 0, same = 0;
+  int hold = 0, changed = 0, same = 0, repeats = 0, stall = 0, sol_faults = 0,
+      sol_faults_at_rest = 0;
   std::vector<std::uint8_t> prev(in_fast.size());
   for (int step = 0; step < 200000; ++step) {
     if (hold-- <= 0) {
@@ -83,7 +88,11 @@ void run_pair(TelegramType tg, std::uint32_t seed) {
         }
       }
       io::store_be<std::uint16_t>(out, 0, stw1);
-      switch (pick(40)) {  // now and then something besides the telegram
+    }
+    // Now and then something besides the telegram, mostly while the words
+    // stand still.
+    if (pick(300) == 0) {
+      switch (pick(9)) {
         case 0:
           fast.trip_alarm(0xFB1);
           full.trip_alarm(0xFB1);
@@ -110,11 +119,40 @@ void run_pair(TelegramType tg, std::uint32_t seed) {
           full.freeze_sign_of_life(frozen);
           break;
         }
+        case 5: {  // Pt534 (acceleration ramp) through the parameter channel
+          ParamRequest rq;
+          rq.request_id = 0x02;  // change value
+          rq.pnu = pt_pnu(0x534);
+          rq.format = 0x06;  // U16
+          rq.num_values = 1;
+          rq.values[0] = 2 + pick(300);
+          std::array<std::uint8_t, 64> buf{};
+          const std::span<const std::uint8_t> r(buf.data(), rq.encode(buf));
+          EXPECT_EQ(fast.write_record(kParamRecordIndex, r),
+                    full.write_record(kParamRecordIndex, r));
+          std::array<std::uint8_t, 64> ans_fast{}, ans_full{};
+          std::size_t n_fast = 0, n_full = 0;
+          fast.read_record(kParamRecordIndex, ans_fast, n_fast);
+          full.read_record(kParamRecordIndex, ans_full, n_full);
+          EXPECT_EQ(ans_fast, ans_full);
+          EXPECT_EQ(ans_fast[1], 0x02);  // a positive response: the value was written
+          break;
+        }
         default:
           break;
       }
     }
-    sol = next_sign_of_life(sol);
+    const bool repeating = fast.rest_repeating();
+    repeats += repeating;
+    const bool was_fault = full.state() == HiwinE1Model::State::Fault;
+    // Now and then the PLC's sign-of-life stands for a few steps: a short
+    // stall is tolerated (PNU 925), a long one trips AL.FB1, also at rest.
+    if (stall == 0 && pick(800) == 0) stall = 2 + static_cast<int>(pick(10));
+    if (stall > 0) {
+      --stall;
+    } else {
+      sol = next_sign_of_life(sol);
+    }
     io::store_be<std::uint16_t>(out, stw2, static_cast<std::uint16_t>(sol << 12));
     now += 1ms;
     fast.step(now, 1ms, out, in_fast);
@@ -130,6 +168,10 @@ void run_pair(TelegramType tg, std::uint32_t seed) {
               std::bit_cast<std::uint64_t>(full.velocity()))
         << "telegram " << static_cast<int>(tg) << ", step " << step;
     ASSERT_EQ(fast.state(), full.state()) << "step " << step;
+    ASSERT_EQ(fast.fault_code(), full.fault_code()) << "step " << step;
+    const bool sol_fault = !was_fault && full.fault_code() == 0xFB1;
+    sol_faults += sol_fault;
+    sol_faults_at_rest += sol_fault && repeating;
     // The telegram but ZSW2 (sign-of-life): how often the cache was used.
     in_fast[Telegram111In::kZsw2] = in_fast[Telegram111In::kZsw2 + 1] = 0;
     in_fast[Telegram9In::kZsw2] = in_fast[Telegram9In::kZsw2 + 1] = 0;
@@ -139,6 +181,11 @@ void run_pair(TelegramType tg, std::uint32_t seed) {
   // Both paths ran many times: the drive moved and stood still.
   EXPECT_GT(changed, 5000) << static_cast<int>(tg);
   EXPECT_GT(same, 20000) << static_cast<int>(tg);
+  if (tg == TelegramType::Hiwin111) {
+    EXPECT_GT(repeats, 5000);
+    EXPECT_GT(sol_faults_at_rest, 2);  // the sign-of-life trips in a step that repeats
+  }
+  EXPECT_GT(sol_faults, 10) << static_cast<int>(tg);
 }
 
 TEST(E1Shortcuts, Telegram3SameAsWithoutShortcuts) { run_pair(TelegramType::Standard3, 3); }

@@ -4,12 +4,17 @@
 // random steps (SI levels and clock sources, speeds, host requests, faults,
 // power cycles, several i-parameter sets) what it keeps must be what it
 // would compute in full from its state at that moment (spec
-// nord-profisafe.md §8.3, q errors §1.5 / §2.8 / §4.5).
+// nord-profisafe.md §8.3, q errors §1.5 / §2.8 / §4.5). Its response
+// channel writes a frame that arrives at once straight where the shown one
+// lives (push_delivered()): the host must see what push() and deliver()
+// show (spec §8.4 item 3, delayed responses keep their order).
 #include <gtest/gtest.h>
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 
+#include "plc/sim/nord_response_channel.hpp"
 #include "safety_rig.hpp"
 
 namespace {
@@ -20,9 +25,9 @@ using safety_test::Rig;
 
 // Counts the scans at which some q error had a cause and at which the
 // response carried F-data other than the fail-safe 0.
-int random_walk(Rig& r, Random& rnd, int scans, int& with_data) {
+int random_walk(Rig& r, Random& rnd, int scans, int& with_data, int& with_so) {
   int with_cause = 0;
-  with_data = 0;
+  with_data = with_so = 0;
   r.start();
   for (int i = 0; i < scans; ++i) {
     switch (rnd.below(40)) {
@@ -81,6 +86,12 @@ int random_walk(Rig& r, Random& rnd, int scans, int& with_data) {
     const std::array<std::uint8_t, 4> data = r.model->response_data_full();
     EXPECT_EQ(r.model->response_data(), data) << "scan " << i;
     if (r.model->response_data() != data) return with_cause;
+    const std::array<bool, 3> so = r.model->ossd_full();
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(r.model->ossd(k), so[k]) << "SO" << k + 1 << ", scan " << i;
+    if (so != std::array<bool, 3>{r.model->ossd(0), r.model->ossd(1), r.model->ossd(2)})
+      return with_cause;
+    with_so += so != std::array<bool, 3>{};
     with_data += data != std::array<std::uint8_t, 4>{};
   }
   return with_cause;
@@ -92,19 +103,77 @@ TEST(SafetyModelCaches, KeptCausesAndResponseDataAreTheFullOnesOverRandomSteps_S
       {{"p806_1", "1"}, {"p806_2", "2"}, {"p802_2", "0"}},
       {{"p801", "1"}, {"p802_1", "0"}, {"p802_4", "0"}, {"p806_2", "1"}, {"p800_1", "1"}},
       {{"p820_2", "0"}, {"p820_5", "0"}, {"p802_5", "0"}, {"p805", "2"}},
+      {{"p800_2", "1"}, {"p801", "1"}, {"p802_4", "0"}},  // SO1/SO2 dual channel
   };
   std::uint64_t seed = 2300;
-  int with_cause = 0, with_data = 0;  // over all sets: the walk reaches both
+  int with_cause = 0, with_data = 0, with_so = 0;  // over all sets: the walk reaches each
   for (const Params& p : sets) {
     Rig r(p);
     Random rnd(++seed);
-    int data = 0;
-    with_cause += random_walk(r, rnd, 30000, data);
+    int data = 0, so = 0;
+    with_cause += random_walk(r, rnd, 30000, data, so);
     with_data += data;
+    EXPECT_GT(so, 10);  // some SO on in every set
+    with_so += so;
     EXPECT_FALSE(r.model->fatal());
   }
   EXPECT_GT(with_cause, 20000);
   EXPECT_GT(with_data, 3000);
+  EXPECT_GT(with_so, 2000);
+}
+
+// Two channels get the same frames, delays and deliveries; one takes each
+// frame that step() delivers at once through push_delivered(), the other
+// through push(). The frame shown, its tag and the frames in flight must
+// agree after every delivery.
+TEST(SafetyModelCaches, ChannelPushDeliveredShowsWhatPushAndDeliverShow_Spec8_4) {
+  using plc::sim::NordFrameTag;
+  using plc::sim::NordResponseChannel;
+  using std::chrono::milliseconds;
+  NordResponseChannel direct, ring;
+  Random rnd(2311);
+  plc::TIME now{};
+  std::uint64_t id = 0;
+  int at_once = 0, delayed = 0;
+  for (int i = 0; i < 200000; ++i) {
+    now += milliseconds(1);
+    if (rnd.below(500) == 0) {  // a delay episode (sometimes none: 0 ms)
+      const auto d = milliseconds(rnd.below(4) == 0 ? 0 : 1 + rnd.below(30));
+      const auto how_long = milliseconds(rnd.below(200));
+      direct.delay(d, how_long);
+      ring.delay(d, how_long);
+    }
+    NordResponseChannel::Pdu pdu{};
+    for (auto& b : pdu) b = static_cast<std::uint8_t>(rnd.below(256));
+    NordFrameTag tag;
+    tag.id = ++id;
+    tag.sent = tag.produced = now;
+    tag.data = {pdu[0], pdu[1], pdu[2], pdu[3]};
+    tag.repeated = rnd.below(2) != 0;
+    if (rnd.below(1000) == 0) {  // power_cycle()'s frame: sent, delivered a step later
+      direct.send(now, pdu, tag);
+      ring.send(now, pdu, tag);
+      continue;
+    }
+    if (rnd.below(4) != 0) {  // the device answers this step
+      const bool none_in_flight = ring.in_flight() == 0;
+      NordResponseChannel::Frame& a = direct.push_delivered(now);
+      a.pdu = pdu;
+      a.tag = tag;
+      NordResponseChannel::Frame& b = ring.push(now);
+      b.pdu = pdu;
+      b.tag = tag;
+      (none_in_flight ? at_once : delayed)++;
+    }
+    direct.deliver(now);
+    ring.deliver(now);
+    ASSERT_EQ(direct.shown(), ring.shown()) << "step " << i;
+    ASSERT_EQ(direct.shown_tag().id, ring.shown_tag().id) << "step " << i;
+    ASSERT_EQ(direct.shown_tag().produced, ring.shown_tag().produced) << "step " << i;
+    ASSERT_EQ(direct.in_flight(), ring.in_flight()) << "step " << i;
+  }
+  EXPECT_GT(at_once, 50000);
+  EXPECT_GT(delayed, 10000);
 }
 
 }  // namespace

@@ -228,6 +228,7 @@ double HiwinE1Model::parameter(std::uint16_t pnu, std::uint16_t sub) const {
 }
 
 std::uint16_t HiwinE1Model::set_parameter(std::uint16_t pnu, double value, std::uint16_t sub) {
+  rest_repeat_ = false;
   auto it = dict_.find(pnu);
   if (it == dict_.end()) return 0x00;
   const std::uint16_t e = write_element(pnu, sub, value);
@@ -415,6 +416,7 @@ io::RecordError HiwinE1Model::write_record(std::uint16_t index, std::span<const 
   if (index != kParamRecordIndex && index != kParamRecordIndexLocal &&
       index != kParamRecordIndexGlobal)
     return io::RecordError::InvalidIndex;
+  rest_repeat_ = false;
   serve_parameter_request(d);
   return io::RecordError::None;
 }
@@ -441,6 +443,7 @@ void HiwinE1Model::restart(bool reload_flash) {
     e.active = e.value;
   }
   refresh_active();
+  rest_repeat_ = false;
   stw1_ = prev_stw1_ = pos_stw2_prev_ = 0;
   cmd_ = Telegram111Out{};
   mdi_selected_ = false;
@@ -478,6 +481,7 @@ bool HiwinE1Model::trip_alarm(std::uint16_t code, bool cause_persists) {
 }
 
 void HiwinE1Model::enter_fault(std::uint16_t code) {
+  rest_repeat_ = false;
   fault_code_ = code;
   state_ = State::Fault;
   task_active_ = task_ack_ = task_rejecting_ = false;
@@ -634,9 +638,11 @@ void HiwinE1Model::update_state_machine(bool rise_ack) {
 }
 
 // -------------------------------------------------------- position mode
-void HiwinE1Model::update_position_mode(double dt, bool rise_task, bool rise_homing,
+bool HiwinE1Model::update_position_mode(double dt, bool rise_task, bool rise_homing,
                                         bool rise_setref) {
   const double stop_thr = stop_thr_;
+  // The flags the rest shortcut may change besides the motion values.
+  const std::array<bool, 3> flags_was = {overtravel_neg_, overtravel_pos_, task_ack_};
   overtravel_neg_ = enc_ <= cfg_.neg_limit;
   overtravel_pos_ = enc_ >= cfg_.pos_limit;
   if (!has(stw1_, Stw1Pos::kActivateTask)) task_ack_ = false;
@@ -647,7 +653,7 @@ void HiwinE1Model::update_position_mode(double dt, bool rise_task, bool rise_hom
   }
   if (!pulses_enabled()) {
     coast(dt);
-    return;
+    return false;
   }
   const double a_def = act_.acc534, d_def = act_.acc537;
   if (state_ == State::S5Off1 || state_ == State::S5Off3) {
@@ -657,7 +663,7 @@ void HiwinE1Model::update_position_mode(double dt, bool rise_task, bool rise_hom
     follow(dt);
     if (v_set_ == 0 && std::fabs(v_act_) < stop_thr)
       state_ = state_ == State::S5Off1 ? State::S2 : State::S1;
-    return;
+    return false;
   }
   // S4
   const bool jog1 = has(stw1_, Stw1Pos::kJog1), jog2 = has(stw1_, Stw1Pos::kJog2);
@@ -672,11 +678,18 @@ void HiwinE1Model::update_position_mode(double dt, bool rise_task, bool rise_hom
     // 0.5 * (+0) * dt = +0. follow(): p_set_ == enc_ (finite), so the lag
     // moves enc_ by +-0 * alpha, which is within 1e-6 of p_set_ and snaps to
     // it. The following error is 0.
+    // Nothing changed when those writes leave every bit: the speeds were
+    // +0, p_set_ not -0 (+0.0 turns it into +0) and enc_ p_set_'s bits.
+    const auto bits = [](double d) { return std::bit_cast<std::uint64_t>(d); };
+    const bool still =
+        bits(v_set_) == 0 && bits(v_act_) == 0 && bits(p_set_) == bits(enc_) &&
+        bits(p_set_) != bits(-0.0) &&
+        flags_was == std::array<bool, 3>{overtravel_neg_, overtravel_pos_, task_ack_};
     v_set_ = 0.0;
     p_set_ += 0.0;
     v_act_ = (p_set_ - enc_) / dt;
     enc_ = p_set_;
-    return;
+    return still;
   }
   if (rise_homing && !task_active_ && !jog1 && !jog2) {
     homing_ = true;
@@ -770,6 +783,7 @@ void HiwinE1Model::update_position_mode(double dt, bool rise_task, bool rise_hom
   }
   follow(dt);
   if (std::fabs(p_set_ - enc_) > cfg_.following_error_limit) enter_fault(kFaultFollowingError);
+  return false;
 }
 
 // ------------------------------------------------------------ speed mode
@@ -800,8 +814,41 @@ void HiwinE1Model::update_speed_mode(double dt) {
 }
 
 // ------------------------------------------------------------------ step
-void HiwinE1Model::step(TIME /*now*/, TIME dt_ns, std::span<const std::uint8_t> from_plc,
+void HiwinE1Model::step(TIME now, TIME dt_ns, std::span<const std::uint8_t> from_plc,
                         std::span<std::uint8_t> to_plc) {
+  // The drive at rest repeating itself (rest_repeat_; no reboot or 3200h
+  // clear can be running then): the PLC's bytes but STW2 are the last
+  // step's, which changed nothing, so stw1_, POS_STW2 and the setpoints stay
+  // and no edge rises; the state machine, the motion update and the
+  // telegram's key would find what they found then. What is left is what
+  // step_full() does with STW2 (the decoded word, the setpoints' copy, the
+  // sign-of-life) and the telegram copy. A sign-of-life failure (tried on a
+  // copy of the monitor) takes step_full() from the start instead.
+  using T = Telegram111Out;
+  if (rest_repeat_ && dt_ns > TIME::zero() && from_plc.size() >= T::kBytes) {
+    const std::uint8_t* p = from_plc.data();
+    if (std::memcmp(p, decoded_bytes_.data(), T::kStw2) == 0 &&
+        std::memcmp(p + T::kStw2 + 2, decoded_bytes_.data() + T::kStw2 + 2,
+                    T::kBytes - T::kStw2 - 2) == 0) {
+      const Stw2 stw2 = Stw2::from(wire::u16(from_plc, T::kStw2));
+      SignOfLifeMonitor monitor = sol_monitor_;
+      if (!cfg_.sign_of_life_monitoring ||
+          monitor.update(stw2.controller_sign_of_life,
+                         static_cast<std::uint16_t>(act_.sol_tolerance))) {
+        decoded_.stw2 = stw2;
+        if (decoded_.stw1.control_by_plc) cmd_.stw2 = stw2;
+        sol_monitor_ = monitor;
+        if (!sol_frozen_) sol_ = next_sign_of_life(sol_);
+        put_inputs(to_plc);
+        return;
+      }
+    }
+  }
+  step_full(now, dt_ns, from_plc, to_plc);
+}
+
+void HiwinE1Model::step_full(TIME /*now*/, TIME dt_ns, std::span<const std::uint8_t> from_plc,
+                             std::span<std::uint8_t> to_plc) {
   const double dt = static_cast<double>(dt_ns.count()) * 1e-9;
   const double dt_ms = dt * 1000.0;
   if (reboot_left_ms_ > 0) {
@@ -809,6 +856,7 @@ void HiwinE1Model::step(TIME /*now*/, TIME dt_ns, std::span<const std::uint8_t> 
     if (reboot_left_ms_ <= 0) restart(false);  // warm restart: parameter RAM kept
     return;
   }
+  const bool init_idle = abs_init_ != 2;  // no 3200h clear running (it moves the encoder)
   if (abs_init_ == 2) {
     abs_init_left_ms_ -= dt_ms;
     if (pulses_enabled()) clear_will_fail_ = true;
@@ -828,6 +876,7 @@ void HiwinE1Model::step(TIME /*now*/, TIME dt_ns, std::span<const std::uint8_t> 
   // Decode the PLC's telegram; with STW1.10 = 0 keep the last valid values.
   std::uint16_t stw1 = 0, pos_stw2 = 0;
   std::uint8_t sol_in = 0;
+  bool same_words = false;  // telegram 111: the bytes but STW2 are the last step's
   switch (cfg_.telegram) {
     case TelegramType::Standard3: {
       const auto t = Telegram3Out::decode(from_plc);
@@ -857,7 +906,7 @@ void HiwinE1Model::step(TIME /*now*/, TIME dt_ns, std::span<const std::uint8_t> 
       break;
     }
     case TelegramType::Hiwin111: {
-      const Telegram111Out& t = decode_111(from_plc);
+      const Telegram111Out& t = decode_111(from_plc, same_words);
       if (from_plc.size() >= Telegram111Out::kBytes) {
         stw1 = static_cast<std::uint16_t>(wire::u16(from_plc, Telegram111Out::kStw1) &
                                           Stw1Pos::kDefined);
@@ -882,6 +931,7 @@ void HiwinE1Model::step(TIME /*now*/, TIME dt_ns, std::span<const std::uint8_t> 
   const std::uint16_t rise = static_cast<std::uint16_t>(stw1_ & ~prev_stw1_);
   const bool rise_setref = has(pos_stw2, PosStw2::kSetReferencePoint) &&
                            !has(pos_stw2_prev_, PosStw2::kSetReferencePoint);
+  const bool words_kept = stw1_ == prev_stw1_ && pos_stw2 == pos_stw2_prev_;
   pos_stw2_prev_ = pos_stw2;
 
   if (!sol_frozen_) sol_ = next_sign_of_life(sol_);
@@ -890,26 +940,34 @@ void HiwinE1Model::step(TIME /*now*/, TIME dt_ns, std::span<const std::uint8_t> 
     if (!sol_monitor_.update(sol_in, tol)) enter_fault(kFaultSignOfLife);
   }
 
+  const bool in_s4 = state_ == State::S4;
   update_state_machine(has(rise, Stw1Pos::kFaultAck));
+  bool still = false;
   if (cfg_.telegram == TelegramType::Standard3) {
     update_speed_mode(dt);
     const std::uint16_t g1_rise = static_cast<std::uint16_t>(g1_stw_ & ~g1_prev_);
     g1_ack_in_progress_ = has(g1_rise, G1Stw::kAckSensorError);
     g1_prev_ = g1_stw_;
   } else {
-    update_position_mode(dt, has(rise, Stw1Pos::kActivateTask), has(rise, Stw1Pos::kStartHoming),
-                         rise_setref);
+    still = update_position_mode(dt, has(rise, Stw1Pos::kActivateTask),
+                                 has(rise, Stw1Pos::kStartHoming), rise_setref);
   }
   prev_stw1_ = stw1_;
   write_inputs(to_plc);
+  // This step changed nothing but the sign-of-life (see rest_repeat_): the
+  // words and setpoints were the last step's, the state stayed S4 (a fault
+  // from the sign-of-life or the motion leaves it), the rest shortcut kept
+  // every bit, and no 3200h clear ran.
+  rest_repeat_ = still && same_words && words_kept && in_s4 && state_ == State::S4 && init_idle;
 }
 
 // Telegram111Out::decode once per change of the PLC's words: they stand
 // still between commands but for the sign-of-life in STW2, which is taken
 // from its word every step. A pure function of the bytes, so the cache
 // cannot go stale (restart and power cycle need not touch it).
-const Telegram111Out& HiwinE1Model::decode_111(std::span<const std::uint8_t> b) {
+const Telegram111Out& HiwinE1Model::decode_111(std::span<const std::uint8_t> b, bool& same) {
   using T = Telegram111Out;
+  same = false;
   if (b.size() < T::kBytes) {
     decoded_valid_ = false;
     decoded_ = T::decode(b);
@@ -924,6 +982,7 @@ const Telegram111Out& HiwinE1Model::decode_111(std::span<const std::uint8_t> b) 
     decoded_valid_ = true;
   } else {
     decoded_.stw2 = Stw2::from(wire::u16(b, T::kStw2));
+    same = true;
   }
   return decoded_;
 }
@@ -962,6 +1021,11 @@ void HiwinE1Model::write_inputs(std::span<std::uint8_t> to_plc) {
     encoded_key_ = key;
     encoded_valid_ = shortcuts_;
   }
+  put_inputs(to_plc);
+}
+
+// The telegram as last encoded, with this step's ZSW2.
+void HiwinE1Model::put_inputs(std::span<std::uint8_t> to_plc) {
   Zsw2 zsw2;
   zsw2.drive_sign_of_life = sol_;
   zsw2.pulses_enabled = pulses_enabled();

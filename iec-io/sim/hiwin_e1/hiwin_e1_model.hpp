@@ -124,21 +124,32 @@ class HiwinE1Model : public io::DeviceModel {
   // Trip an alarm of Table 5.1.1; with `cause_persists` it cannot be
   // acknowledged until clear_alarm_cause(). Returns false for unknown codes.
   bool trip_alarm(std::uint16_t fault_code, bool cause_persists = false);
-  void clear_alarm_cause() { cause_persists_ = false; }
+  void clear_alarm_cause() {
+    cause_persists_ = false;
+    rest_repeat_ = false;
+  }
   void freeze_sign_of_life(bool frozen) { sol_frozen_ = frozen; }
   void set_answering(bool on) { answering_ = on; }
   void fail_next_multiturn_clear() { fail_next_clear_ = true; }
   // The next 3200h = 1 is refused with 16 as if the motor were enabled (e.g.
   // servo-on from the Thunder tool, which the PLC cannot see).
   void refuse_next_multiturn_clear() { refuse_next_clear_ = true; }
-  void set_warning(std::uint16_t warn_code) { injected_warning_ = warn_code; }
+  void set_warning(std::uint16_t warn_code) {
+    injected_warning_ = warn_code;
+    rest_repeat_ = false;
+  }
   // Off: the drive's telegram is encoded from the state every step, and a
   // drive at rest takes the full motion update, as without the shortcuts
   // (tests compare the two).
-  void set_shortcuts(bool on) { shortcuts_ = on; }
+  void set_shortcuts(bool on) {
+    shortcuts_ = on;
+    rest_repeat_ = false;
+  }
 
   // ---- inspection (tests, benchmarks) ----
   [[nodiscard]] State state() const { return state_; }
+  // The next step may skip to the telegram copy (rest_repeat_; tests).
+  [[nodiscard]] bool rest_repeating() const { return rest_repeat_; }
   [[nodiscard]] double encoder_position() const { return enc_; }  // CU incl. multi-turn
   [[nodiscard]] std::int64_t multi_turn() const;
   [[nodiscard]] double position() const { return enc_ + offset_; }
@@ -175,16 +186,23 @@ class HiwinE1Model : public io::DeviceModel {
   void serve_parameter_request(std::span<const std::uint8_t> req);
   void restart(bool reload_flash);
 
-  // step()'s parts, each called from step() alone, every step: inline, so
+  // step() but the rest repeat (rest_repeat_), out of line: the repeat
+  // saves no registers for it.
+  [[gnu::noinline]] void step_full(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
+                                   std::span<std::uint8_t> to_plc);
+  // step_full()'s parts, each called from it alone, every step: inline, so
   // they cost no call and save no registers.
   [[gnu::always_inline]] inline void update_state_machine(bool rise_ack);
-  [[gnu::always_inline]] inline void update_position_mode(double dt, bool rise_task,
+  // Returns true when it took the rest shortcut and that changed nothing
+  // (see rest_repeat_).
+  [[gnu::always_inline]] inline bool update_position_mode(double dt, bool rise_task,
                                                           bool rise_homing, bool rise_setref);
   void update_speed_mode(double dt);
   void coast(double dt);
   void follow(double dt);
   void enter_fault(std::uint16_t code);
   [[gnu::always_inline]] inline void write_inputs(std::span<std::uint8_t> to_plc);
+  [[gnu::always_inline]] inline void put_inputs(std::span<std::uint8_t> to_plc);
   void encode_inputs(std::span<std::uint8_t> to_plc) const;
   bool move_to(double target, double vmax, double a, double d, double dt);
   void ramp_velocity(double vt, double a, double d, double dt);
@@ -210,8 +228,9 @@ class HiwinE1Model : public io::DeviceModel {
   std::uint16_t stw1_ = 0, prev_stw1_ = 0, pos_stw2_prev_ = 0;
   drive::Telegram111Out cmd_;  // setpoints (tgm 9 mapped onto the 111 fields)
   // The last telegram 111 decoded, and its bytes (decode_111).
+  // `same`: the bytes but STW2 are those of the last telegram decoded.
   [[gnu::always_inline]] inline const drive::Telegram111Out& decode_111(
-      std::span<const std::uint8_t> b);
+      std::span<const std::uint8_t> b, bool& same);
   drive::Telegram111Out decoded_;
   std::array<std::uint8_t, drive::Telegram111Out::kBytes> decoded_bytes_{};
   bool decoded_valid_ = false;
@@ -264,6 +283,17 @@ class HiwinE1Model : public io::DeviceModel {
   InputsKey encoded_key_{};
   bool encoded_valid_ = false;
   bool shortcuts_ = true;  // set_shortcuts()
+  // The last step() was a full one (telegram 111) that found the drive at
+  // rest in S4 with nothing to start (the rest shortcut) and changed
+  // nothing that a step reads but the sign-of-life: its control words were
+  // those of the step before, the state machine stayed in S4, the rest
+  // shortcut's writes left every bit as it was and the telegram stayed
+  // encoded. Cleared by everything else that changes the model (the public
+  // calls, restart(), enter_fault()). While it holds, a step with the same
+  // PLC bytes but STW2 computes that same nothing again, and step() does
+  // only the sign-of-life and the telegram copy (the conveyor stands most
+  // of the time).
+  bool rest_repeat_ = false;
   std::array<std::uint8_t, drive::Telegram111In::kBytes> encoded_{};
 
   // parameter channel: the pending response

@@ -29,6 +29,12 @@ NordProfisafeModel::NordProfisafeModel(const io::ModelParams& p)
   si_raw_ = {p.get_bool("si1", false), p.get_bool("si2", false)};
   si_ = si_raw_;
   p.reject_unknown();
+  for (unsigned so = 0; so < ossd_of_.size(); ++so) {
+    bool cmd[3] = {(so & 1u) != 0, (so & 2u) != 0, (so & 4u) != 0};
+    if (ip_.p800[1] == 1) cmd[0] = cmd[1] = cmd[0] && cmd[1];  // SO1+SO2 dual channel
+    for (unsigned i = 0; i < 3; ++i)
+      ossd_of_[so] |= static_cast<std::uint32_t>(cmd[i] && ip_.p802[2 + i] == 1) << (8 * i);
+  }
   refresh_inc_per_s();
   refresh_si_causes();
   power_cycle();
@@ -439,9 +445,26 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
     ossd_ = {};
     return;
   }
+  // ossd_full() by table: the requests pick the entry, a passive channel
+  // clears its byte (bools are bytes 0/1, so ~passive keeps or clears bit 0;
+  // byte 3 is 0 in the table).
+  static_assert(nin::kOssd1.byte == 0 && nin::kOssd1.bit == 0 && nin::kOssd2.byte == 3 &&
+                nin::kOssd2.bit == 0 && nin::kOssd3.byte == 3 && nin::kOssd3.bit == 1);
+  const unsigned so = (a[0] & 1u) | (a[3] & 3u) << 1;
+  std::uint32_t passive = 0;
+  std::memcpy(&passive, chan_passive_.data(), chan_passive_.size());
+  const std::uint32_t on = ossd_of_[so] & ~passive;
+  std::memcpy(ossd_.data(), &on, ossd_.size());
+}
+
+std::array<bool, 3> NordProfisafeModel::ossd_full() const {
+  std::array<bool, 3> o{};
+  if (passivated()) return o;
+  const std::uint8_t* a = applied_.data();
   bool cmd[3] = {get(a, nin::kOssd1), get(a, nin::kOssd2), get(a, nin::kOssd3)};
   if (ip_.p800[1] == 1) cmd[0] = cmd[1] = cmd[0] && cmd[1];  // SO1+SO2 dual channel
-  for (int i = 0; i < 3; ++i) ossd_[i] = cmd[i] && ip_.p802[2 + i] == 1 && !chan_passive_[i];
+  for (int i = 0; i < 3; ++i) o[i] = cmd[i] && ip_.p802[2 + i] == 1 && !chan_passive_[i];
+  return o;
 }
 
 std::array<std::uint8_t, 4> NordProfisafeModel::response_data_full() const {
@@ -500,8 +523,8 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
   if (cons_nr_r_) status |= sbit::kConsNrR;
 
   // The frame is written in its place on the channel (nothing else uses
-  // the channel before the end of this function).
-  NordResponseChannel::Frame& frame = channel_.push(now_);
+  // the channel before the end of this function; step() delivers next).
+  NordResponseChannel::Frame& frame = channel_.push_delivered(now_);
   NordFrameTag& tag = frame.tag;
   tag.id = ++frames_sent_;
   tag.sent = tag.produced = now_;

@@ -9,6 +9,7 @@
 // run is bit-for-bit reproducible. No allocation after construction.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -34,8 +35,10 @@ class FillingProcess {
  public:
   explicit FillingProcess(const FillingConfig& c);
 
-  // Advance by exactly 1 ms with the valves as commanded.
-  void step_1ms(bool coarse, bool fine, bool discharge);
+  // Advance by exactly 1 ms with the valves as commanded. Inline (defined
+  // below): the PR5510 model calls it every ms, and as a call it cost the
+  // three valve flags' set-up.
+  inline void step_1ms(bool coarse, bool fine, bool discharge);
 
   // Load on the scale (kg), without and with measurement noise.
   [[nodiscard]] double load() const { return load_; }
@@ -54,8 +57,8 @@ class FillingProcess {
     double open = 0.0;    // 0..1
     double factor = 1.0;  // this opening's rate factor
   };
-  // step_1ms()'s parts, defined in filling_process.cpp and inline into
-  // step_1ms() (every valve, every ms): no calls.
+  // step_1ms()'s parts, inline into step_1ms() (every valve, every ms): no
+  // calls.
   [[gnu::always_inline]] inline void drive(Valve& v, bool cmd);
   [[gnu::always_inline]] inline void move(Valve& v, bool cmd);
   [[nodiscard]] double sigma() const { return cfg_.noise_kg + cfg_.impact_noise * landing_rate_; }
@@ -70,5 +73,43 @@ class FillingProcess {
   double flow_factor_ = 1.0;
   double valve_step_;  // share of the way a valve moves in 1 ms (valve_time_s > 0)
 };
+
+inline void FillingProcess::move(Valve& v, bool cmd) {
+  if (cmd && !v.cmd) v.factor = 1.0 + cfg_.flow_variation * noise_.uniform_pm1();
+  v.cmd = cmd;
+  if (cmd) v.factor *= 1.0 + cfg_.flow_wander * 0.0316227766 * noise_.uniform_pm1();
+  const double target = cmd ? 1.0 : 0.0;
+  if (cfg_.valve_time_s <= 0.0) {
+    v.open = target;
+  } else {
+    v.open += (target - v.open) * valve_step_;
+    if (!cmd && v.open < 1e-4) v.open = 0.0;
+  }
+}
+
+// A closed valve that stays closed: nothing moves (most steps, for most
+// valves), and no noise is drawn.
+inline void FillingProcess::drive(Valve& v, bool cmd) {
+  if (!cmd && !v.cmd && v.open == 0.0) return;
+  move(v, cmd);
+}
+
+inline void FillingProcess::step_1ms(bool coarse, bool fine, bool discharge) {
+  drive(coarse_, coarse);
+  drive(fine_, fine);
+  drive(discharge_, discharge);
+  const double leaving = (coarse_.open * coarse_.factor * cfg_.coarse_rate +
+                          fine_.open * fine_.factor * cfg_.fine_rate) *
+                         flow_factor_ * 0.001;
+  // The ring holds what left the valves during the last fall_time: the
+  // oldest entry lands now.
+  const double landing = flight_[head_];
+  flight_[head_] = leaving;
+  if (++head_ == flight_.size()) head_ = 0;
+  load_ += landing;
+  landing_rate_ = landing * 1000.0;
+  if (discharge_.open > 0.0)
+    load_ -= std::min(load_, discharge_.open * cfg_.discharge_rate * 0.001);
+}
 
 }  // namespace plc::sim

@@ -135,7 +135,11 @@ class Crc2Cache {
                                                    std::uint16_t crc1_seed) {
     const Key k = pack(fdata, cb_sb, crc1_seed);
     Head& h = heads_[(cb_sb >> 5) & 1u];
-    if (h.k.key != k.key || h.k.rest != k.rest) h.take(k, fdata, cb_sb, crc1_seed);
+    // Equal keys have equal lengths, and up to 4 bytes of F-data `rest` is
+    // 0 in every head of that length: the key alone decides (the length is
+    // a constant where the cache is inlined).
+    if (h.k.key != k.key || (fdata.size() > 4 && h.k.rest != k.rest))
+      h.take(k, fdata, cb_sb, crc1_seed);
     const auto& t = detail::kCrc2Tail;
     // The middle and high bytes' part of TAIL, once per change of
     // cons_nr >> 8 (every 256th telegram of a connection counting on).

@@ -140,6 +140,9 @@ class NordProfisafeModel : public io::DeviceModel {
   [[nodiscard]] std::array<std::uint8_t, 4> response_data();
   [[nodiscard]] std::array<std::uint8_t, 4> response_data_full() const;
   [[nodiscard]] bool ossd(int i) const { return ossd_[i]; }  // 0..2 = SO1..SO3
+  // SO1..SO3 as evaluate() sets them, computed bit by bit from what acts
+  // now (the request, SO1/SO2 dual channel, P802, channel passivation).
+  [[nodiscard]] std::array<bool, 3> ossd_full() const;
   [[nodiscard]] bool fail_safe_active() const;
   [[nodiscard]] bool device_fault() const { return fatal_code_ != 0 || module_fault(); }
   [[nodiscard]] bool fatal() const { return fatal_code_ != 0; }
@@ -271,14 +274,19 @@ class NordProfisafeModel : public io::DeviceModel {
   std::uint16_t code_events_ = 0;  // codes raised since power-on (diagnosis record)
   TIME code_since_{};              // when p841_ got its value (blink code start)
   bool injected_cause_ = false;
-  std::array<bool, 3> chan_passive_{};
+  // SO1..SO3 and a 4th always false: evaluate() reads the four as one word.
+  std::array<bool, 4> chan_passive_{};
   TIME discrepancy_since_{};
   bool discrepancy_timing_ = false;
   bool discrepancy_fault_ = false;
   bool respond_pending_ = false;
 
   // Outputs
-  std::array<bool, 3> ossd_{};
+  std::array<bool, 4> ossd_{};  // SO1..SO3, the 4th always false (written as one word)
+  // evaluate(): SO1..SO3 (bytes 0..2, 0/1) for each combination of the three
+  // SO requests (index bit 0: In 0.0, bit 1: In 3.0, bit 2: In 3.1) before
+  // channel passivation; derived once from P800/P802, which are fixed.
+  std::array<std::uint32_t, 8> ossd_of_{};
   // data_now(): response_data_full() for the state whose inputs to it
   // are data_key_ (the functions' status bits and SI1/SI2; SO1-3 and the
   // SLS level request), kept from one change of those to the next.

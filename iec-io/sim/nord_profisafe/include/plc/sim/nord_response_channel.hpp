@@ -73,6 +73,19 @@ class NordResponseChannel {
     return f;
   }
 
+  // push() for a frame that deliver(now) follows with nothing between: with
+  // no frame in flight and no delay in force the frame arrives at once and
+  // deliver() would show it, so it is written where the shown one lives
+  // (no ring slot, no copy at delivery). Else push().
+  Frame& push_delivered(TIME now) {
+    if (count_ == 0 && !delay_pending_ && now >= delay_until_ && last_arrival_ <= now) {
+      last_arrival_ = now;
+      shown_.arrive = now;
+      return shown_;
+    }
+    return push(now);
+  }
+
   // Everything that has arrived by `now`; the newest becomes the one shown.
   void deliver(TIME now) {
     while (count_ > 0 && ring_[first_].arrive <= now) {
