@@ -73,9 +73,16 @@ struct MaybeLock {
 // scan throws - a hook, an observer, a plugin's latch or publish - stops the
 // task the same way, in real and in virtual time: the scan is over, its
 // outputs go to their safe values, the other tasks run on.
+//
+// scan() only chooses, so that the virtual-time loop inlines it: each of
+// the two catches what its scan throws.
 bool Runtime::scan(TaskRuntime& t, TIME now) {
+  if (!lock_image_ && hooks_.empty()) return scan_plain(t, now);
+  return scan_hooked(t, now);
+}
+
+bool Runtime::scan_hooked(TaskRuntime& t, TIME now) {
   try {
-    if (!lock_image_ && hooks_.empty()) return scan_plain(t, now);
     // The latch has made t the current owner; nothing ran since.
     return run_programs_and_publish(t, scan_latch(t, now));
   } catch (const std::exception& e) {
@@ -140,7 +147,7 @@ void Runtime::publish_devices(TaskRuntime& t) {
 // in virtual time (no lock, no whole-image scan, no merge of bits: both
 // halves in one call), step for step; what differs is only what they would
 // do for hooks or another thread. Test: PlainScanEqualsHookedScan.
-bool Runtime::scan_plain(TaskRuntime& t, TIME now) {
+bool Runtime::scan_plain(TaskRuntime& t, TIME now) try {
   if (ProgramSwap* s = t.swap.load(std::memory_order_acquire)) apply_program_swap(t, *s);
   const bool timed = (t.timing_phase++ % kVirtualTimedEvery) == 0;
   const std::int64_t start = timed ? steady_ns() : 0;
@@ -174,6 +181,12 @@ bool Runtime::scan_plain(TaskRuntime& t, TIME now) {
   t.scan_started_ns.store(-1, std::memory_order_release);
   for (const auto& o : observers_) o(t, ctx);
   ++t.cycle;
+  return true;
+} catch (const std::exception& e) {
+  scan_failed(t, e.what());
+  return true;
+} catch (...) {
+  scan_failed(t, "an exception that is not a std::exception");
   return true;
 }
 
@@ -373,7 +386,10 @@ void Runtime::remove_hooks(ScanHooks* h) {
 
 // Virtual time: step() is the plugin's thread. What it throws fails the
 // plugin as a failed thread would (its devices to Fault); the cell goes on.
-void Runtime::step_plugin(const std::string& name, io::Plugin& p, TIME dt) {
+// Inline in the virtual-time loop (a call and a frame per plugin and tick
+// otherwise); the failure path is out of line.
+[[gnu::always_inline]] inline void Runtime::step_plugin(const std::string& name, io::Plugin& p,
+                                                        TIME dt) {
   try {
     p.step(now_, dt);
   } catch (const std::exception& e) {
@@ -513,7 +529,23 @@ void Runtime::run_virtual(TIME span) {
     bool any = false;
     for (const auto& t : tasks_) any |= !t->stopped.load(std::memory_order_relaxed);
     if (!any) break;
-    tick();
+    if (tick_open_) {
+      tick();  // the rest of a tick that step_scan() left open
+      continue;
+    }
+    // tick() as advance_cursor() runs it, with the cursor in a register:
+    // each task of the execution order that is due when its turn comes.
+    begin_tick();
+    const std::size_t n = exec_order_.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      TaskRuntime& t = *exec_order_[i];
+      if (!due(t)) continue;
+      cursor_ = i + 1;
+      scan(t, now_);
+    }
+    cursor_ = n;
+    tick_open_ = false;
+    now_ += base_tick_;
   }
 }
 

@@ -342,7 +342,8 @@ class Runtime {
   friend class OnlineChange;  // replaces programs at scan boundaries (plc/online_change.hpp)
   // false: the run left this real-time task thread behind inside a program
   // (TaskThread), and it must return without touching the runtime.
-  bool scan(TaskRuntime& t, TIME now);
+  bool scan(TaskRuntime& t, TIME now);  // scan_plain() or scan_hooked()
+  bool scan_hooked(TaskRuntime& t, TIME now);
   void scan_failed(TaskRuntime& t, std::string_view what);
   void step_plugin(const std::string& name, io::Plugin& p, TIME dt);
   ScanContext scan_latch(TaskRuntime& t, TIME now);          // step 1
