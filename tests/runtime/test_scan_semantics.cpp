@@ -146,14 +146,15 @@ devices: [{name: echo, plugin: sim, model: loopback, input: "%IB0", output: "%QB
 }
 
 // Issue 23: the scan copies a direct device's bytes itself, inline for up
-// to 32 bytes (two overlapping fixed-size copies) and with memcpy above.
+// to 64 bytes (two overlapping fixed-size copies) and with memcpy above.
 // Every size class, and each one's edges, must carry exactly its bytes both
 // ways: %Q -> device at the publish, device -> %I at the next latch, with
 // the gap bytes between the devices left alone.
 TEST(ScanSemantics, DirectDevicesOfEverySizeCarryExactlyTheirBytes) {
-  const std::size_t sizes[] = {1, 2, 3, 4, 5, 7, 8, 9, 15, 16, 17, 24, 31, 32, 33, 40};
+  const std::size_t sizes[] = {1,  2,  3,  4,  5,  7,  8,  9,  15, 16, 17,
+                               24, 31, 32, 33, 40, 47, 48, 63, 64, 65, 100};
   std::string cell = R"(
-image: {inputs: 512, outputs: 512, memory: 16}
+image: {inputs: 1024, outputs: 1024, memory: 16}
 tasks: [{name: main, period: 1ms, programs: [Loop]}]
 programs: [{name: Loop, type: LoopCounter}]
 plugins: [{name: sim}]
