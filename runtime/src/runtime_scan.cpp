@@ -113,7 +113,8 @@ void Runtime::scan_failed(TaskRuntime& t, std::string_view what) {
   trip(t, "scan failed: " + std::string(what), false);
 }
 
-void Runtime::latch_devices(TaskRuntime& t, TIME now) {
+// Both inline in their scans (a frame each per scan otherwise).
+[[gnu::always_inline]] inline void Runtime::latch_devices(TaskRuntime& t, TIME now) {
   if (plugins_enabled_) {
     for (const TaskRuntime::DirectDevice& c : t.direct)
       copy_bytes(c.image_in, c.device_in, c.in_bytes);
@@ -146,7 +147,7 @@ void Runtime::deliver_answers(TaskRuntime& t) {
   }
 }
 
-void Runtime::publish_devices(TaskRuntime& t) {
+[[gnu::always_inline]] inline void Runtime::publish_devices(TaskRuntime& t) {
   if (!plugins_enabled_) return;
   for (const TaskRuntime::DirectDevice& c : t.direct)
     copy_bytes(c.device_out, c.image_out, c.out_bytes);
