@@ -9,7 +9,10 @@ SimDevice::SimDevice(std::unique_ptr<DeviceModel> model)
     : model_(std::move(model)),
       inputs_(model_->input_size(), 0),
       outputs_(model_->output_size(), 0),
-      silent_sink_(model_->input_size(), 0) {
+      silent_sink_(model_->input_size(), 0),
+      from_plc_(outputs_),
+      to_plc_(inputs_),
+      silent_(silent_sink_) {
   link_.set_state(model_->answering() ? DeviceState::Online : DeviceState::Offline);
 }
 

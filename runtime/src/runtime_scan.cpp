@@ -20,10 +20,10 @@ std::int64_t steady_ns() {
 }
 
 // A direct device's bytes (virtual time): mostly 2 to 32 bytes, copied
-// twice per device and scan. Inline, as two overlapping fixed-size copies,
-// instead of a call into the library's memcpy, which costs more than such
-// a copy. (The task's image spans stay with memcpy: they are often longer,
-// and callgrind showed the inline copy no cheaper for them.)
+// twice per device and scan; a task's bound image spans, often 33 to 64
+// (the filling cell's three: 56). Inline, as two overlapping fixed-size
+// copies, instead of a call into the library's memcpy, which costs more
+// than such a copy; memcpy above 64 bytes.
 inline void copy_bytes(std::uint8_t* dst, const std::uint8_t* src, std::size_t n) {
   const auto two = [&]<std::size_t K>() {
     std::uint8_t head[K], tail[K];
@@ -33,10 +33,23 @@ inline void copy_bytes(std::uint8_t* dst, const std::uint8_t* src, std::size_t n
     std::memcpy(dst + n - K, tail, K);
   };
   if (n >= 16) {
-    if (n > 32) {
-      std::memcpy(dst, src, n);
-    } else {
+    if (n <= 32) {
       two.template operator()<16>();
+    } else if (n <= 64) {
+      // The first and the last 32 bytes as four 16-byte moves, through
+      // vector registers (byte arrays of 32 went through the stack).
+      using V = std::uint8_t __attribute__((vector_size(16)));
+      V a, b, c, d;
+      std::memcpy(&a, src, 16);
+      std::memcpy(&b, src + 16, 16);
+      std::memcpy(&c, src + n - 32, 16);
+      std::memcpy(&d, src + n - 16, 16);
+      std::memcpy(dst, &a, 16);
+      std::memcpy(dst + 16, &b, 16);
+      std::memcpy(dst + n - 32, &c, 16);
+      std::memcpy(dst + n - 16, &d, 16);
+    } else {
+      std::memcpy(dst, src, n);
     }
   } else if (n >= 8) {
     two.template operator()<8>();
@@ -47,8 +60,8 @@ inline void copy_bytes(std::uint8_t* dst, const std::uint8_t* src, std::size_t n
   }
 }
 
-void copy_spans(const std::vector<ImageSpan>& spans) {
-  for (const ImageSpan& s : spans) std::memcpy(s.dst, s.src, s.n);
+[[gnu::always_inline]] inline void copy_spans(const std::vector<ImageSpan>& spans) {
+  for (const ImageSpan& s : spans) copy_bytes(s.dst, s.src, s.n);
 }
 
 template <class M>
@@ -73,7 +86,15 @@ struct MaybeLock {
 // scan throws - a hook, an observer, a plugin's latch or publish - stops the
 // task the same way, in real and in virtual time: the scan is over, its
 // outputs go to their safe values, the other tasks run on.
+//
+// scan() only chooses, so that the virtual-time loop inlines it: each of
+// the two catches what its scan throws.
 bool Runtime::scan(TaskRuntime& t, TIME now) {
+  if (!lock_image_ && hooks_.empty()) return scan_plain(t, now);
+  return scan_hooked(t, now);
+}
+
+bool Runtime::scan_hooked(TaskRuntime& t, TIME now) {
   try {
     // The latch has made t the current owner; nothing ran since.
     return run_programs_and_publish(t, scan_latch(t, now));
@@ -90,6 +111,97 @@ void Runtime::scan_failed(TaskRuntime& t, std::string_view what) {
   t.scan_started_ns.store(-1, std::memory_order_release);
   report_thread_failure("task '" + t.name + "'", what);
   trip(t, "scan failed: " + std::string(what), false);
+}
+
+// Both inline in their scans (a frame each per scan otherwise).
+[[gnu::always_inline]] inline void Runtime::latch_devices(TaskRuntime& t, TIME now) {
+  if (plugins_enabled_) {
+    for (const TaskRuntime::DirectDevice& c : t.direct)
+      copy_bytes(c.image_in, c.device_in, c.in_bytes);
+    auto gi = global_.area(io::Area::Input);
+    for (DeviceRuntime* d : t.via_plugin)
+      if (d->sizes.input_bytes)
+        d->plugin->latch_inputs(d->index, gi.subspan(d->in.byte, d->sizes.input_bytes));
+  }
+  // 1a: the answers to this task's acyclic requests and its devices'
+  // states become visible now, so they never change during the scan.
+  // Answers only while a link tracks a request (most scans: none does).
+  // The states in a pointer loop with its bounds and the scan number read
+  // once: the acquire in latch_state() would otherwise make the compiler
+  // reload them for every device, every scan.
+  if (links_tracking_.load(std::memory_order_acquire) != 0) deliver_answers(t);
+  const std::uint64_t scan_no = t.cycle + 1;
+  for (DeviceRuntime* d : t.devices) d->link->latch_state(scan_no, now);
+}
+
+void Runtime::deliver_answers(TaskRuntime& t) {
+  DeviceRuntime* const first = devices_.data();
+  DeviceRuntime* const last = first + devices_.size();
+  for (DeviceRuntime* d = first; d != last; ++d) {
+    io::DeviceLink& link = *d->link;
+    if (!link.tracking()) continue;
+    const auto i = static_cast<std::size_t>(d - first);
+    link.deliver_answered(static_cast<int>(t.order), [&](const io::RecordRequest& r) {
+      for (ScanHooks* h : hooks_) h->on_answer(t, i, r);
+    });
+  }
+}
+
+[[gnu::always_inline]] inline void Runtime::publish_devices(TaskRuntime& t) {
+  if (!plugins_enabled_) return;
+  for (const TaskRuntime::DirectDevice& c : t.direct)
+    copy_bytes(c.device_out, c.image_out, c.out_bytes);
+  auto gq = global_.area(io::Area::Output);
+  for (DeviceRuntime* d : t.via_plugin)
+    if (d->sizes.output_bytes)
+      d->plugin->publish_outputs(d->index, gq.subspan(d->out.byte, d->sizes.output_bytes));
+}
+
+// scan_latch() and run_programs_and_publish() as they run with no hook set
+// in virtual time (no lock, no whole-image scan, no merge of bits: both
+// halves in one call), step for step; what differs is only what they would
+// do for hooks or another thread. Test: PlainScanEqualsHookedScan.
+bool Runtime::scan_plain(TaskRuntime& t, TIME now) try {
+  if (ProgramSwap* s = t.swap.load(std::memory_order_acquire)) apply_program_swap(t, *s);
+  const bool timed = (t.timing_phase++ % kVirtualTimedEvery) == 0;
+  const std::int64_t start = timed ? steady_ns() : 0;
+  t.scan_seq.store(t.scan_seq.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+  t.scan_started_ns.store(start, std::memory_order_release);
+  t.scan_timed = timed;
+  t.scan_time = now;
+  t.whole_image_scan = false;
+  t.merge_bits = false;
+  latch_devices(t, now);
+  io::DeviceLink::set_current_owner(static_cast<int>(t.order));
+  copy_spans(t.copy_in);
+  const ScanContext ctx{now, t.period, t.cycle};
+  try {
+    for (Program* p : t.programs) p->cycle(ctx);
+  } catch (const std::exception& e) {
+    trip(t, std::string("program threw: ") + e.what(), false);
+  } catch (...) {
+    trip(t, "program threw a non-standard exception", false);
+  }
+  if (t.trip_requested.load(std::memory_order_acquire)) trip(t, t.trip_reason, true);
+  if (!t.stopped.load(std::memory_order_acquire)) {
+    copy_spans(t.copy_out);
+    publish_devices(t);
+  }
+  io::DeviceLink::set_current_owner(-1);
+  if (timed)
+    t.stats.record_scan(steady_ns() - start);
+  else
+    t.stats.count_scan();
+  t.scan_started_ns.store(-1, std::memory_order_release);
+  for (const auto& o : observers_) o(t, ctx);
+  ++t.cycle;
+  return true;
+} catch (const std::exception& e) {
+  scan_failed(t, e.what());
+  return true;
+} catch (...) {
+  scan_failed(t, "an exception that is not a std::exception");
+  return true;
 }
 
 ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
@@ -111,34 +223,7 @@ ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
   {
     // 1: latch this task's devices into the global %I, take a private copy.
     MaybeLock lock(image_mutex_, lock_image_);
-    if (plugins_enabled_) {
-      for (const TaskRuntime::DirectDevice& c : t.direct)
-        copy_bytes(c.image_in, c.device_in, c.in_bytes);
-      auto gi = global_.area(io::Area::Input);
-      for (DeviceRuntime* d : t.via_plugin)
-        if (d->sizes.input_bytes)
-          d->plugin->latch_inputs(d->index, gi.subspan(d->in.byte, d->sizes.input_bytes));
-    }
-    // 1a: the answers to this task's acyclic requests and its devices'
-    // states become visible now, so they never change during the scan.
-    // Only while a link tracks a request (most scans: none does). Pointer
-    // loops with their bounds and the scan number read once: the acquire
-    // in tracking() and latch_state() would otherwise make the compiler
-    // reload them for every device, every scan.
-    if (links_tracking_.load(std::memory_order_acquire) != 0) {
-      DeviceRuntime* const first = devices_.data();
-      DeviceRuntime* const last = first + devices_.size();
-      for (DeviceRuntime* d = first; d != last; ++d) {
-        io::DeviceLink& link = *d->link;
-        if (!link.tracking()) continue;
-        const auto i = static_cast<std::size_t>(d - first);
-        link.deliver_answered(static_cast<int>(t.order), [&](const io::RecordRequest& r) {
-          for (ScanHooks* h : hooks_) h->on_answer(t, i, r);
-        });
-      }
-    }
-    const std::uint64_t scan_no = t.cycle + 1;
-    for (DeviceRuntime* d : t.devices) d->link->latch_state(scan_no, now);
+    latch_devices(t, now);
     io::DeviceLink::set_current_owner(static_cast<int>(t.order));
     for (ScanHooks* h : hooks_) h->after_latch(t, global_);
     if (t.whole_image_scan)
@@ -207,14 +292,7 @@ bool Runtime::run_programs_and_publish(TaskRuntime& t, const ScanContext& ctx) {
         copy_spans(t.copy_out);
       }
       for (ScanHooks* h : hooks_) h->before_publish(t, global_);
-      if (plugins_enabled_) {
-        for (const TaskRuntime::DirectDevice& c : t.direct)
-          copy_bytes(c.device_out, c.image_out, c.out_bytes);
-        auto gq = global_.area(io::Area::Output);
-        for (DeviceRuntime* d : t.via_plugin)
-          if (d->sizes.output_bytes)
-            d->plugin->publish_outputs(d->index, gq.subspan(d->out.byte, d->sizes.output_bytes));
-      }
+      publish_devices(t);
     }
   }
   io::DeviceLink::set_current_owner(-1);
@@ -322,21 +400,25 @@ void Runtime::remove_hooks(ScanHooks* h) {
 
 // Virtual time: step() is the plugin's thread. What it throws fails the
 // plugin as a failed thread would (its devices to Fault); the cell goes on.
-void Runtime::step_plugin(const std::string& name, io::Plugin& p, TIME dt) {
-  const auto fail = [&](std::string_view what) {
-    std::size_t devices = 0;
-    for (const DeviceRuntime& d : devices_) devices += d.plugin == &p;
-    const std::string thread = "plugin '" + name + "'";
-    report_thread_failure(thread, what);
-    p.fail(thread, what, devices);
-  };
+// Inline in the virtual-time loop (a call and a frame per plugin and tick
+// otherwise); the failure path is out of line.
+[[gnu::always_inline]] inline void Runtime::step_plugin(const std::string& name, io::Plugin& p,
+                                                        TIME dt) {
   try {
     p.step(now_, dt);
   } catch (const std::exception& e) {
-    fail(e.what());
+    plugin_failed(name, p, e.what());
   } catch (...) {
-    fail("an exception that is not a std::exception");
+    plugin_failed(name, p, "an exception that is not a std::exception");
   }
+}
+
+void Runtime::plugin_failed(const std::string& name, io::Plugin& p, std::string_view what) {
+  std::size_t devices = 0;
+  for (const DeviceRuntime& d : devices_) devices += d.plugin == &p;
+  const std::string thread = "plugin '" + name + "'";
+  report_thread_failure(thread, what);
+  p.fail(thread, what, devices);
 }
 
 ScanContext Runtime::latch_scan(TaskRuntime& t, TIME now) {
@@ -376,7 +458,8 @@ bool Runtime::due(const TaskRuntime& t) const {
   return !t.stopped.load(std::memory_order_relaxed) && now_.count() % t.period.count() == 0;
 }
 
-void Runtime::begin_tick() {
+// Inline in the virtual-time loop, which begins a tick every base tick.
+[[gnu::always_inline]] inline void Runtime::begin_tick() {
   if (plugins_enabled_)
     for (auto& [name, p] : plugins_)
       if (!p->failed()) step_plugin(name, *p, first_tick_ ? TIME(0) : base_tick_);
@@ -461,7 +544,23 @@ void Runtime::run_virtual(TIME span) {
     bool any = false;
     for (const auto& t : tasks_) any |= !t->stopped.load(std::memory_order_relaxed);
     if (!any) break;
-    tick();
+    if (tick_open_) {
+      tick();  // the rest of a tick that step_scan() left open
+      continue;
+    }
+    // tick() as advance_cursor() runs it, with the cursor in a register:
+    // each task of the execution order that is due when its turn comes.
+    begin_tick();
+    const std::size_t n = exec_order_.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      TaskRuntime& t = *exec_order_[i];
+      if (!due(t)) continue;
+      cursor_ = i + 1;
+      scan(t, now_);
+    }
+    cursor_ = n;
+    tick_open_ = false;
+    now_ += base_tick_;
   }
 }
 

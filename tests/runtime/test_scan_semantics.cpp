@@ -2,7 +2,9 @@
 // changed bits only, devices latched/published by their task.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -144,14 +146,15 @@ devices: [{name: echo, plugin: sim, model: loopback, input: "%IB0", output: "%QB
 }
 
 // Issue 23: the scan copies a direct device's bytes itself, inline for up
-// to 32 bytes (two overlapping fixed-size copies) and with memcpy above.
+// to 64 bytes (two overlapping fixed-size copies) and with memcpy above.
 // Every size class, and each one's edges, must carry exactly its bytes both
 // ways: %Q -> device at the publish, device -> %I at the next latch, with
 // the gap bytes between the devices left alone.
 TEST(ScanSemantics, DirectDevicesOfEverySizeCarryExactlyTheirBytes) {
-  const std::size_t sizes[] = {1, 2, 3, 4, 5, 7, 8, 9, 15, 16, 17, 24, 31, 32, 33, 40};
+  const std::size_t sizes[] = {1,  2,  3,  4,  5,  7,  8,  9,  15, 16, 17,
+                               24, 31, 32, 33, 40, 47, 48, 63, 64, 65, 100};
   std::string cell = R"(
-image: {inputs: 512, outputs: 512, memory: 16}
+image: {inputs: 1024, outputs: 1024, memory: 16}
 tasks: [{name: main, period: 1ms, programs: [Loop]}]
 programs: [{name: Loop, type: LoopCounter}]
 plugins: [{name: sim}]
@@ -189,4 +192,101 @@ devices:
     EXPECT_EQ(in[at[k] + sizes[k]], 0) << "the gap after the device of size " << sizes[k];
   }
   rt->finish();
+}
+
+// Issue 23: in virtual time with no hook set the runtime runs a scan as one
+// function (Runtime::scan_plain) instead of scan_latch() and
+// run_programs_and_publish(). It must do exactly what they do without
+// hooks: the same cell run with a hook set that does nothing (and so takes
+// the two halves) must give the same images, device bytes and states,
+// program state, scan counts and state changes, at every tick. Two tasks,
+// acyclic requests (deliver_answers), a device whose link goes down and
+// comes back (latch_state's noted changes) and a task tripped by its
+// program throwing.
+TEST(ScanSemantics, PlainScanEqualsHookedScan) {
+  const char* cell = R"(
+image: {inputs: 64, outputs: 64, memory: 16}
+tasks:
+  - {name: a, period: 1ms, programs: [Loop, Poll]}
+  - {name: b, period: 3ms, programs: [Bit, Throw]}
+programs:
+  - {name: Loop, type: LoopCounter}
+  - {name: Poll, type: RecordPoller}
+  - {name: Bit, type: BitWriter, bind: {mine: "%QX8.5"}}
+  - {name: Throw, type: Thrower}
+plugins: [{name: sim}]
+devices:
+  - {name: echo, plugin: sim, model: loopback, input: "%IB16", output: "%QB16", task: a,
+     params: {size: 12}}
+  - {name: plant, plugin: sim, model: first_order, input: "%IB32", output: "%QB32", task: b,
+     params: {link_down_at: 40ms, link_down_for: 25ms}}
+)";
+  struct Noop final : ScanHooks {
+    [[nodiscard]] bool whole_image() const override { return false; }
+    void before_programs(TaskRuntime&, const ScanContext&) override { ++scans; }
+    int scans = 0;
+  } noop;
+  auto plain = plctest::make_runtime(cell);
+  auto hooked = plctest::make_runtime(cell);
+  hooked->add_hooks(&noop);
+  plain->start(io::ClockMode::Virtual);
+  hooked->start(io::ClockMode::Virtual);
+  const auto same_bytes = [](std::span<const std::uint8_t> x, std::span<const std::uint8_t> y) {
+    return std::equal(x.begin(), x.end(), y.begin(), y.end());
+  };
+  for (int k = 0; k < 300; ++k) {
+    if (k == 150) {
+      // Task b's program throws: the task stops, its outputs safe.
+      static_cast<plctest::Thrower*>(plain->program("Throw"))->fire = true;
+      static_cast<plctest::Thrower*>(hooked->program("Throw"))->fire = true;
+    }
+    static_cast<plctest::BitWriter*>(plain->program("Bit"))->value = (k / 7) % 2 == 0;
+    static_cast<plctest::BitWriter*>(hooked->program("Bit"))->value = (k / 7) % 2 == 0;
+    plain->tick();
+    hooked->tick();
+    for (io::Area a : {io::Area::Input, io::Area::Output, io::Area::Memory})
+      ASSERT_TRUE(same_bytes(plain->image().area(a), hooked->image().area(a)))
+          << "global area " << int(a) << " at tick " << k;
+    for (std::size_t i = 0; i < plain->tasks().size(); ++i) {
+      const TaskRuntime& p = *plain->tasks()[i];
+      const TaskRuntime& h = *hooked->tasks()[i];
+      for (io::Area a : {io::Area::Input, io::Area::Output, io::Area::Memory})
+        ASSERT_TRUE(same_bytes(p.image.area(a), h.image.area(a)))
+            << "task " << p.name << " area " << int(a) << " at tick " << k;
+      ASSERT_EQ(p.cycle, h.cycle) << p.name << " at tick " << k;
+      ASSERT_EQ(p.stats.scans(), h.stats.scans()) << p.name << " at tick " << k;
+      ASSERT_EQ(p.stopped.load(), h.stopped.load()) << p.name << " at tick " << k;
+      ASSERT_EQ(p.scan_seq.load(), h.scan_seq.load()) << p.name << " at tick " << k;
+      ASSERT_EQ(p.scan_started_ns.load(), -1);
+      ASSERT_EQ(p.scan_time, h.scan_time) << p.name << " at tick " << k;
+    }
+    auto* ps = static_cast<io::SimPlugin*>(plain->plugin("sim"));
+    auto* hs = static_cast<io::SimPlugin*>(hooked->plugin("sim"));
+    for (const char* d : {"echo", "plant"}) {
+      ASSERT_TRUE(same_bytes(ps->device(d)->outputs(), hs->device(d)->outputs())) << d << " " << k;
+      ASSERT_TRUE(same_bytes(ps->device(d)->inputs(), hs->device(d)->inputs())) << d << " " << k;
+      const auto pc = ps->device(d)->link().last_change();
+      const auto hc = hs->device(d)->link().last_change();
+      ASSERT_EQ(ps->device(d)->link().state(), hs->device(d)->link().state()) << d << " " << k;
+      ASSERT_EQ(pc.count, hc.count) << d << " at tick " << k;
+      ASSERT_EQ(pc.scan, hc.scan) << d << " at tick " << k;
+      ASSERT_EQ(pc.time, hc.time) << d << " at tick " << k;
+    }
+    const auto* pl = static_cast<plctest::LoopCounter*>(plain->program("Loop"));
+    const auto* hl = static_cast<plctest::LoopCounter*>(hooked->program("Loop"));
+    ASSERT_EQ(pl->count, hl->count);
+    ASSERT_EQ(pl->echoed, hl->echoed);
+    ASSERT_EQ(pl->ctu.CV, hl->ctu.CV);
+    const auto* pp = static_cast<plctest::RecordPoller*>(plain->program("Poll"));
+    const auto* hp = static_cast<plctest::RecordPoller*>(hooked->program("Poll"));
+    ASSERT_EQ(pp->answers, hp->answers) << "at tick " << k;
+  }
+  const auto* pp = static_cast<plctest::RecordPoller*>(plain->program("Poll"));
+  EXPECT_GT(pp->answers, 50) << "the requests were answered";
+  EXPECT_GT(plain->plugin("sim")->link(1).last_change().count, 1u) << "the link went and came";
+  EXPECT_TRUE(plain->tasks()[1]->stopped.load()) << "the thrower stopped its task";
+  EXPECT_FALSE(plain->tasks()[0]->stopped.load());
+  EXPECT_EQ(noop.scans, 300 + 51) << "the hooked runtime took the halves";
+  plain->finish();
+  hooked->finish();
 }

@@ -342,7 +342,8 @@ class Runtime {
   friend class OnlineChange;  // replaces programs at scan boundaries (plc/online_change.hpp)
   // false: the run left this real-time task thread behind inside a program
   // (TaskThread), and it must return without touching the runtime.
-  bool scan(TaskRuntime& t, TIME now);
+  bool scan(TaskRuntime& t, TIME now);  // scan_plain() or scan_hooked()
+  bool scan_hooked(TaskRuntime& t, TIME now);
   void scan_failed(TaskRuntime& t, std::string_view what);
   void step_plugin(const std::string& name, io::Plugin& p, TIME dt);
   ScanContext scan_latch(TaskRuntime& t, TIME now);          // step 1
@@ -395,6 +396,19 @@ class Runtime {
   void advance_cursor();
   void plan_device_io();
   bool run_programs_and_publish(TaskRuntime& t, const ScanContext& ctx);
+  // Virtual time with no hook set added (the usual run): the scan that
+  // scan_latch() and run_programs_and_publish() make then, in one function
+  // without the hook loops, the image lock, the whole-image and merge
+  // branches and a second frame, which such a scan pays for and never uses
+  // (test: ScanSemantics.PlainScanEqualsHookedScan).
+  bool scan_plain(TaskRuntime& t, TIME now);
+  // Parts both scans share: step 1's devices (latch, answers, states) and
+  // step 5's (publish); deliver_answers() is 1a, while a link tracks a request.
+  void latch_devices(TaskRuntime& t, TIME now);
+  void deliver_answers(TaskRuntime& t);
+  void publish_devices(TaskRuntime& t);
+  // What step_plugin() does when the plugin throws (out of line: rare).
+  void plugin_failed(const std::string& name, io::Plugin& p, std::string_view what);
   [[nodiscard]] bool due(const TaskRuntime& t) const;
 
   io::ClockMode mode_ = io::ClockMode::Virtual;

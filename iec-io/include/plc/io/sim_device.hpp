@@ -36,13 +36,13 @@ class SimDevice {
     }
     was_down_ = false;
     if (model_->answering()) {
-      model_->step(now, dt, outputs_, inputs_);
+      model_->step(now, dt, from_plc_, to_plc_);
       link_.set_state(DeviceState::Online);
     } else {
       // A silent device: the model still runs its physics, but its answer
       // is not delivered. The PLC keeps the last valid inputs (as a bus
       // master keeps the last valid frame) and sees the device Offline.
-      model_->step(now, dt, outputs_, silent_sink_);
+      model_->step(now, dt, from_plc_, silent_);
       link_.set_state(DeviceState::Offline);
     }
   }
@@ -74,6 +74,11 @@ class SimDevice {
 
   std::unique_ptr<DeviceModel> model_;
   std::vector<std::uint8_t> inputs_, outputs_, silent_sink_;
+  // The three buffers as step() hands them to the model, taken once: they
+  // never move or change size (DeviceLink makes the device neither
+  // copyable nor movable).
+  std::span<const std::uint8_t> from_plc_;
+  std::span<std::uint8_t> to_plc_, silent_;
   std::vector<std::uint8_t> outputs_at_cut_;  // what the model keeps seeing while the link is down
   TIME down_at_{-1}, down_for_{0};
   bool was_down_ = false;
