@@ -26,7 +26,11 @@
 // Crc2Cache's packed heads and number part, FHostProtocol::cycle() inline
 // (so F_MODULE and NORD_SAFE_IO), the weighing blocks' inline members
 // (issue 23, third round).
-#define PLC_ABI_VERSION 7
+// 8: plc::io::SimDevice keeps its buffers as spans, Runtime's private
+// scan_plain()/scan_hooked() split, FHostProtocol::cycle() a member template
+// with a steady path, PR5510_Device's arbitration templates, Crc2Cache
+// inline compare (issue 23, fourth round).
+#define PLC_ABI_VERSION 8
 
 // The exported symbol's name, for dlsym.
 #define PLC_CELL_ABI_SYMBOL "softplc_cell_abi_version"
