@@ -1,5 +1,7 @@
 #include "plc/io/device_link.hpp"
 
+#include "plc/io/current_owner.hpp"
+
 namespace plc::io {
 
 const char* to_string(DeviceState s) {
@@ -14,14 +16,11 @@ const char* to_string(DeviceState s) {
   return "?";
 }
 
-namespace {
-// Initial-exec: a scan sets it three times, and the general-dynamic model
-// of a shared library would make each a call to __tls_get_addr. This
-// library is loaded with the program (never dlopen'ed on its own).
-thread_local int tl_owner __attribute__((tls_model("initial-exec"))) = -1;
-}  // namespace
+// Initial-exec and constinit: current_owner.hpp (the runtime's scan sets it
+// inline).
+constinit thread_local int detail::tl_current_owner __attribute__((tls_model("initial-exec"))) = -1;
 
-void DeviceLink::set_current_owner(int owner) { tl_owner = owner; }
+void DeviceLink::set_current_owner(int owner) { detail::set_current_owner(owner); }
 
 bool DeviceLink::submit(RecordRequest& r) {
   if (state() != DeviceState::Online) {
@@ -37,7 +36,7 @@ bool DeviceLink::submit(RecordRequest& r) {
     return false;
   }
   r.set_seq(++next_seq_);
-  r.set_delivery(deferred_, tl_owner);
+  r.set_delivery(deferred_, detail::tl_current_owner);
   r.mark_queued();
   ring_[(head_ + count_) % kQueueDepth] = &r;
   ++count_;

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <mutex>
 
+#include "plc/io/current_owner.hpp"
 #include "plc/online_change.hpp"
 #include "plc/runtime.hpp"
 #include "plc/thread_guard.hpp"
@@ -107,7 +108,7 @@ bool Runtime::scan_hooked(TaskRuntime& t, TIME now) {
 }
 
 void Runtime::scan_failed(TaskRuntime& t, std::string_view what) {
-  io::DeviceLink::set_current_owner(-1);
+  io::detail::set_current_owner(-1);
   t.scan_started_ns.store(-1, std::memory_order_release);
   report_thread_failure("task '" + t.name + "'", what);
   trip(t, "scan failed: " + std::string(what), false);
@@ -172,7 +173,7 @@ bool Runtime::scan_plain(TaskRuntime& t, TIME now) try {
   t.whole_image_scan = false;
   t.merge_bits = false;
   latch_devices(t, now);
-  io::DeviceLink::set_current_owner(static_cast<int>(t.order));
+  io::detail::set_current_owner(static_cast<int>(t.order));
   copy_spans(t.copy_in);
   const ScanContext ctx{now, t.period, t.cycle};
   try {
@@ -187,7 +188,7 @@ bool Runtime::scan_plain(TaskRuntime& t, TIME now) try {
     copy_spans(t.copy_out);
     publish_devices(t);
   }
-  io::DeviceLink::set_current_owner(-1);
+  io::detail::set_current_owner(-1);
   if (timed)
     t.stats.record_scan(steady_ns() - start);
   else
@@ -224,7 +225,7 @@ ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
     // 1: latch this task's devices into the global %I, take a private copy.
     MaybeLock lock(image_mutex_, lock_image_);
     latch_devices(t, now);
-    io::DeviceLink::set_current_owner(static_cast<int>(t.order));
+    io::detail::set_current_owner(static_cast<int>(t.order));
     for (ScanHooks* h : hooks_) h->after_latch(t, global_);
     if (t.whole_image_scan)
       t.image.copy_from(global_);
@@ -248,7 +249,7 @@ ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
 
 bool Runtime::scan_finish(TaskRuntime& t, const ScanContext& ctx) {
   // A replay may have latched another task in between (same thread).
-  io::DeviceLink::set_current_owner(static_cast<int>(t.order));
+  io::detail::set_current_owner(static_cast<int>(t.order));
   return run_programs_and_publish(t, ctx);
 }
 
@@ -295,7 +296,7 @@ bool Runtime::run_programs_and_publish(TaskRuntime& t, const ScanContext& ctx) {
       publish_devices(t);
     }
   }
-  io::DeviceLink::set_current_owner(-1);
+  io::detail::set_current_owner(-1);
   if (t.scan_timed)
     t.stats.record_scan(steady_ns() - t.scan_started_ns.load(std::memory_order_relaxed));
   else
