@@ -106,8 +106,10 @@ DeviceLink::StateChange DeviceLink::last_change() const {
   return c;
 }
 
-void DeviceLink::set_deferred(bool on, std::atomic<std::uint32_t>* tracking_total) {
+void DeviceLink::set_deferred(bool on, std::atomic<std::uint32_t>* tracking_total,
+                              std::atomic<std::uint64_t>* state_changes) {
   lock();
+  state_changes_ = state_changes;
   // The total counts this link from now on (as tracking or not).
   if (tracking_total_ && tracking_.load(std::memory_order_relaxed))
     tracking_total_->fetch_sub(1, std::memory_order_release);

@@ -178,7 +178,7 @@ void Runtime::build(const CellConfig& cfg) {
       fail(dc.mark, "device '" + dc.name.value + "': " + e.what());
     }
     // Answers and device states change only at scan boundaries.
-    d.plugin->link(d.index).set_deferred(true, &links_tracking_);
+    d.plugin->link(d.index).set_deferred(true, &links_tracking_, &state_changes_);
     auto place = [&](const Item<std::string>& addr, std::size_t size, io::Area area,
                      const char* key) -> io::IecAddress {
       io::IecAddress a{area, io::AddrSize::Byte, 0, 0};

@@ -127,10 +127,20 @@ void Runtime::scan_failed(TaskRuntime& t, std::string_view what) {
   // 1a: the answers to this task's acyclic requests and its devices'
   // states become visible now, so they never change during the scan.
   // Answers only while a link tracks a request (most scans: none does).
-  // The states in a pointer loop with its bounds and the scan number read
-  // once: the acquire in latch_state() would otherwise make the compiler
-  // reload them for every device, every scan.
+  // The states only when a link's state changed since this task's last
+  // latch of them (most scans: none did): otherwise each link's latched
+  // state equals its present one (a latch, set_deferred() and force_state()
+  // leave them equal; only set_state() makes them differ, and counts it) and
+  // latch_state() would do nothing. The total read before the states: a
+  // change counted after this read makes the next latch look. Test:
+  // ScanSemantics.LatchSkipsStatesOnlyWhenNoneChanged. The states in a
+  // pointer loop with its bounds and the scan number read once: the acquire
+  // in latch_state() would otherwise make the compiler reload them for every
+  // device, every scan.
   if (links_tracking_.load(std::memory_order_acquire) != 0) deliver_answers(t);
+  const std::uint64_t changes = state_changes_.load(std::memory_order_acquire);
+  if (changes == t.latched_changes) return;
+  t.latched_changes = changes;
   const std::uint64_t scan_no = t.cycle + 1;
   for (DeviceRuntime* d : t.devices) d->link->latch_state(scan_no, now);
 }

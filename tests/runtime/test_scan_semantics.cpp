@@ -290,3 +290,76 @@ devices:
   plain->finish();
   hooked->finish();
 }
+
+// A latch skips its devices' states while no link's state changed since its
+// task's last latch (Runtime::state_changes_). Checked against the states
+// latched at every latch: states set between the scans of one tick (task a's
+// devices after b's scan; set at a tick's begin, the plugin's step sets them
+// again), set twice, set to what they were, set back; the link cut.
+TEST(ScanSemantics, LatchSkipsStatesOnlyWhenNoneChanged) {
+  auto rt = plctest::make_runtime(R"(
+image: {inputs: 64, outputs: 64, memory: 16}
+tasks:
+  - {name: b, period: 2ms, programs: [Bit]}
+  - {name: a, period: 1ms, programs: [Loop]}
+programs:
+  - {name: Loop, type: LoopCounter}
+  - {name: Bit, type: BitWriter, bind: {mine: "%QX8.5"}}
+plugins: [{name: sim}]
+devices:
+  - {name: echo, plugin: sim, model: loopback, input: "%IB16", output: "%QB16", task: a,
+     params: {size: 4}}
+  - {name: quiet, plugin: sim, model: loopback, input: "%IB24", output: "%QB24", task: a,
+     params: {size: 4}}
+  - {name: plant, plugin: sim, model: first_order, input: "%IB32", output: "%QB32", task: b,
+     params: {link_down_at: 40ms, link_down_for: 25ms}}
+  - {name: other, plugin: sim, model: loopback, input: "%IB40", output: "%QB40", task: b,
+     params: {size: 4}}
+)");
+  auto* sim = static_cast<io::SimPlugin*>(rt->plugin("sim"));
+  struct Dev {
+    const char* name;
+    std::size_t task;
+    io::DeviceState latched;
+    std::uint64_t count = 0, scan = 0;
+  };
+  std::vector<Dev> devs = {{"echo", 1, {}}, {"quiet", 1, {}}, {"plant", 0, {}}, {"other", 0, {}}};
+  for (Dev& d : devs) d.latched = sim->device(d.name)->link().state();
+  rt->start(io::ClockMode::Virtual);
+  std::uint32_t rng = 12345;
+  const auto next = [&rng] { return rng = rng * 1664525u + 1013904223u, rng >> 8; };
+  int unchanged = 0;
+  for (int k = 0; k < 3000; ++k) {
+    // Before a scan (after another task's scan of the same tick, or after
+    // the plugin's step at a tick's begin): now and then a state set, once
+    // or more, to anything (also what it was).
+    for (int n = next() % 4; n > 0 && next() % 3 == 0; --n) {
+      io::DeviceLink& link = sim->device(devs[next() % devs.size()].name)->link();
+      link.set_state(static_cast<io::DeviceState>(next() % 3));
+    }
+    TaskRuntime* t = rt->step_scan();
+    ASSERT_NE(t, nullptr);
+    for (Dev& d : devs) {
+      const io::DeviceLink& link = sim->device(d.name)->link();
+      if (d.task == t->order) {
+        // This scan latched: the state as it is now (no step since).
+        const io::DeviceState live = link.live_state();
+        if (live != d.latched) {
+          d.latched = live;
+          ++d.count;
+          d.scan = t->cycle;
+        } else {
+          ++unchanged;
+        }
+      }
+      ASSERT_EQ(link.state(), d.latched) << d.name << " after scan " << k;
+      const auto c = link.last_change();
+      ASSERT_EQ(c.count, d.count) << d.name << " after scan " << k;
+      ASSERT_EQ(c.scan, d.scan) << d.name << " after scan " << k;
+    }
+  }
+  EXPECT_GT(devs[0].count, 20u) << "set between b's scan and a's";
+  EXPECT_GE(devs[2].count, 2u) << "cut and back";
+  EXPECT_GT(unchanged, 100);
+  rt->finish();
+}

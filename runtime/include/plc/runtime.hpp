@@ -146,6 +146,9 @@ struct TaskRuntime {
   std::string trip_reason;
   std::atomic<std::int64_t> step_budget{0};  // real time: scans allowed while paused
   std::uint64_t cycle = 0;
+  // Runtime::state_changes_ as this task's last latch of its devices'
+  // states read it (before latching them); never a count at first.
+  std::uint64_t latched_changes = ~std::uint64_t{0};
   TIME scan_time{};  // ScanContext::now of the scan under way (set before its latch)
   // Online change: applied by this task's thread at its next scan start.
   std::atomic<ProgramSwap*> swap{nullptr};
@@ -372,6 +375,10 @@ class Runtime {
   // while none does, a latch skips looking at every link. Before plugins_,
   // whose links point here, so that it outlives them.
   std::atomic<std::uint32_t> links_tracking_{0};
+  // How many state changes the devices' links made (DeviceLink::set_state):
+  // a latch skips the links' states while it equals its task's
+  // TaskRuntime::latched_changes. Here for the same reason.
+  std::atomic<std::uint64_t> state_changes_{0};
   std::vector<std::pair<std::string, std::unique_ptr<io::Plugin>>> plugins_;
   std::vector<std::pair<std::string, std::unique_ptr<Program>>> programs_;
   // The old programs such a partial change replaced: a reader that followed

@@ -45,8 +45,17 @@ class DeviceLink {
   }
   // Plugin side: the present state, and setting it.
   [[nodiscard]] DeviceState live_state() const { return state_.load(std::memory_order_acquire); }
-  void set_state(DeviceState s) { state_.store(s, std::memory_order_release); }
-  // Replay: set the present and the latched state at once.
+  // A change is counted in the runtime's total (set_deferred()): a latch
+  // that finds the total as its task's last latch left it skips the links
+  // (no state can differ from its latched one). The exchange keeps every
+  // store (the last writer wins, as before); counted after it, so a latch
+  // that reads the old total sees no store it would have missed.
+  void set_state(DeviceState s) {
+    const DeviceState before = state_.exchange(s, std::memory_order_acq_rel);
+    if (before != s && state_changes_) state_changes_->fetch_add(1, std::memory_order_release);
+  }
+  // Replay: set the present and the latched state at once (equal: not
+  // counted as a change, no latch needs to copy it).
   void force_state(DeviceState s) {
     state_.store(s, std::memory_order_release);
     latched_state_.store(s, std::memory_order_release);
@@ -60,7 +69,10 @@ class DeviceLink {
   // `tracking_total` (optional): a count, shared by the links of one
   // runtime, of the links whose tracking() is true, so that a latch can
   // skip looking at every link when none tracks anything (the usual scan).
-  void set_deferred(bool on, std::atomic<std::uint32_t>* tracking_total = nullptr);
+  // `state_changes` (optional): a count, shared likewise, of the changes
+  // set_state() made (set_state()).
+  void set_deferred(bool on, std::atomic<std::uint32_t>* tracking_total = nullptr,
+                    std::atomic<std::uint64_t>* state_changes = nullptr);
   static void set_current_owner(int owner);
   // At a latch of the owning task: copy the plugin's state for FBs. A
   // change is noted with that scan's number (1 = the task's first) and PLC
@@ -179,6 +191,7 @@ class DeviceLink {
   std::size_t tracked_n_ = 0;
   std::atomic<bool> tracking_{false};  // tracked_n_ != 0, readable without the lock
   std::atomic<std::uint32_t>* tracking_total_ = nullptr;  // set_deferred()
+  std::atomic<std::uint64_t>* state_changes_ = nullptr;   // set_deferred()
   std::atomic<bool> queued_{false};                       // count_ != 0, readable without the lock
   mutable std::atomic_flag lock_ = ATOMIC_FLAG_INIT;
   std::atomic<DeviceState> state_{DeviceState::Offline};
