@@ -37,13 +37,13 @@ class SimDevice {
     was_down_ = false;
     if (model_->answering()) {
       model_->step(now, dt, from_plc_, to_plc_);
-      link_.set_state(DeviceState::Online);
+      set_link_state(DeviceState::Online);
     } else {
       // A silent device: the model still runs its physics, but its answer
       // is not delivered. The PLC keeps the last valid inputs (as a bus
       // master keeps the last valid frame) and sees the device Offline.
       model_->step(now, dt, from_plc_, silent_);
-      link_.set_state(DeviceState::Offline);
+      set_link_state(DeviceState::Offline);
     }
   }
 
@@ -69,6 +69,14 @@ class SimDevice {
   std::span<std::uint8_t> outputs() { return outputs_; }  // PLC -> device
 
  private:
+  // The state set only when it changes (most steps: it does not): a set
+  // is an exchange and a compare (DeviceLink::set_state counts a change),
+  // a compare is a load. The device is its link's one writer while it steps
+  // (the plugin's step, under its lock in real time), so a set of the
+  // state the link has would store what is there and count nothing.
+  void set_link_state(DeviceState s) {
+    if (link_.live_state() != s) link_.set_state(s);
+  }
   void serve_records(bool reachable);
   void step_cut(TIME now, TIME dt);  // step() while the link is down
 
