@@ -328,26 +328,42 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
   if (in.size() < kPdu) return;
   std::array<std::uint8_t, kPdu> req;
   std::copy_n(in.begin(), kPdu, req.begin());
-  const bool incoming_new = ((req[4] & cb::kToggleH) != 0) != last_toggle_;
-  if (incoming_new && repeat_req_ > 0) {
-    req = req_hist_[1];  // the request received two exchanges earlier
-    --repeat_req_;
-  }
-  if (incoming_new && corrupt_req_n_ > 0) {
-    req[corrupt_req_byte_] ^= corrupt_req_mask_;
-    --corrupt_req_n_;
+  // Not a new telegram: nothing is injected into it (the injections count
+  // new ones only) and its toggle stays the last one, so it is ignored.
+  if (((req[4] & cb::kToggleH) != 0) == last_toggle_) return;
+  if (repeat_req_ > 0 || corrupt_req_n_ > 0) [[unlikely]] {
+    if (repeat_req_ > 0) {
+      req = req_hist_[1];  // the request received two exchanges earlier
+      --repeat_req_;
+    }
+    if (corrupt_req_n_ > 0) {
+      req[corrupt_req_byte_] ^= corrupt_req_mask_;
+      --corrupt_req_n_;
+    }
+    if (((req[4] & cb::kToggleH) != 0) == last_toggle_) return;  // not a new telegram now
   }
   const std::uint8_t control = req[4];
-  const bool toggle = (control & cb::kToggleH) != 0;
-  if (toggle == last_toggle_) return;  // not a new telegram
-  last_toggle_ = toggle;
+  last_toggle_ = (control & cb::kToggleH) != 0;
   req_hist_[2] = req_hist_[1];
   req_hist_[1] = req_hist_[0];
   req_hist_[0] = req;
 
   const bool rcons = (control & cb::kRConsNr) != 0;
   const std::uint32_t expected = rcons ? 0u : safety::next_cons_nr(cn_);
-  const bool ok = request_crc_.check_pdu(req, 4, expected, crc1_);
+  // check_pdu(req, 4, expected, crc1_) (an 8-byte PDU, F-data of 4), with
+  // the received CRC2 (bytes 5..7, big-endian) taken from the PDU as one
+  // word instead of byte by byte.
+  std::uint32_t got;
+  if constexpr (std::endian::native == std::endian::little) {
+    std::uint64_t w;
+    std::memcpy(&w, req.data(), sizeof w);
+    got = static_cast<std::uint32_t>(__builtin_bswap64(w)) & 0xFFFFFFu;
+  } else {
+    got =
+        static_cast<std::uint32_t>(req[5]) << 16 | static_cast<std::uint32_t>(req[6]) << 8 | req[7];
+  }
+  const bool ok = request_crc_.crc2(std::span<const std::uint8_t>(req.data(), 4), control, expected,
+                                    crc1_) == got;
   cn_ = expected;  // the host counts on as well, valid or not
   cons_nr_r_ = false;
   respond_pending_ = true;
