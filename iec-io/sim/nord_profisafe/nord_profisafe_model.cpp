@@ -402,13 +402,9 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
   chan_ack_prev_ = ack;
 }
 
-[[gnu::always_inline]] inline void NordProfisafeModel::evaluate(TIME now, TIME dt) {
-  if (!pas_.no_fpar && now - t_valid_ > wd_ && !pas_.wd_timeout) {
-    pas_.wd_timeout = true;
-    pas_.fault_fv = true;
-    ++wd_expiries_;
-  }
-  // Input filter P805: a new level counts once it has been stable for P805.
+// evaluate()'s P805 input filter when an input differs from its filtered
+// level: a new level counts once it has been stable for P805.
+void NordProfisafeModel::filter_si(TIME now) {
   for (int i = 0; i < 2; ++i) {
     if (si_raw_[i] == si_[i]) {
       si_changing_[i] = false;
@@ -423,6 +419,27 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
       refresh_si_causes();
       si_changing_[i] = false;
     }
+  }
+}
+
+[[gnu::always_inline]] inline void NordProfisafeModel::evaluate(TIME now, TIME dt) {
+  if (!pas_.no_fpar && now - t_valid_ > wd_ && !pas_.wd_timeout) {
+    pas_.wd_timeout = true;
+    pas_.fault_fv = true;
+    ++wd_expiries_;
+  }
+  // Input filter P805: a new level counts once it has been stable for P805.
+  // Both inputs at their filtered level (the usual step):
+  // filter_si() would only clear si_changing_, so that is done for both
+  // at once.
+  static_assert(sizeof si_raw_ == 2 && sizeof si_ == 2 && sizeof si_changing_ == 2);
+  std::uint16_t raw2, si2;
+  std::memcpy(&raw2, si_raw_.data(), 2);
+  std::memcpy(&si2, si_.data(), 2);
+  if (raw2 == si2) {
+    si_changing_ = {};
+  } else {
+    filter_si(now);
   }
   // Dual-channel SI1/SI2 discrepancy (P800[-01] = 1): both must agree within
   // P803; the error clears when both channels are off (spec §4.5 [AMBIG]).

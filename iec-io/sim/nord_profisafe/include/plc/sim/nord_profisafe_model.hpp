@@ -199,6 +199,7 @@ class NordProfisafeModel : public io::DeviceModel {
   void reset_volatile();
   void handle_request(TIME now, std::span<const std::uint8_t> req);
   void evaluate(TIME now, TIME dt);
+  void filter_si(TIME now);
   void update_q(TIME now);
   void raise_code(std::uint16_t code);
   void build_response();
