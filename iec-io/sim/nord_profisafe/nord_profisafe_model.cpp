@@ -463,14 +463,19 @@ void NordProfisafeModel::filter_si(TIME now) {
     applied_ = requested_;
   }
   const std::uint8_t* a = applied_.data();
-  NordSafetyFunctions::Request rq;  // read by fn_ only for a function P820 enables
+  // fn_ reads the request only for a function P820 enables: with none, it
+  // gets the empty one, a constant (not built on the stack every step).
   if (fn_.any_enabled()) {
+    NordSafetyFunctions::Request rq;
     rq.on = {get(a, nin::kSls), get(a, nin::kSsr), get(a, nin::kSdiP), get(a, nin::kSdiN),
              get(a, nin::kSos)};
     rq.sls_level =
         static_cast<std::uint8_t>((get(a, nin::kSlsLevel1) << 1) | get(a, nin::kSlsLevel0));
+    fn_.step(now, dt, rq, speed_rpm_, position_inc_);
+  } else {
+    static constexpr NordSafetyFunctions::Request kNone{};
+    fn_.step(now, dt, kNone, speed_rpm_, position_inc_);
   }
-  fn_.step(now, dt, rq, speed_rpm_, position_inc_);
   update_q(now);
   if (fatal_code_ != 0 || module_fault()) pas_.fault_fv = true;
 
