@@ -36,7 +36,7 @@ void NordSafetyFunctions::step_functions(TIME now, TIME dt, const Request& rq, d
   bool any_active = false;
   for (int fn = 0; fn < kCount; ++fn) any_active |= ((enabled_ >> fn) & 1u) != 0 && rq.on[fn];
   if (!any_active && idle_) {  // the loop below would only write what is there
-    status_[kCount] = n <= static_cast<double>(ip_.p823[6]);
+    status_[kCount] = n <= ssm_max_;
     return;
   }
   idle_ = !any_active;  // each function takes the inactive branch below
@@ -106,7 +106,7 @@ void NordSafetyFunctions::step_functions(TIME now, TIME dt, const Request& rq, d
       if (fn == kSls) trip_level_ = lvl;
     }
   }
-  status_[kCount] = n <= static_cast<double>(ip_.p823[6]);
+  status_[kCount] = n <= ssm_max_;
 }
 
 }  // namespace plc::sim

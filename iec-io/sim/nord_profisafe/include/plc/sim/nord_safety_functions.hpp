@@ -33,7 +33,8 @@ class NordSafetyFunctions {
     std::uint8_t sls_level = 0;     // 0..3
   };
 
-  explicit NordSafetyFunctions(const NordIParams& ip) : ip_(ip) {
+  explicit NordSafetyFunctions(const NordIParams& ip)
+      : ip_(ip), ssm_max_(static_cast<double>(ip.p823[6])) {
     for (int fn = 0; fn < kCount; ++fn)
       if (ip_.p820[fn] == 1) enabled_ |= static_cast<std::uint8_t>(1u << fn);
   }
@@ -43,7 +44,7 @@ class NordSafetyFunctions {
   // evaluated and the request is not read.
   void step(TIME now, TIME dt, const Request& rq, double speed_rpm, double position_inc) {
     if (enabled_ == 0 && idle_) {
-      status_[kCount] = std::abs(speed_rpm) <= static_cast<double>(ip_.p823[6]);
+      status_[kCount] = std::abs(speed_rpm) <= ssm_max_;
       return;
     }
     step_functions(now, dt, rq, speed_rpm, position_inc);
@@ -98,6 +99,8 @@ class NordSafetyFunctions {
   // Bit fn: P820 enables function fn (the i-parameters are fixed for the
   // device's life, so once at construction).
   std::uint8_t enabled_ = 0;
+  // The SSM limit P823[-07] as a double, once (SSM is evaluated every step).
+  double ssm_max_;
   // Every function sits as an inactive one leaves it (not requested, not
   // monitoring, no count, status 0): true after reset() and after a step in
   // which none was active. Such a step again changes nothing but SSM.
