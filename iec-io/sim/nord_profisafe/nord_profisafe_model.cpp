@@ -600,8 +600,9 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
 void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
                               std::span<std::uint8_t> to_plc) {
   now_ = now;
-  // revs_per_s * pulses * dt, as (speed / 60 / P811 * pulses) * dt.
-  if (ip_.p811 > 0.0) position_inc_ += inc_per_s_ * std::chrono::duration<double>(dt).count();
+  // revs_per_s * pulses * dt, as (speed / 60 / P811 * pulses) * dt, when
+  // it can change the position (integrate_).
+  if (integrate_) position_inc_ += inc_per_s_ * std::chrono::duration<double>(dt).count();
   if (drop_start_pending_) {
     drop_until_ = now + drop_for_;
     drop_start_pending_ = false;
