@@ -11,8 +11,10 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cstdint>
+#include <limits>
 
 #include "plc/sim/nord_response_channel.hpp"
 #include "safety_rig.hpp"
@@ -174,6 +176,40 @@ TEST(SafetyModelCaches, ChannelPushDeliveredShowsWhatPushAndDeliverShow_Spec8_4)
   }
   EXPECT_GT(at_once, 50000);
   EXPECT_GT(delayed, 10000);
+}
+
+// step() integrates the encoder position only when the sum can change it
+// (integrate_): a zero rate adds +-0.0, which leaves every position but
+// -0.0 (-0.0 + +0.0 is +0.0) and NaN as it is. The position after each step
+// must be, bit for bit, the full sum (spec nord-profisafe.md §8.3 drive
+// model: the position integrates the speed, P811 ratio, P812 pulses); fails
+// when a zero rate also skips the sum on -0.0.
+TEST(SafetyModelCaches, PositionSkipsOnlySumsThatChangeNothing_Spec8_3) {
+  Rig r({{"p811", "1.0"}, {"p812", "5"}});
+  plc::sim::NordIParams ip;
+  ip.p811 = 1.0;
+  ip.p812 = 5;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  const double speeds[] = {0.0, -0.0, 12.5, 0.0, -7.0, -0.0};
+  const double positions[] = {0.0, -0.0, nan, 3.25, -1e9, inf, -inf, 0.0};
+  const double dt_s = std::chrono::duration<double>(r.dt).count();
+  for (double s : speeds) {
+    for (double p : positions) {
+      r.model->set_speed_rpm(s);
+      r.model->set_position_inc(p);
+      double expect = p;
+      for (int k = 0; k < 4; ++k) {
+        r.device_only(1);
+        expect += s / 60.0 / ip.p811 * ip.pulses() * dt_s;
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(r.model->position_inc()),
+                  std::bit_cast<std::uint64_t>(expect))
+            << "speed " << s << " position " << p << " step " << k;
+      }
+    }
+    // The position goes on from where the sums left it, the speed changes.
+    r.model->set_speed_rpm(s);
+  }
 }
 
 }  // namespace

@@ -328,26 +328,42 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
   if (in.size() < kPdu) return;
   std::array<std::uint8_t, kPdu> req;
   std::copy_n(in.begin(), kPdu, req.begin());
-  const bool incoming_new = ((req[4] & cb::kToggleH) != 0) != last_toggle_;
-  if (incoming_new && repeat_req_ > 0) {
-    req = req_hist_[1];  // the request received two exchanges earlier
-    --repeat_req_;
-  }
-  if (incoming_new && corrupt_req_n_ > 0) {
-    req[corrupt_req_byte_] ^= corrupt_req_mask_;
-    --corrupt_req_n_;
+  // Not a new telegram: nothing is injected into it (the injections count
+  // new ones only) and its toggle stays the last one, so it is ignored.
+  if (((req[4] & cb::kToggleH) != 0) == last_toggle_) return;
+  if (repeat_req_ > 0 || corrupt_req_n_ > 0) [[unlikely]] {
+    if (repeat_req_ > 0) {
+      req = req_hist_[1];  // the request received two exchanges earlier
+      --repeat_req_;
+    }
+    if (corrupt_req_n_ > 0) {
+      req[corrupt_req_byte_] ^= corrupt_req_mask_;
+      --corrupt_req_n_;
+    }
+    if (((req[4] & cb::kToggleH) != 0) == last_toggle_) return;  // not a new telegram now
   }
   const std::uint8_t control = req[4];
-  const bool toggle = (control & cb::kToggleH) != 0;
-  if (toggle == last_toggle_) return;  // not a new telegram
-  last_toggle_ = toggle;
+  last_toggle_ = (control & cb::kToggleH) != 0;
   req_hist_[2] = req_hist_[1];
   req_hist_[1] = req_hist_[0];
   req_hist_[0] = req;
 
   const bool rcons = (control & cb::kRConsNr) != 0;
   const std::uint32_t expected = rcons ? 0u : safety::next_cons_nr(cn_);
-  const bool ok = request_crc_.check_pdu(req, 4, expected, crc1_);
+  // check_pdu(req, 4, expected, crc1_) (an 8-byte PDU, F-data of 4), with
+  // the received CRC2 (bytes 5..7, big-endian) taken from the PDU as one
+  // word instead of byte by byte.
+  std::uint32_t got;
+  if constexpr (std::endian::native == std::endian::little) {
+    std::uint64_t w;
+    std::memcpy(&w, req.data(), sizeof w);
+    got = static_cast<std::uint32_t>(__builtin_bswap64(w)) & 0xFFFFFFu;
+  } else {
+    got =
+        static_cast<std::uint32_t>(req[5]) << 16 | static_cast<std::uint32_t>(req[6]) << 8 | req[7];
+  }
+  const bool ok = request_crc_.crc2(std::span<const std::uint8_t>(req.data(), 4), control, expected,
+                                    crc1_) == got;
   cn_ = expected;  // the host counts on as well, valid or not
   cons_nr_r_ = false;
   respond_pending_ = true;
@@ -386,13 +402,9 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
   chan_ack_prev_ = ack;
 }
 
-[[gnu::always_inline]] inline void NordProfisafeModel::evaluate(TIME now, TIME dt) {
-  if (!pas_.no_fpar && now - t_valid_ > wd_ && !pas_.wd_timeout) {
-    pas_.wd_timeout = true;
-    pas_.fault_fv = true;
-    ++wd_expiries_;
-  }
-  // Input filter P805: a new level counts once it has been stable for P805.
+// evaluate()'s P805 input filter when an input differs from its filtered
+// level: a new level counts once it has been stable for P805.
+void NordProfisafeModel::filter_si(TIME now) {
   for (int i = 0; i < 2; ++i) {
     if (si_raw_[i] == si_[i]) {
       si_changing_[i] = false;
@@ -407,6 +419,27 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
       refresh_si_causes();
       si_changing_[i] = false;
     }
+  }
+}
+
+[[gnu::always_inline]] inline void NordProfisafeModel::evaluate(TIME now, TIME dt) {
+  if (!pas_.no_fpar && now - t_valid_ > wd_ && !pas_.wd_timeout) {
+    pas_.wd_timeout = true;
+    pas_.fault_fv = true;
+    ++wd_expiries_;
+  }
+  // Input filter P805: a new level counts once it has been stable for P805.
+  // Both inputs at their filtered level (the usual step):
+  // filter_si() would only clear si_changing_, so that is done for both
+  // at once.
+  static_assert(sizeof si_raw_ == 2 && sizeof si_ == 2 && sizeof si_changing_ == 2);
+  std::uint16_t raw2, si2;
+  std::memcpy(&raw2, si_raw_.data(), 2);
+  std::memcpy(&si2, si_.data(), 2);
+  if (raw2 == si2) {
+    si_changing_ = {};
+  } else {
+    filter_si(now);
   }
   // Dual-channel SI1/SI2 discrepancy (P800[-01] = 1): both must agree within
   // P803; the error clears when both channels are off (spec §4.5 [AMBIG]).
@@ -430,14 +463,19 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
     applied_ = requested_;
   }
   const std::uint8_t* a = applied_.data();
-  NordSafetyFunctions::Request rq;  // read by fn_ only for a function P820 enables
+  // fn_ reads the request only for a function P820 enables: with none, it
+  // gets the empty one, a constant (not built on the stack every step).
   if (fn_.any_enabled()) {
+    NordSafetyFunctions::Request rq;
     rq.on = {get(a, nin::kSls), get(a, nin::kSsr), get(a, nin::kSdiP), get(a, nin::kSdiN),
              get(a, nin::kSos)};
     rq.sls_level =
         static_cast<std::uint8_t>((get(a, nin::kSlsLevel1) << 1) | get(a, nin::kSlsLevel0));
+    fn_.step(now, dt, rq, speed_rpm_, position_inc_);
+  } else {
+    static constexpr NordSafetyFunctions::Request kNone{};
+    fn_.step(now, dt, kNone, speed_rpm_, position_inc_);
   }
-  fn_.step(now, dt, rq, speed_rpm_, position_inc_);
   update_q(now);
   if (fatal_code_ != 0 || module_fault()) pas_.fault_fv = true;
 
@@ -562,8 +600,9 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
 void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
                               std::span<std::uint8_t> to_plc) {
   now_ = now;
-  // revs_per_s * pulses * dt, as (speed / 60 / P811 * pulses) * dt.
-  if (ip_.p811 > 0.0) position_inc_ += inc_per_s_ * std::chrono::duration<double>(dt).count();
+  // revs_per_s * pulses * dt, as (speed / 60 / P811 * pulses) * dt, when
+  // it can change the position (integrate_).
+  if (integrate_) position_inc_ += inc_per_s_ * std::chrono::duration<double>(dt).count();
   if (drop_start_pending_) {
     drop_until_ = now + drop_for_;
     drop_start_pending_ = false;

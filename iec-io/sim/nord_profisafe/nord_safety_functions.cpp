@@ -14,8 +14,7 @@ TIME seconds(double s) {
 void NordSafetyFunctions::reset() {
   st_ = {};
   trip_ = 0;
-  ok_ = {};
-  ssm_ = false;
+  status_ = {};
   idle_ = true;
 }
 
@@ -37,7 +36,7 @@ void NordSafetyFunctions::step_functions(TIME now, TIME dt, const Request& rq, d
   bool any_active = false;
   for (int fn = 0; fn < kCount; ++fn) any_active |= ((enabled_ >> fn) & 1u) != 0 && rq.on[fn];
   if (!any_active && idle_) {  // the loop below would only write what is there
-    ssm_ = n <= static_cast<double>(ip_.p823[6]);
+    status_[kCount] = n <= ssm_max_;
     return;
   }
   idle_ = !any_active;  // each function takes the inactive branch below
@@ -54,7 +53,7 @@ void NordSafetyFunctions::step_functions(TIME now, TIME dt, const Request& rq, d
     if (!active) {
       s.monitoring = false;
       s.integ = TIME{};
-      ok_[fn] = false;
+      status_[fn] = false;
       continue;
     }
     if (!s.monitoring && now - s.since >= seconds(ip_.p821_s[act_idx[fn]])) {
@@ -89,11 +88,11 @@ void NordSafetyFunctions::step_functions(TIME now, TIME dt, const Request& rq, d
     }
     // Status bit: function active and within its limit (§2.4).
     if (fn == kSdiP) {
-      ok_[fn] = speed_rpm >= 0.0 && !violating;
+      status_[fn] = speed_rpm >= 0.0 && !violating;
     } else if (fn == kSdiN) {
-      ok_[fn] = speed_rpm <= 0.0 && !violating;
+      status_[fn] = speed_rpm <= 0.0 && !violating;
     } else {
-      ok_[fn] = !violating;
+      status_[fn] = !violating;
     }
     if (!s.monitoring) continue;
     if (violating) {
@@ -107,7 +106,7 @@ void NordSafetyFunctions::step_functions(TIME now, TIME dt, const Request& rq, d
       if (fn == kSls) trip_level_ = lvl;
     }
   }
-  ssm_ = n <= static_cast<double>(ip_.p823[6]);
+  status_[kCount] = n <= ssm_max_;
 }
 
 }  // namespace plc::sim

@@ -72,12 +72,15 @@ class FillingProcess {
   double landing_rate_ = 0.0;  // kg/s
   double flow_factor_ = 1.0;
   double valve_step_;  // share of the way a valve moves in 1 ms (valve_time_s > 0)
+  // flow_wander * sqrt(0.001 s), the first product of move()'s wander term
+  // (evaluated left to right, so the same double), once.
+  double wander_;
 };
 
 inline void FillingProcess::move(Valve& v, bool cmd) {
   if (cmd && !v.cmd) v.factor = 1.0 + cfg_.flow_variation * noise_.uniform_pm1();
   v.cmd = cmd;
-  if (cmd) v.factor *= 1.0 + cfg_.flow_wander * 0.0316227766 * noise_.uniform_pm1();
+  if (cmd) v.factor *= 1.0 + wander_ * noise_.uniform_pm1();
   const double target = cmd ? 1.0 : 0.0;
   if (cfg_.valve_time_s <= 0.0) {
     v.open = target;

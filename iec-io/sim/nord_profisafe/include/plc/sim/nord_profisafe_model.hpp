@@ -49,6 +49,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <span>
@@ -84,7 +85,11 @@ class NordProfisafeModel : public io::DeviceModel {
     speed_rpm_ = n;
     refresh_inc_per_s();
   }
-  void set_position_inc(double p) { position_inc_ = p; }
+  void set_position_inc(double p) {
+    position_inc_ = p;
+    refresh_integrate();
+  }
+  [[nodiscard]] double position_inc() const { return position_inc_; }
   // Raw SI1/SI2 levels; the device sees them through the P805 filter.
   void set_si(bool si1, bool si2) { si_raw_ = {si1, si2}; }
   // What feeds SI1/SI2 (input 0/1): 0 = static 24 V, 1 = TAKT1, 2 = TAKT2.
@@ -199,6 +204,7 @@ class NordProfisafeModel : public io::DeviceModel {
   void reset_volatile();
   void handle_request(TIME now, std::span<const std::uint8_t> req);
   void evaluate(TIME now, TIME dt);
+  void filter_si(TIME now);
   void update_q(TIME now);
   void raise_code(std::uint16_t code);
   void build_response();
@@ -221,7 +227,20 @@ class NordProfisafeModel : public io::DeviceModel {
   // the first two factors of step()'s product, derived once per change of
   // the speed (the i-parameters are fixed).
   double inc_per_s_ = 0.0;
-  void refresh_inc_per_s() { inc_per_s_ = speed_rpm_ / 60.0 / ip_.p811 * ip_.pulses(); }
+  void refresh_inc_per_s() {
+    inc_per_s_ = speed_rpm_ / 60.0 / ip_.p811 * ip_.pulses();
+    refresh_integrate();
+  }
+  // step() adds inc_per_s_ * dt to the position only when that can change
+  // it: P811 > 0 and not (a zero rate, which adds +-0.0, on a position
+  // that +-0.0 leaves as it is: any but -0.0 and NaN). Refreshed at each
+  // change of either; the position changes otherwise only by that sum.
+  bool integrate_ = true;
+  void refresh_integrate() {
+    const bool kept = inc_per_s_ == 0.0 && !std::isnan(position_inc_) &&
+                      !(position_inc_ == 0.0 && std::signbit(position_inc_));
+    integrate_ = ip_.p811 > 0.0 && !kept;
+  }
   std::array<bool, 2> si_raw_{};  // as wired
   std::array<bool, 2> si_{};      // after the P805 filter
   std::array<bool, 2> si_changing_{};

@@ -33,7 +33,8 @@ class NordSafetyFunctions {
     std::uint8_t sls_level = 0;     // 0..3
   };
 
-  explicit NordSafetyFunctions(const NordIParams& ip) : ip_(ip) {
+  explicit NordSafetyFunctions(const NordIParams& ip)
+      : ip_(ip), ssm_max_(static_cast<double>(ip.p823[6])) {
     for (int fn = 0; fn < kCount; ++fn)
       if (ip_.p820[fn] == 1) enabled_ |= static_cast<std::uint8_t>(1u << fn);
   }
@@ -43,7 +44,7 @@ class NordSafetyFunctions {
   // evaluated and the request is not read.
   void step(TIME now, TIME dt, const Request& rq, double speed_rpm, double position_inc) {
     if (enabled_ == 0 && idle_) {
-      ssm_ = std::abs(speed_rpm) <= static_cast<double>(ip_.p823[6]);
+      status_[kCount] = std::abs(speed_rpm) <= ssm_max_;
       return;
     }
     step_functions(now, dt, rq, speed_rpm, position_inc);
@@ -61,14 +62,14 @@ class NordSafetyFunctions {
   void clear_trip(int fn) { trip_ = static_cast<std::uint8_t>(trip_ & ~(1u << fn)); }
 
   // Status bits of spec §2.4 (F-data Out).
-  [[nodiscard]] bool ok(int fn) const { return ok_[fn]; }
-  [[nodiscard]] bool ssm() const { return ssm_; }
+  [[nodiscard]] bool ok(int fn) const { return status_[fn]; }
+  [[nodiscard]] bool ssm() const { return status_[kCount]; }
   // ok() of every function and ssm() in one word (a key: equal words,
   // equal status bits): ok(fn) in byte fn, ssm() in byte kCount.
   [[nodiscard]] std::uint64_t status_key() const {
-    std::uint64_t k = 0;
-    std::memcpy(&k, ok_.data(), kCount);
-    return k | static_cast<std::uint64_t>(ssm_) << (8 * kCount);
+    std::uint64_t k;
+    std::memcpy(&k, status_.data(), sizeof k);  // bytes 6 and 7 are always 0
+    return k;
   }
   [[nodiscard]] bool monitoring(int fn) const { return st_[fn].monitoring; }
 
@@ -90,12 +91,16 @@ class NordSafetyFunctions {
   const NordIParams& ip_;
   std::array<State, kCount> st_{};
   std::uint8_t trip_ = 0;  // bit fn: fn tripped (one word: the device reads all five per step)
-  std::array<bool, kCount> ok_{};
   std::uint8_t trip_level_ = 0;
-  bool ssm_ = false;
+  // ok(fn) in byte fn, ssm() in byte kCount, bytes 6 and 7 always 0:
+  // status_key() loads the eight as one word.
+  alignas(8) std::array<bool, 8> status_{};
+  static_assert(kCount + 1 <= 6);
   // Bit fn: P820 enables function fn (the i-parameters are fixed for the
   // device's life, so once at construction).
   std::uint8_t enabled_ = 0;
+  // The SSM limit P823[-07] as a double, once (SSM is evaluated every step).
+  double ssm_max_;
   // Every function sits as an inactive one leaves it (not requested, not
   // monitoring, no count, status 0): true after reset() and after a step in
   // which none was active. Such a step again changes nothing but SSM.
