@@ -30,7 +30,12 @@
 // scan_plain()/scan_hooked() split, FHostProtocol::cycle() a member template
 // with a steady path, PR5510_Device's arbitration templates, Crc2Cache
 // inline compare (issue 23, fourth round).
-#define PLC_ABI_VERSION 8
+// 9: plc::io::DeviceLink points at its runtime's count of state changes
+// (set_deferred's third argument), TaskRuntime::latched_changes, the
+// current owner as an inline thread_local (plc/io/current_owner.hpp),
+// SimDevice's last state; the NORD model's and safety functions' caches
+// (issue 23, fifth round).
+#define PLC_ABI_VERSION 9
 
 // The exported symbol's name, for dlsym.
 #define PLC_CELL_ABI_SYMBOL "softplc_cell_abi_version"
