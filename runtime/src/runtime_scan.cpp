@@ -466,11 +466,24 @@ bool Runtime::due(const TaskRuntime& t) const {
   return !t.stopped.load(std::memory_order_relaxed) && now_.count() % t.period.count() == 0;
 }
 
+// Whether a task has not stopped: the first one found ends the search (the
+// loop ran on over every task each tick, for the same answer).
+[[gnu::always_inline]] inline bool Runtime::any_task_alive() const {
+  for (const auto& t : tasks_)
+    if (!t->stopped.load(std::memory_order_relaxed)) return true;
+  return false;
+}
+
 // Inline in the virtual-time loop, which begins a tick every base tick.
+// The step size taken once: a plugin's step() cannot change it (neither
+// first_tick_ nor base_tick_ is set outside start() and build), though the
+// compiler must assume a virtual call could.
 [[gnu::always_inline]] inline void Runtime::begin_tick() {
-  if (plugins_enabled_)
+  if (plugins_enabled_) {
+    const TIME dt = first_tick_ ? TIME(0) : base_tick_;
     for (auto& [name, p] : plugins_)
-      if (!p->failed()) step_plugin(name, *p, first_tick_ ? TIME(0) : base_tick_);
+      if (!p->failed()) step_plugin(name, *p, dt);
+  }
   first_tick_ = false;
   tick_open_ = true;
   cursor_ = 0;
@@ -493,9 +506,7 @@ void Runtime::tick() {
 
 TaskRuntime* Runtime::step_scan() {
   for (;;) {
-    bool alive = false;
-    for (const auto& t : tasks_) alive |= !t->stopped.load(std::memory_order_relaxed);
-    if (!alive) return nullptr;
+    if (!any_task_alive()) return nullptr;
     if (!tick_open_) begin_tick();
     advance_cursor();
     if (!tick_open_) continue;
@@ -549,9 +560,7 @@ void Runtime::run_virtual(TIME span) {
   const TIME last = TIME::max() - base_tick_;
   const TIME end = span > last - now_ ? last : now_ + span;
   while (now_ < end && !stop_requested()) {
-    bool any = false;
-    for (const auto& t : tasks_) any |= !t->stopped.load(std::memory_order_relaxed);
-    if (!any) break;
+    if (!any_task_alive()) break;
     if (tick_open_) {
       tick();  // the rest of a tick that step_scan() left open
       continue;

@@ -426,6 +426,7 @@ class Runtime {
   // What step_plugin() does when the plugin throws (out of line: rare).
   void plugin_failed(const std::string& name, io::Plugin& p, std::string_view what);
   [[nodiscard]] bool due(const TaskRuntime& t) const;
+  [[nodiscard]] bool any_task_alive() const;
 
   io::ClockMode mode_ = io::ClockMode::Virtual;
   bool started_ = false;
