@@ -16,6 +16,17 @@ SimDevice::SimDevice(std::unique_ptr<DeviceModel> model)
   link_.set_state(model_->answering() ? DeviceState::Online : DeviceState::Offline);
 }
 
+void SimDevice::step_full(TIME now, TIME dt) {
+  const bool down = link_down(now);
+  if (link_.maybe_queued()) serve_records(!down);
+  if (down) {
+    step_cut(now, dt);
+    return;
+  }
+  was_down_ = false;
+  step_up(now, dt);
+}
+
 void SimDevice::serve_records(bool reachable) {
   if (!link_.maybe_queued()) return;  // the usual step: nothing asked
   while (RecordRequest* r = link_.pop()) {

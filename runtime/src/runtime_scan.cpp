@@ -119,10 +119,8 @@ void Runtime::scan_failed(TaskRuntime& t, std::string_view what) {
   if (plugins_enabled_) {
     for (const TaskRuntime::DirectDevice& c : t.direct)
       copy_bytes(c.image_in, c.device_in, c.in_bytes);
-    auto gi = global_.area(io::Area::Input);
-    for (DeviceRuntime* d : t.via_plugin)
-      if (d->sizes.input_bytes)
-        d->plugin->latch_inputs(d->index, gi.subspan(d->in.byte, d->sizes.input_bytes));
+    for (const TaskRuntime::PluginDevice& d : t.via_plugin)
+      if (d.in_bytes) d.plugin->latch_inputs(d.index, {d.image_in, d.in_bytes});
   }
   // 1a: the answers to this task's acyclic requests and its devices'
   // states become visible now, so they never change during the scan.
@@ -162,10 +160,8 @@ void Runtime::deliver_answers(TaskRuntime& t) {
   if (!plugins_enabled_) return;
   for (const TaskRuntime::DirectDevice& c : t.direct)
     copy_bytes(c.device_out, c.image_out, c.out_bytes);
-  auto gq = global_.area(io::Area::Output);
-  for (DeviceRuntime* d : t.via_plugin)
-    if (d->sizes.output_bytes)
-      d->plugin->publish_outputs(d->index, gq.subspan(d->out.byte, d->sizes.output_bytes));
+  for (const TaskRuntime::PluginDevice& d : t.via_plugin)
+    if (d.out_bytes) d.plugin->publish_outputs(d.index, {d.image_out, d.out_bytes});
 }
 
 // scan_latch() and run_programs_and_publish() as they run with no hook set
@@ -392,13 +388,14 @@ void Runtime::plan_device_io() {
     t->direct.clear();
     t->via_plugin.clear();
     for (DeviceRuntime* d : t->devices) {
+      // A device of no bytes one way exchanges nothing that way (its image
+      // offset may then be anything: no pointer is formed from it).
+      const std::size_t ni = d->sizes.input_bytes, no = d->sizes.output_bytes;
       if (!d->direct_in) {
-        t->via_plugin.push_back(d);
+        t->via_plugin.push_back({d->plugin, d->index, ni ? gi.data() + d->in.byte : nullptr, ni,
+                                 no ? gq.data() + d->out.byte : nullptr, no});
         continue;
       }
-      // A direct device of no bytes one way copies nothing that way (its
-      // image offset may then be anything: no pointer is formed from it).
-      const std::size_t ni = d->sizes.input_bytes, no = d->sizes.output_bytes;
       t->direct.push_back({ni ? gi.data() + d->in.byte : nullptr, d->direct_in, ni, d->direct_out,
                            no ? gq.data() + d->out.byte : nullptr, no});
     }
@@ -469,11 +466,24 @@ bool Runtime::due(const TaskRuntime& t) const {
   return !t.stopped.load(std::memory_order_relaxed) && now_.count() % t.period.count() == 0;
 }
 
+// Whether a task has not stopped: the first one found ends the search (the
+// loop ran on over every task each tick, for the same answer).
+[[gnu::always_inline]] inline bool Runtime::any_task_alive() const {
+  for (const auto& t : tasks_)
+    if (!t->stopped.load(std::memory_order_relaxed)) return true;
+  return false;
+}
+
 // Inline in the virtual-time loop, which begins a tick every base tick.
+// The step size taken once: a plugin's step() cannot change it (neither
+// first_tick_ nor base_tick_ is set outside start() and build), though the
+// compiler must assume a virtual call could.
 [[gnu::always_inline]] inline void Runtime::begin_tick() {
-  if (plugins_enabled_)
+  if (plugins_enabled_) {
+    const TIME dt = first_tick_ ? TIME(0) : base_tick_;
     for (auto& [name, p] : plugins_)
-      if (!p->failed()) step_plugin(name, *p, first_tick_ ? TIME(0) : base_tick_);
+      if (!p->failed()) step_plugin(name, *p, dt);
+  }
   first_tick_ = false;
   tick_open_ = true;
   cursor_ = 0;
@@ -496,9 +506,7 @@ void Runtime::tick() {
 
 TaskRuntime* Runtime::step_scan() {
   for (;;) {
-    bool alive = false;
-    for (const auto& t : tasks_) alive |= !t->stopped.load(std::memory_order_relaxed);
-    if (!alive) return nullptr;
+    if (!any_task_alive()) return nullptr;
     if (!tick_open_) begin_tick();
     advance_cursor();
     if (!tick_open_) continue;
@@ -552,9 +560,7 @@ void Runtime::run_virtual(TIME span) {
   const TIME last = TIME::max() - base_tick_;
   const TIME end = span > last - now_ ? last : now_ + span;
   while (now_ < end && !stop_requested()) {
-    bool any = false;
-    for (const auto& t : tasks_) any |= !t->stopped.load(std::memory_order_relaxed);
-    if (!any) break;
+    if (!any_task_alive()) break;
     if (tick_open_) {
       tick();  // the rest of a tick that step_scan() left open
       continue;

@@ -3,11 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "plc/io/sim_device.hpp"
 #include "plc/io/sim_plugin.hpp"
 #include "test_helpers.hpp"
 #include "test_programs.hpp"
@@ -362,4 +365,79 @@ devices:
   EXPECT_GE(devs[2].count, 2u) << "cut and back";
   EXPECT_GT(unchanged, 100);
   rt->finish();
+}
+
+// SimDevice::step() takes its usual path without looking at the link cut
+// while none is configured (link_down_at < 0): it relies on was_down_ being
+// false then (set_link_down() with a negative time clears it). Over random
+// reconfigurations of the cut (also mid-cut, also back to none and again)
+// the model sees the outputs the full logic gives: the PLC's, or those at
+// the start of the present cut.
+TEST(ScanSemantics, SimDeviceUsualStepEqualsFullLinkCutLogic) {
+  struct Probe final : io::DeviceModel {
+    [[nodiscard]] std::size_t input_size() const override { return 2; }
+    [[nodiscard]] std::size_t output_size() const override { return 2; }
+    void step(TIME, TIME, std::span<const std::uint8_t> from_plc,
+              std::span<std::uint8_t> to_plc) override {
+      seen = {from_plc[0], from_plc[1]};
+      to_plc[0] = static_cast<std::uint8_t>(++steps);
+    }
+    std::array<std::uint8_t, 2> seen{};
+    std::uint32_t steps = 0;
+  };
+  auto owned = std::make_unique<Probe>();
+  Probe& probe = *owned;
+  io::SimDevice dev(std::move(owned));
+  // The full logic, as SimDevice::step() had it before its usual path.
+  TIME at{-1}, dur{0};
+  bool was_down = false;
+  std::array<std::uint8_t, 2> cut{};
+  std::uint32_t rng = 987654321;
+  const auto next = [&rng] { return rng = rng * 1664525u + 1013904223u, rng >> 8; };
+  const TIME ms(std::chrono::milliseconds(1));
+  int cuts = 0, fresh_cuts_after_none = 0;
+  bool none_since_cut = false;
+  for (int k = 0; k < 20000; ++k) {
+    const TIME now = k * ms;
+    if (next() % 8 == 0) {
+      switch (next() % 4) {
+        case 0:  // no cut
+          at = TIME(-1);
+          dur = TIME(0);
+          break;
+        case 1:  // a cut from now
+          at = now;
+          dur = TIME((1 + next() % 20) * ms);
+          break;
+        default:  // a cut somewhere around now
+          at = TIME(std::int64_t(next() % 60) * ms + now - 30 * ms);
+          if (at.count() < 0) at = TIME(0);
+          dur = TIME((1 + next() % 40) * ms);
+      }
+      dev.set_link_down(at, dur);
+    }
+    dev.outputs()[0] = static_cast<std::uint8_t>(next());
+    dev.outputs()[1] = static_cast<std::uint8_t>(next());
+    const bool down = at.count() >= 0 && now >= at && now - at < dur;
+    std::array<std::uint8_t, 2> expect{dev.outputs()[0], dev.outputs()[1]};
+    if (down) {
+      if (!was_down) {
+        cut = expect;
+        ++cuts;
+        fresh_cuts_after_none += none_since_cut;
+        none_since_cut = false;
+      }
+      was_down = true;
+      expect = cut;
+    } else {
+      was_down = false;
+    }
+    if (at.count() < 0 && k > 0) none_since_cut = true;
+    dev.step(now, ms);
+    ASSERT_EQ(probe.seen, expect) << "step " << k;
+    ASSERT_EQ(dev.link().state(), down ? io::DeviceState::Offline : io::DeviceState::Online)
+        << "step " << k;
+  }
+  EXPECT_GT(cuts, 200);
+  EXPECT_GT(fresh_cuts_after_none, 20);
 }

@@ -63,6 +63,40 @@ TEST(TaskStats, SnapshotWhileTheScanThreadRecordsIsOneConsistentSet) {
               static_cast<unsigned long long>(snapshots), static_cast<unsigned long long>(mid_run));
 }
 
+// Virtual time times one scan in 16 (record_scan) and only counts the
+// others (count_scan), which changes the scan count alone, outside the
+// write bracket: a snapshot still holds the count and the timed scans of
+// one state. Scan i (from 1) is timed iff i % 16 == 1 and took i ns.
+TEST(TaskStats, UntimedCountsNeedNoBracket) {
+  constexpr std::uint64_t kScans = 400'000;
+  LiveTaskStats live;
+  std::atomic<bool> done{false};
+  std::thread scan_thread([&] {
+    for (std::uint64_t i = 1; i <= kScans; ++i) {
+      if (i % 16 == 1)
+        live.record_scan(std::int64_t(i));
+      else
+        live.count_scan();
+    }
+    done.store(true);
+  });
+  std::uint64_t mid_run = 0;
+  for (int k = 0; k < 1'000'000 && !done.load(); ++k) {
+    const TaskStats s = live.snapshot();
+    const std::uint64_t n = s.scans, timed = (n + 15) / 16;
+    ASSERT_EQ(s.scan_ns.count(), timed) << n;
+    if (timed) {
+      ASSERT_EQ(s.scan_ns.max(), 16 * (timed - 1) + 1) << n;
+    }
+    mid_run += n > 0 && n < kScans;
+  }
+  scan_thread.join();
+  const TaskStats end = live.snapshot();
+  EXPECT_EQ(end.scans, kScans);
+  EXPECT_EQ(end.scan_ns.count(), (kScans + 15) / 16);
+  std::printf("%llu snapshots while the writer ran\n", static_cast<unsigned long long>(mid_run));
+}
+
 TEST(TaskStats, TheStopReasonIsPublishedWhole) {
   LiveTaskStats live;
   EXPECT_FALSE(live.watchdog_tripped());

@@ -112,7 +112,8 @@ struct TaskRuntime {
   // at build and at start): `direct` the devices whose bytes the scan copies
   // itself (Plugin::direct_io, virtual time), with their image and device
   // pointers resolved, in one flat list; `via_plugin` the others, whose
-  // plugin latches and publishes them. Both in `devices` order.
+  // plugin latches and publishes them, with their image bytes resolved too
+  // (no pointer for no bytes: that way is skipped). Both in `devices` order.
   struct DirectDevice {
     std::uint8_t* image_in;
     const std::uint8_t* device_in;
@@ -121,8 +122,16 @@ struct TaskRuntime {
     const std::uint8_t* image_out;
     std::size_t out_bytes;
   };
+  struct PluginDevice {
+    io::Plugin* plugin;
+    std::size_t index;  // within its plugin
+    std::uint8_t* image_in;
+    std::size_t in_bytes;
+    const std::uint8_t* image_out;
+    std::size_t out_bytes;
+  };
   std::vector<DirectDevice> direct;
-  std::vector<DeviceRuntime*> via_plugin;
+  std::vector<PluginDevice> via_plugin;
   bool whole_image_scan = false;  // this scan copies and merges whole areas (set at its latch)
   // This scan merges the bits it changed (kept in `before` at its latch)
   // instead of copying its bound bytes back: in real time, and for halves
@@ -417,6 +426,7 @@ class Runtime {
   // What step_plugin() does when the plugin throws (out of line: rare).
   void plugin_failed(const std::string& name, io::Plugin& p, std::string_view what);
   [[nodiscard]] bool due(const TaskRuntime& t) const;
+  [[nodiscard]] bool any_task_alive() const;
 
   io::ClockMode mode_ = io::ClockMode::Virtual;
   bool started_ = false;

@@ -37,10 +37,11 @@ class LiveTaskStats {
   void record_scan(std::int64_t scan_ns);
   // A scan that was not timed (virtual time times a sample). Inline: it is
   // most scans of a cell in virtual time, and a call costs as much as it.
+  // No write bracket: it changes one cell alone (one release store), so a
+  // reader's copy sees every cell either before it or after it, and both
+  // are whole states (test: TaskStats.UntimedCountsNeedNoBracket).
   void count_scan() {
-    seq_.write_begin();
     ++scans_;
-    seq_.write_end();
     help_reader_if_asked();
   }
   void record_latency(std::int64_t latency_ns);

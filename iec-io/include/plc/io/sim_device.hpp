@@ -25,26 +25,17 @@ class SimDevice {
 
   // Answer queued records, then step the model with the PLC's outputs.
   // Inline: the sim plugin steps every device every cycle, and the usual
-  // step is two tests, answering() and the model's step.
+  // step is two tests, answering() and the model's step. The usual step:
+  // no link cut configured and nothing asked. Without a cut configured the
+  // link is never down, so was_down_ is false already (only a cut sets it,
+  // and set_link_down() without a cut clears it): the full step would only
+  // store false there. Test: ScanSemantics.SimDeviceUsualStepEqualsFullLinkCutLogic.
   void step(TIME now, TIME dt) {
-    const bool down = link_down(now);
-    // The usual step: nothing asked, and no call.
-    if (link_.maybe_queued()) serve_records(!down);
-    if (down) {
-      step_cut(now, dt);
+    if (down_at_.count() >= 0 || link_.maybe_queued()) [[unlikely]] {
+      step_full(now, dt);
       return;
     }
-    was_down_ = false;
-    if (model_->answering()) {
-      model_->step(now, dt, from_plc_, to_plc_);
-      set_link_state(DeviceState::Online);
-    } else {
-      // A silent device: the model still runs its physics, but its answer
-      // is not delivered. The PLC keeps the last valid inputs (as a bus
-      // master keeps the last valid frame) and sees the device Offline.
-      model_->step(now, dt, from_plc_, silent_);
-      set_link_state(DeviceState::Offline);
-    }
+    step_up(now, dt);
   }
 
   // Bind an FB's port straight to this device's buffers (tests).
@@ -58,6 +49,7 @@ class SimDevice {
   void set_link_down(TIME at, TIME duration) {
     down_at_ = at;
     down_for_ = duration;
+    if (at.count() < 0) was_down_ = false;  // what the next step() would make it
   }
   [[nodiscard]] bool link_down(TIME now) const {
     return down_at_.count() >= 0 && now >= down_at_ && now - down_at_ < down_for_;
@@ -77,6 +69,20 @@ class SimDevice {
   void set_link_state(DeviceState s) {
     if (link_.live_state() != s) link_.set_state(s);
   }
+  // The link is up: the model steps, answering or not.
+  void step_up(TIME now, TIME dt) {
+    if (model_->answering()) {
+      model_->step(now, dt, from_plc_, to_plc_);
+      set_link_state(DeviceState::Online);
+    } else {
+      // A silent device: the model still runs its physics, but its answer
+      // is not delivered. The PLC keeps the last valid inputs (as a bus
+      // master keeps the last valid frame) and sees the device Offline.
+      model_->step(now, dt, from_plc_, silent_);
+      set_link_state(DeviceState::Offline);
+    }
+  }
+  void step_full(TIME now, TIME dt);  // step() with a cut configured or a record queued
   void serve_records(bool reachable);
   void step_cut(TIME now, TIME dt);  // step() while the link is down
 
