@@ -100,6 +100,7 @@ void NordProfisafeModel::reset_volatile() {
   drop_start_pending_ = false;
   stopped_ = false;
   fn_.reset();
+  at_rest_ = false;
 }
 
 void NordProfisafeModel::power_cycle() {
@@ -141,6 +142,7 @@ void NordProfisafeModel::raise_code(std::uint16_t code) {
 }
 
 void NordProfisafeModel::inject_device_fault(std::uint16_t code, bool fatal) {
+  at_rest_ = false;
   if (fatal) {
     if (fatal_code_ == 0) fatal_code_ = code;
     raise_code(code);
@@ -156,6 +158,7 @@ void NordProfisafeModel::inject_device_fault(std::uint16_t code, bool fatal) {
 }
 
 void NordProfisafeModel::inject_system_error() {
+  at_rest_ = false;
   ++p848_;
   if (p848_ > 15) permanent_5792_ = true;
   const std::uint16_t code = permanent_5792_ ? err::kSystemErrorMax : err::kSystemError;
@@ -288,11 +291,12 @@ std::uint32_t NordProfisafeModel::q_causes_full() const {
 // update_q(), handle_request(), evaluate() and build_response() are inline:
 // each has one caller (step(), update_q() evaluate()), which runs them once
 // per exchange; as calls they cost their register saves every exchange.
-inline void NordProfisafeModel::update_q(TIME now) {
+// True when it returned at once (no error active, none with a cause).
+inline bool NordProfisafeModel::update_q(TIME now) {
   // Nothing can change while no error is active and none has a cause (the
   // usual step): the loops below would only look.
   const std::uint32_t causes = q_causes();
-  if (causes == 0 && active_q_ == 0) return;
+  if (causes == 0 && active_q_ == 0) return true;
   const std::uint32_t active_before = active_q_;
   for (int i = 0; i < kQCount; ++i) {
     QError& e = q_[i];
@@ -322,6 +326,7 @@ inline void NordProfisafeModel::update_q(TIME now) {
     if (fn_.tripped(f) && q_[kQSls + f].active && !fn_.cause_present(f, speed_rpm_))
       fn_.clear_trip(f);
   }
+  return false;
 }
 
 inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> in) {
@@ -398,6 +403,7 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
       }
       if (!cause) chan_passive_[ch] = false;
     }
+    at_rest_ = false;  // chan_passive_ may have changed
   }
   chan_ack_prev_ = ack;
 }
@@ -428,6 +434,10 @@ void NordProfisafeModel::filter_si(TIME now) {
     pas_.fault_fv = true;
     ++wd_expiries_;
   }
+  // At rest (at_rest_) with pas_ and requested_ as that evaluate() left
+  // them: the rest would write back what is there.
+  if (at_rest_ && pas_word() == rest_pas_ && std::bit_cast<std::uint32_t>(requested_) == rest_req_)
+    return;
   // Input filter P805: a new level counts once it has been stable for P805.
   // Both inputs at their filtered level (the usual step):
   // filter_si() would only clear si_changing_, so that is done for both
@@ -476,8 +486,17 @@ void NordProfisafeModel::filter_si(TIME now) {
     static constexpr NordSafetyFunctions::Request kNone{};
     fn_.step(now, dt, kNone, speed_rpm_, position_inc_);
   }
-  update_q(now);
+  const bool q_idle = update_q(now);
   if (fatal_code_ != 0 || module_fault()) pas_.fault_fv = true;
+  {
+    std::uint16_t raw_now, si_now;
+    std::memcpy(&raw_now, si_raw_.data(), 2);
+    std::memcpy(&si_now, si_.data(), 2);
+    at_rest_ = rest_skip_ && q_idle && raw_now == si_now &&
+               (ip_.p800[0] != 1 || si_[0] == si_[1]) && fn_.at_rest();
+    rest_pas_ = pas_word();
+    rest_req_ = std::bit_cast<std::uint32_t>(requested_);
+  }
 
   if (passivated()) {  // every SO off, whatever the (already 0) request says
     ossd_ = {};
@@ -642,6 +661,7 @@ io::RecordError NordProfisafeModel::read_record(std::uint16_t index, std::span<s
 io::RecordError NordProfisafeModel::write_record(std::uint16_t index,
                                                  std::span<const std::uint8_t> data) {
   if (index != safety::kFParamRecordIndex) return io::RecordError::InvalidIndex;
+  at_rest_ = false;  // a block, accepted or refused, may change what evaluate() reads
   auto refuse = [this](std::uint16_t code) {
     pas_.no_fpar = true;
     raise_code(code);

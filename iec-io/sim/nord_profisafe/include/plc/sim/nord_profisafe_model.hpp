@@ -84,19 +84,25 @@ class NordProfisafeModel : public io::DeviceModel {
   void set_speed_rpm(double n) {
     speed_rpm_ = n;
     refresh_inc_per_s();
+    at_rest_ = false;
   }
   void set_position_inc(double p) {
     position_inc_ = p;
     refresh_integrate();
+    at_rest_ = false;
   }
   [[nodiscard]] double position_inc() const { return position_inc_; }
   // Raw SI1/SI2 levels; the device sees them through the P805 filter.
-  void set_si(bool si1, bool si2) { si_raw_ = {si1, si2}; }
+  void set_si(bool si1, bool si2) {
+    si_raw_ = {si1, si2};
+    at_rest_ = false;
+  }
   // What feeds SI1/SI2 (input 0/1): 0 = static 24 V, 1 = TAKT1, 2 = TAKT2.
   // With P806 assigning a clock, any other source is 5737/5738 (spec §4.5).
   void set_si_source(int input, int clock) {
     si_source_[input & 1] = clock;
     refresh_si_causes();
+    at_rest_ = false;
   }
 
   // ---- fault injection (spec §8.4) ----
@@ -125,7 +131,10 @@ class NordProfisafeModel : public io::DeviceModel {
   // Device fault: q (acknowledgeable; ends when clear_device_fault() was
   // called and, for 5732-5738, >= 10 s after onset) or fatal (latched).
   void inject_device_fault(std::uint16_t code, bool fatal = false);
-  void clear_device_fault() { injected_cause_ = false; }
+  void clear_device_fault() {
+    injected_cause_ = false;
+    at_rest_ = false;
+  }
   // A system error (counted in P848; more than 15 is the permanent 5792).
   void inject_system_error();
   // Wrong F-address: new DIP / P831 values, read at the next power_cycle()
@@ -167,6 +176,12 @@ class NordProfisafeModel : public io::DeviceModel {
   // The frame the host sees after the last step, with its tag (when the
   // telegram in it was produced, its clean F-data, what was injected).
   [[nodiscard]] const NordFrameTag& shown_frame() const { return channel_.shown_tag(); }
+  // Tests: off, evaluate() never skips a step at rest (at_rest_), so a
+  // twin without it shows what the skip must leave as it is.
+  void set_rest_skip(bool on) {
+    rest_skip_ = on;
+    at_rest_ = false;
+  }
 
  private:
   // q-error slots: one per cause kind.
@@ -205,7 +220,7 @@ class NordProfisafeModel : public io::DeviceModel {
   void handle_request(TIME now, std::span<const std::uint8_t> req);
   void evaluate(TIME now, TIME dt);
   void filter_si(TIME now);
-  void update_q(TIME now);
+  bool update_q(TIME now);
   void raise_code(std::uint16_t code);
   void build_response();
   std::array<std::uint8_t, 4> data_now();  // response_data(), inline in build_response()
@@ -271,6 +286,11 @@ class NordProfisafeModel : public io::DeviceModel {
   };
   static_assert(sizeof(Passivation) == sizeof(std::uint64_t));
   Passivation pas_;
+  std::uint64_t pas_word() const {
+    std::uint64_t w;
+    std::memcpy(&w, &pas_, sizeof w);
+    return w;
+  }
   std::uint16_t crc1_ = 0;
   TIME wd_{};
   TIME now_{};
@@ -299,6 +319,20 @@ class NordProfisafeModel : public io::DeviceModel {
   bool discrepancy_timing_ = false;
   bool discrepancy_fault_ = false;
   bool respond_pending_ = false;
+  // evaluate() at rest: the last full evaluate() ended with both SI at
+  // their filtered levels, no SI1/SI2 discrepancy timing (P800[-01]), no
+  // safety function enabled (fn_ evaluates SSM alone), no q error active
+  // and none with a cause. Such an evaluate() writes back what it found,
+  // and so does the next one while nothing it reads has changed but the
+  // watchdog's time: pas_ and requested_ (changed by handle_request(),
+  // write_record(); compared with rest_pas_ / rest_req_), the rest only
+  // through the calls that clear at_rest_ (set_si, set_si_source,
+  // set_speed_rpm, set_position_inc, the fault injections, a channel
+  // acknowledge, power_cycle() / reset_volatile(), write_record()).
+  bool at_rest_ = false;
+  bool rest_skip_ = true;  // tests: set_rest_skip(false)
+  std::uint32_t rest_req_ = 0;
+  std::uint64_t rest_pas_ = 0;
 
   // Outputs
   std::array<bool, 4> ossd_{};  // SO1..SO3, the 4th always false (written as one word)
