@@ -132,7 +132,9 @@ TEST(SafetyModelCaches, KeptCausesAndResponseDataAreTheFullOnesOverRandomSteps_S
 // same steps; after every scan both must show the same bytes to the host
 // and the same state (spec nord-profisafe.md §8.3 safety logic each cycle,
 // §2.4 F-data Out). Fails when a call that changes what evaluate() reads
-// leaves at_rest_ set (e.g. set_speed_rpm(): SSM, set_si(): SI1/SI2).
+// leaves at_rest_ set (e.g. set_speed_rpm(): SSM, set_si(): SI1/SI2), or
+// when a full evaluate() leaves build_response()'s kept F-data and status
+// bits (resp_fresh_) as they were.
 TEST(SafetyModelCaches, RestSkipShowsWhatTheFullEvaluateShows_Spec8_3) {
   const Params none_enabled = {
       {"p820_1", "0"}, {"p820_2", "0"}, {"p820_3", "0"}, {"p820_4", "0"}, {"p820_5", "0"}};

@@ -101,6 +101,7 @@ void NordProfisafeModel::reset_volatile() {
   stopped_ = false;
   fn_.reset();
   at_rest_ = false;
+  resp_fresh_ = false;
 }
 
 void NordProfisafeModel::power_cycle() {
@@ -438,6 +439,7 @@ void NordProfisafeModel::filter_si(TIME now) {
   // them: the rest would write back what is there.
   if (at_rest_ && pas_word() == rest_pas_ && std::bit_cast<std::uint32_t>(requested_) == rest_req_)
     return;
+  resp_fresh_ = false;  // what build_response() keeps may change now
   // Input filter P805: a new level counts once it has been stable for P805.
   // Both inputs at their filtered level (the usual step):
   // filter_si() would only clear si_changing_, so that is done for both
@@ -570,13 +572,22 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data_full() const {
 std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_now(); }
 
 [[gnu::always_inline]] inline void NordProfisafeModel::build_response() {
-  const std::array<std::uint8_t, 4> data = data_now();
-  const bool pas = passivated();
-  std::uint8_t status = last_toggle_ ? sbit::kToggleD : 0;
-  if (pas_.ce_crc) status |= sbit::kCeCrc;
-  if (pas_.wd_timeout) status |= sbit::kWdTimeout;
-  if (device_fault()) status |= sbit::kDeviceFault;
-  if (pas) status |= sbit::kFvActivated;
+  // The F-data and the status bits given by pas_ and the faults, once per
+  // full evaluate() (resp_fresh_): a step skipped at rest changed nothing
+  // they are made of.
+  if (!resp_fresh_) {
+    resp_data_ = data_now();
+    std::uint8_t st = 0;
+    if (pas_.ce_crc) st |= sbit::kCeCrc;
+    if (pas_.wd_timeout) st |= sbit::kWdTimeout;
+    if (device_fault()) st |= sbit::kDeviceFault;
+    if (passivated()) st |= sbit::kFvActivated;
+    resp_status_ = st;
+    resp_fresh_ = rest_skip_;  // a twin without the skip (tests) computes them every time
+  }
+  const std::array<std::uint8_t, 4> data = resp_data_;
+  std::uint8_t status = resp_status_;
+  if (last_toggle_) status |= sbit::kToggleD;
   if (cons_nr_r_) status |= sbit::kConsNrR;
 
   // The frame is written in its place on the channel (nothing else uses

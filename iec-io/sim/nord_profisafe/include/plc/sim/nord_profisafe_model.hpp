@@ -333,6 +333,15 @@ class NordProfisafeModel : public io::DeviceModel {
   bool rest_skip_ = true;  // tests: set_rest_skip(false)
   std::uint32_t rest_req_ = 0;
   std::uint64_t rest_pas_ = 0;
+  // build_response(): the F-data (data_now()) and the status bits but
+  // Toggle_d and cons_nr_R, as computed after the last full evaluate()
+  // (resp_fresh_; cleared by every full evaluate() and reset_volatile()).
+  // They are made of pas_, the fatal code, the functions' status bits,
+  // SI1/SI2, SO1-3 and the applied request, which change only through a
+  // full evaluate() or by calls that make the next evaluate() a full one.
+  bool resp_fresh_ = false;
+  std::uint8_t resp_status_ = 0;
+  std::array<std::uint8_t, 4> resp_data_{};
 
   // Outputs
   std::array<bool, 4> ossd_{};  // SO1..SO3, the 4th always false (written as one word)
