@@ -350,7 +350,6 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
   }
   const std::uint8_t control = req[4];
   last_toggle_ = (control & cb::kToggleH) != 0;
-  req_hist_[2] = req_hist_[1];
   req_hist_[1] = req_hist_[0];
   req_hist_[0] = req;
 

@@ -373,7 +373,8 @@ class NordProfisafeModel : public io::DeviceModel {
   std::array<Sent, kHist> sent_{};
   std::array<Sent, kHist> accepted_{};
   std::size_t sent_head_ = 0, accepted_head_ = 0;
-  std::array<std::array<std::uint8_t, kPdu>, 3> req_hist_{};
+  // The last two new requests received, newest first (a replay takes [1]).
+  std::array<std::array<std::uint8_t, kPdu>, 2> req_hist_{};
   std::uint64_t crc_errors_ = 0, wd_expiries_ = 0;
 
   // Injection state
