@@ -96,6 +96,7 @@ void NordProfisafeModel::reset_volatile() {
   sent_head_ = accepted_head_ = 0;
   req_hist_ = {};
   corrupt_req_n_ = corrupt_resp_n_ = repeat_resp_ = repeat_req_ = foreign_ = 0;
+  injecting_ = false;
   drop_until_ = TIME{};
   drop_start_pending_ = false;
   stopped_ = false;
@@ -169,12 +170,14 @@ void NordProfisafeModel::inject_system_error() {
 
 void NordProfisafeModel::corrupt_requests(int n, std::size_t byte, std::uint8_t mask) {
   corrupt_req_n_ = n;
+  injecting_ = true;
   corrupt_req_byte_ = byte % kPdu;
   corrupt_req_mask_ = mask;
 }
 
 void NordProfisafeModel::corrupt_responses(int n, std::size_t byte, std::uint8_t mask) {
   corrupt_resp_n_ = n;
+  injecting_ = true;
   corrupt_resp_byte_ = byte % kPdu;
   corrupt_resp_mask_ = mask;
 }
@@ -337,7 +340,7 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
   // Not a new telegram: nothing is injected into it (the injections count
   // new ones only) and its toggle stays the last one, so it is ignored.
   if (((req[4] & cb::kToggleH) != 0) == last_toggle_) return;
-  if (repeat_req_ > 0 || corrupt_req_n_ > 0) [[unlikely]] {
+  if (injecting_ && (repeat_req_ > 0 || corrupt_req_n_ > 0)) [[unlikely]] {
     if (repeat_req_ > 0) {
       req = req_hist_[1];  // the request received two exchanges earlier
       --repeat_req_;
@@ -598,7 +601,7 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
   tag.data = data;
   tag.corrupted = tag.foreign = tag.repeated = false;
   std::uint16_t seed = crc1_;
-  if (foreign_ > 0) {
+  if (injecting_ && foreign_ > 0) [[unlikely]] {
     seed = static_cast<std::uint16_t>(crc1_ ^ 0x5A5Au);  // another F-device's CRC1
     --foreign_;
     tag.foreign = true;
@@ -610,7 +613,7 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
   s.produced = now_;
   s.data = data;
   s.pdu = pdu_;
-  if (repeat_resp_ > 0 && sent_head_ >= 3) {
+  if (injecting_ && repeat_resp_ > 0 && sent_head_ >= 3) [[unlikely]] {
     const Sent& old = sent_[(sent_head_ - 3) % kHist];  // two exchanges earlier
     pdu_ = old.pdu;
     tag.produced = old.produced;
@@ -618,7 +621,7 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
     tag.repeated = true;
     --repeat_resp_;
   }
-  if (corrupt_resp_n_ > 0) {
+  if (injecting_ && corrupt_resp_n_ > 0) [[unlikely]] {
     pdu_[corrupt_resp_byte_] ^= corrupt_resp_mask_;
     --corrupt_resp_n_;
     tag.corrupted = true;

@@ -111,10 +111,16 @@ class NordProfisafeModel : public io::DeviceModel {
   // XOR `mask` into byte `byte` of the next n responses the device sends.
   void corrupt_responses(int n, std::size_t byte, std::uint8_t mask);
   // The next n responses are replaced by the one sent two exchanges earlier.
-  void repeat_old_responses(int n) { repeat_resp_ = n; }
+  void repeat_old_responses(int n) {
+    repeat_resp_ = n;
+    injecting_ = true;
+  }
   // The next n received requests are replaced by the one received two
   // exchanges earlier (a replayed request).
-  void repeat_old_requests(int n) { repeat_req_ = n; }
+  void repeat_old_requests(int n) {
+    repeat_req_ = n;
+    injecting_ = true;
+  }
   // Responses the device sends during the next `how_long` reach the host
   // `d` late; the channel keeps their order (nord_response_channel.hpp).
   void delay_responses(TIME d, TIME how_long) { channel_.delay(d, how_long); }
@@ -127,7 +133,10 @@ class NordProfisafeModel : public io::DeviceModel {
   void stop(bool s) { stopped_ = s; }
   // The next n responses are computed with a foreign CRC1 (another F-device
   // or address pair answering).
-  void answer_as_foreign_device(int n) { foreign_ = n; }
+  void answer_as_foreign_device(int n) {
+    foreign_ = n;
+    injecting_ = true;
+  }
   // Device fault: q (acknowledgeable; ends when clear_device_fault() was
   // called and, for 5732-5738, >= 10 s after onset) or fatal (latched).
   void inject_device_fault(std::uint16_t code, bool fatal = false);
@@ -379,6 +388,10 @@ class NordProfisafeModel : public io::DeviceModel {
 
   // Injection state
   int corrupt_req_n_ = 0, corrupt_resp_n_ = 0, repeat_resp_ = 0, repeat_req_ = 0, foreign_ = 0;
+  // False: none of the five counts above is > 0 (they are set only by the
+  // injection calls, which set this, and zeroed with it by
+  // reset_volatile()), so an exchange looks at none of them.
+  bool injecting_ = false;
   std::size_t corrupt_req_byte_ = 0, corrupt_resp_byte_ = 0;
   std::uint8_t corrupt_req_mask_ = 0, corrupt_resp_mask_ = 0;
   TIME drop_for_{}, drop_until_{};
