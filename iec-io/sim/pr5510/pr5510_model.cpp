@@ -64,11 +64,9 @@ void Pr5510Model::step_io(TIME, TIME dt, std::span<const std::uint8_t> from_plc,
                           std::span<std::uint8_t> to_plc) {
   if (new_message) master_lost_ = false;  // a master again: its outputs count
   since_ms_ += dt;
-  const double alpha = filter_alpha_;
   while (since_ms_ >= 1ms) {
     since_ms_ -= 1ms;
-    process_.step_1ms(outputs_ & 1U, outputs_ & 2U, outputs_ & 4U);
-    filtered_kg_ += (process_.measured() - filtered_kg_) * alpha;
+    tick_1ms();
   }
   since_cycle_ += dt;
   while (since_cycle_ >= kCycle) {
@@ -83,6 +81,13 @@ void Pr5510Model::step_io(TIME, TIME dt, std::span<const std::uint8_t> from_plc,
       std::fill(to_plc.begin(), to_plc.end(), std::uint8_t{0});
     }
   }
+}
+
+// One ms of the process and the filter, out of line: step_io() then keeps
+// nothing across the noise's libm calls (no spills of its spans).
+void Pr5510Model::tick_1ms() {
+  process_.step_1ms(outputs_ & 1U, outputs_ & 2U, outputs_ & 4U);
+  filtered_kg_ += (process_.measured() - filtered_kg_) * filter_alpha_;
 }
 
 void Pr5510Model::device_cycle(std::span<const std::uint8_t> w) {

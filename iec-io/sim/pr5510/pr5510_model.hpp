@@ -124,6 +124,7 @@ class Pr5510Model final : public io::DeviceModel {
  private:
   enum class Pending : std::uint8_t { None, Zero, Tare };
 
+  [[gnu::noinline]] void tick_1ms();
   void device_cycle(std::span<const std::uint8_t> w);
   void update_weight_and_status();
   void serve_read(std::uint8_t code);
