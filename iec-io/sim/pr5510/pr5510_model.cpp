@@ -64,15 +64,39 @@ void Pr5510Model::step_io(TIME, TIME dt, std::span<const std::uint8_t> from_plc,
                           std::span<std::uint8_t> to_plc) {
   if (new_message) master_lost_ = false;  // a master again: its outputs count
   since_ms_ += dt;
+  since_cycle_ += dt;  // the ms ticks do not read it
+  if (since_cycle_ < kCycle) {
+    // No device cycle in this step (19 of 20): the read window stays as it
+    // is through the ticks (only device_cycle() and power_cycle() write
+    // it), so it is handed over first and nothing is kept across the
+    // ticks' calls.
+    put_read_window(to_plc);
+    while (since_ms_ >= 1ms) {
+      since_ms_ -= 1ms;
+      tick_1ms();
+    }
+    return;
+  }
+  step_with_cycle(from_plc, to_plc);
+}
+
+// step_io() with a device cycle due: the ticks, then the cycle(s), then
+// the read window. Out of line, so the usual step keeps nothing across its
+// calls.
+void Pr5510Model::step_with_cycle(std::span<const std::uint8_t> from_plc,
+                                  std::span<std::uint8_t> to_plc) {
   while (since_ms_ >= 1ms) {
     since_ms_ -= 1ms;
     tick_1ms();
   }
-  since_cycle_ += dt;
   while (since_cycle_ >= kCycle) {
     since_cycle_ -= kCycle;
     if (cfg_.scale_interface && from_plc.size() >= wg::kWindowSize) device_cycle(from_plc);
   }
+  put_read_window(to_plc);
+}
+
+void Pr5510Model::put_read_window(std::span<std::uint8_t> to_plc) const {
   if (to_plc.size() >= wg::kWindowSize) {
     if (cfg_.scale_interface) {
       // std::memcpy of the constant size: inline (std::copy called memmove).
