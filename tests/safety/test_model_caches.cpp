@@ -10,6 +10,7 @@
 // show (spec §8.4 item 3, delayed responses keep their order).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <chrono>
@@ -122,6 +123,121 @@ TEST(SafetyModelCaches, KeptCausesAndResponseDataAreTheFullOnesOverRandomSteps_S
   EXPECT_GT(with_cause, 20000);
   EXPECT_GT(with_data, 3000);
   EXPECT_GT(with_so, 2000);
+}
+
+// evaluate() skips a step at rest (at_rest_: no function enabled, no q
+// error or cause, SI at their filtered levels, pas_ and the request's
+// F-data as the last full evaluate() left them). A twin device without the
+// skip (set_rest_skip(false)) gets the same host, the same calls and the
+// same steps; after every scan both must show the same bytes to the host
+// and the same state (spec nord-profisafe.md §8.3 safety logic each cycle,
+// §2.4 F-data Out). Fails when a call that changes what evaluate() reads
+// leaves at_rest_ set (e.g. set_speed_rpm(): SSM, set_si(): SI1/SI2), or
+// when a full evaluate() leaves build_response()'s kept F-data and status
+// bits (resp_fresh_) as they were.
+TEST(SafetyModelCaches, RestSkipShowsWhatTheFullEvaluateShows_Spec8_3) {
+  const Params none_enabled = {
+      {"p820_1", "0"}, {"p820_2", "0"}, {"p820_3", "0"}, {"p820_4", "0"}, {"p820_5", "0"}};
+  auto with = [&none_enabled](Params extra) {
+    Params p = none_enabled;
+    for (auto& [k, v] : extra) p[k] = v;
+    return p;
+  };
+  const Params sets[] = {
+      none_enabled,
+      with({{"p805", "3"}, {"p806_1", "1"}, {"p802_2", "0"}}),
+      with({{"p800_1", "1"}, {"p803", "5"}, {"p801", "1"}, {"p802_4", "0"}}),
+      with({{"p800_2", "1"}, {"p801", "1"}, {"p823_7", "10"}}),
+      {},  // every function enabled: never at rest, the twins still agree
+  };
+  std::uint64_t seed = 2330;
+  long at_rest_like = 0;
+  for (const Params& p : sets) {
+    Rig a(p), b(p);
+    b.model->set_rest_skip(false);
+    Random rnd(++seed);
+    a.start();
+    b.start();
+    for (int i = 0; i < 40000; ++i) {
+      const int what = rnd.below(60);
+      const int x = rnd.below(4096);
+      const int y = rnd.below(4096);
+      for (Rig* r : {&a, &b}) {
+        switch (what) {
+          case 0:
+            r->model->set_si((x & 1) != 0, (x & 2) != 0);
+            break;
+          case 1:
+            r->model->set_si_source(x & 1, (y % 3));
+            break;
+          case 2:
+            r->model->set_speed_rpm((x & 7) == 0 ? y - 2048 : (y % 120) - 60);
+            break;
+          case 3:
+            r->io.OSSD1 = (x & 1) != 0;
+            r->io.OSSD2 = (x & 2) != 0;
+            r->io.OSSD3 = (x & 4) != 0;
+            break;
+          case 4:
+            r->io.SOS = (x & 3) == 0;
+            r->io.SLS = (y & 3) == 0;
+            r->io.SLS_LEVEL = static_cast<plc::USINT>(x >> 10);
+            break;
+          case 5:
+            r->io.CH_PASS_ACK = !r->io.CH_PASS_ACK;
+            break;
+          case 6:
+            if ((x & 7) == 0) r->model->inject_device_fault(5732 + (y & 3));
+            break;
+          case 7:
+            r->model->clear_device_fault();
+            break;
+          case 8:
+            if ((x & 31) == 0) r->model->power_cycle();
+            break;
+          case 9:
+            if ((x & 15) == 0) r->model->corrupt_requests(1, y & 7, 0x10);
+            break;
+          case 10:
+            if ((x & 63) == 0) r->device_only(50 + (y & 127));  // the host stalls: watchdog
+            break;
+          case 11:
+            if ((x & 63) == 0) r->model->set_position_inc(y);
+            break;
+          case 12:
+            if ((x & 255) == 0) {  // a fatal error, then a power cycle later
+              r->model->inject_system_error();
+              r->scan(1 + (y & 31));
+              r->model->power_cycle();
+            }
+            break;
+          default:
+            break;
+        }
+        if (r->io.ACK_REQ && (y & 3) == 0) r->ack();
+        r->scan(1 + (x % 3));
+      }
+      const auto ia = a.dev->inputs(), ib = b.dev->inputs();
+      ASSERT_TRUE(std::equal(ia.begin(), ia.end(), ib.begin(), ib.end())) << "scan " << i;
+      ASSERT_EQ(a.model->response_data(), b.model->response_data()) << "scan " << i;
+      ASSERT_EQ(a.model->response_data(), a.model->response_data_full()) << "scan " << i;
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(a.model->ossd(k), b.model->ossd(k)) << "scan " << i;
+      ASSERT_EQ(a.model->functions().ssm(), b.model->functions().ssm()) << "scan " << i;
+      ASSERT_EQ(a.model->fail_safe_active(), b.model->fail_safe_active()) << "scan " << i;
+      ASSERT_EQ(a.model->device_fault(), b.model->device_fault()) << "scan " << i;
+      ASSERT_EQ(a.model->current_code(), b.model->current_code()) << "scan " << i;
+      ASSERT_EQ(a.model->previous_code(), b.model->previous_code()) << "scan " << i;
+      ASSERT_EQ(a.model->q_causes_kept(), b.model->q_causes_kept()) << "scan " << i;
+      ASSERT_EQ(a.model->crc_errors(), b.model->crc_errors()) << "scan " << i;
+      ASSERT_EQ(a.model->watchdog_expiries(), b.model->watchdog_expiries()) << "scan " << i;
+      ASSERT_EQ(a.model->shown_frame().id, b.model->shown_frame().id) << "scan " << i;
+      ASSERT_EQ(a.model->shown_frame().data, b.model->shown_frame().data) << "scan " << i;
+      // Steps where the skip may apply: in Run, nothing active.
+      at_rest_like += !a.model->fail_safe_active() && a.model->q_causes_kept() == 0 &&
+                      !a.model->functions().monitoring(0);
+    }
+  }
+  EXPECT_GT(at_rest_like, 20000);
 }
 
 // Two channels get the same frames, delays and deliveries; one takes each

@@ -321,7 +321,10 @@ std::uint16_t HiwinE1Model::write_element(std::uint16_t pnu, std::uint16_t sub, 
       }
       return kOk;
     case kResetDrive:
-      if (v == 1) reboot_left_ms_ = std::max<double>(1, static_cast<double>(cfg_.reset_ms));
+      if (v == 1) {
+        reboot_left_ms_ = std::max<double>(1, static_cast<double>(cfg_.reset_ms));
+        refresh_answering();
+      }
       return kOk;
     case kSaveFlash:
       if (v == 1)
@@ -451,6 +454,7 @@ void HiwinE1Model::restart(bool reload_flash) {
   g1_stw_ = 0;
   state_ = State::S1;
   reboot_left_ms_ = 0;
+  refresh_answering();
   v_set_ = v_act_ = 0;
   if (!cfg_.absolute_encoder) {
     enc_ = 0;
@@ -853,6 +857,7 @@ void HiwinE1Model::step_full(TIME /*now*/, TIME dt_ns, std::span<const std::uint
   const double dt_ms = dt * 1000.0;
   if (reboot_left_ms_ > 0) {
     reboot_left_ms_ -= dt_ms;
+    refresh_answering();
     if (reboot_left_ms_ <= 0) restart(false);  // warm restart: parameter RAM kept
     return;
   }

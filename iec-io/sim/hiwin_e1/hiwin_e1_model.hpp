@@ -117,7 +117,7 @@ class HiwinE1Model : public io::DeviceModel {
   io::RecordError read_record(std::uint16_t index, std::span<std::uint8_t> out,
                               std::size_t& length) override;
   io::RecordError write_record(std::uint16_t index, std::span<const std::uint8_t> data) override;
-  [[nodiscard]] bool answering() const override { return answering_ && reboot_left_ms_ <= 0; }
+  [[nodiscard]] bool answering() const override { return answering_now_; }
   void power_cycle() override;
 
   // ---- fault injection (tests) ----
@@ -129,7 +129,10 @@ class HiwinE1Model : public io::DeviceModel {
     rest_repeat_ = false;
   }
   void freeze_sign_of_life(bool frozen) { sol_frozen_ = frozen; }
-  void set_answering(bool on) { answering_ = on; }
+  void set_answering(bool on) {
+    answering_ = on;
+    refresh_answering();
+  }
   void fail_next_multiturn_clear() { fail_next_clear_ = true; }
   // The next 3200h = 1 is refused with 16 as if the motor were enabled (e.g.
   // servo-on from the Thunder tool, which the PLC cannot see).
@@ -241,6 +244,10 @@ class HiwinE1Model : public io::DeviceModel {
   State state_ = State::S1;
   bool answering_ = true;
   double reboot_left_ms_ = 0;
+  // answering(), asked by the host every step: answering_ and no reboot
+  // running, refreshed at each change of either.
+  bool answering_now_ = true;
+  void refresh_answering() { answering_now_ = answering_ && reboot_left_ms_ <= 0; }
 
   // motion, all in encoder CU
   double enc_ = 0, offset_ = 0;

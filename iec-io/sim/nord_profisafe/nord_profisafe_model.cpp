@@ -96,10 +96,13 @@ void NordProfisafeModel::reset_volatile() {
   sent_head_ = accepted_head_ = 0;
   req_hist_ = {};
   corrupt_req_n_ = corrupt_resp_n_ = repeat_resp_ = repeat_req_ = foreign_ = 0;
+  injecting_ = false;
   drop_until_ = TIME{};
   drop_start_pending_ = false;
   stopped_ = false;
   fn_.reset();
+  at_rest_ = false;
+  resp_fresh_ = false;
 }
 
 void NordProfisafeModel::power_cycle() {
@@ -141,6 +144,7 @@ void NordProfisafeModel::raise_code(std::uint16_t code) {
 }
 
 void NordProfisafeModel::inject_device_fault(std::uint16_t code, bool fatal) {
+  at_rest_ = false;
   if (fatal) {
     if (fatal_code_ == 0) fatal_code_ = code;
     raise_code(code);
@@ -156,6 +160,7 @@ void NordProfisafeModel::inject_device_fault(std::uint16_t code, bool fatal) {
 }
 
 void NordProfisafeModel::inject_system_error() {
+  at_rest_ = false;
   ++p848_;
   if (p848_ > 15) permanent_5792_ = true;
   const std::uint16_t code = permanent_5792_ ? err::kSystemErrorMax : err::kSystemError;
@@ -165,12 +170,14 @@ void NordProfisafeModel::inject_system_error() {
 
 void NordProfisafeModel::corrupt_requests(int n, std::size_t byte, std::uint8_t mask) {
   corrupt_req_n_ = n;
+  injecting_ = true;
   corrupt_req_byte_ = byte % kPdu;
   corrupt_req_mask_ = mask;
 }
 
 void NordProfisafeModel::corrupt_responses(int n, std::size_t byte, std::uint8_t mask) {
   corrupt_resp_n_ = n;
+  injecting_ = true;
   corrupt_resp_byte_ = byte % kPdu;
   corrupt_resp_mask_ = mask;
 }
@@ -288,11 +295,12 @@ std::uint32_t NordProfisafeModel::q_causes_full() const {
 // update_q(), handle_request(), evaluate() and build_response() are inline:
 // each has one caller (step(), update_q() evaluate()), which runs them once
 // per exchange; as calls they cost their register saves every exchange.
-inline void NordProfisafeModel::update_q(TIME now) {
+// True when it returned at once (no error active, none with a cause).
+inline bool NordProfisafeModel::update_q(TIME now) {
   // Nothing can change while no error is active and none has a cause (the
   // usual step): the loops below would only look.
   const std::uint32_t causes = q_causes();
-  if (causes == 0 && active_q_ == 0) return;
+  if (causes == 0 && active_q_ == 0) return true;
   const std::uint32_t active_before = active_q_;
   for (int i = 0; i < kQCount; ++i) {
     QError& e = q_[i];
@@ -322,6 +330,7 @@ inline void NordProfisafeModel::update_q(TIME now) {
     if (fn_.tripped(f) && q_[kQSls + f].active && !fn_.cause_present(f, speed_rpm_))
       fn_.clear_trip(f);
   }
+  return false;
 }
 
 inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> in) {
@@ -331,7 +340,7 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
   // Not a new telegram: nothing is injected into it (the injections count
   // new ones only) and its toggle stays the last one, so it is ignored.
   if (((req[4] & cb::kToggleH) != 0) == last_toggle_) return;
-  if (repeat_req_ > 0 || corrupt_req_n_ > 0) [[unlikely]] {
+  if (injecting_ && (repeat_req_ > 0 || corrupt_req_n_ > 0)) [[unlikely]] {
     if (repeat_req_ > 0) {
       req = req_hist_[1];  // the request received two exchanges earlier
       --repeat_req_;
@@ -344,7 +353,6 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
   }
   const std::uint8_t control = req[4];
   last_toggle_ = (control & cb::kToggleH) != 0;
-  req_hist_[2] = req_hist_[1];
   req_hist_[1] = req_hist_[0];
   req_hist_[0] = req;
 
@@ -398,6 +406,7 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
       }
       if (!cause) chan_passive_[ch] = false;
     }
+    at_rest_ = false;  // chan_passive_ may have changed
   }
   chan_ack_prev_ = ack;
 }
@@ -428,6 +437,11 @@ void NordProfisafeModel::filter_si(TIME now) {
     pas_.fault_fv = true;
     ++wd_expiries_;
   }
+  // At rest (at_rest_) with pas_ and requested_ as that evaluate() left
+  // them: the rest would write back what is there.
+  if (at_rest_ && pas_word() == rest_pas_ && std::bit_cast<std::uint32_t>(requested_) == rest_req_)
+    return;
+  resp_fresh_ = false;  // what build_response() keeps may change now
   // Input filter P805: a new level counts once it has been stable for P805.
   // Both inputs at their filtered level (the usual step):
   // filter_si() would only clear si_changing_, so that is done for both
@@ -476,8 +490,17 @@ void NordProfisafeModel::filter_si(TIME now) {
     static constexpr NordSafetyFunctions::Request kNone{};
     fn_.step(now, dt, kNone, speed_rpm_, position_inc_);
   }
-  update_q(now);
+  const bool q_idle = update_q(now);
   if (fatal_code_ != 0 || module_fault()) pas_.fault_fv = true;
+  {
+    std::uint16_t raw_now, si_now;
+    std::memcpy(&raw_now, si_raw_.data(), 2);
+    std::memcpy(&si_now, si_.data(), 2);
+    at_rest_ = rest_skip_ && q_idle && raw_now == si_now &&
+               (ip_.p800[0] != 1 || si_[0] == si_[1]) && fn_.at_rest();
+    rest_pas_ = pas_word();
+    rest_req_ = std::bit_cast<std::uint32_t>(requested_);
+  }
 
   if (passivated()) {  // every SO off, whatever the (already 0) request says
     ossd_ = {};
@@ -551,13 +574,22 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data_full() const {
 std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_now(); }
 
 [[gnu::always_inline]] inline void NordProfisafeModel::build_response() {
-  const std::array<std::uint8_t, 4> data = data_now();
-  const bool pas = passivated();
-  std::uint8_t status = last_toggle_ ? sbit::kToggleD : 0;
-  if (pas_.ce_crc) status |= sbit::kCeCrc;
-  if (pas_.wd_timeout) status |= sbit::kWdTimeout;
-  if (device_fault()) status |= sbit::kDeviceFault;
-  if (pas) status |= sbit::kFvActivated;
+  // The F-data and the status bits given by pas_ and the faults, once per
+  // full evaluate() (resp_fresh_): a step skipped at rest changed nothing
+  // they are made of.
+  if (!resp_fresh_) {
+    resp_data_ = data_now();
+    std::uint8_t st = 0;
+    if (pas_.ce_crc) st |= sbit::kCeCrc;
+    if (pas_.wd_timeout) st |= sbit::kWdTimeout;
+    if (device_fault()) st |= sbit::kDeviceFault;
+    if (passivated()) st |= sbit::kFvActivated;
+    resp_status_ = st;
+    resp_fresh_ = rest_skip_;  // a twin without the skip (tests) computes them every time
+  }
+  const std::array<std::uint8_t, 4> data = resp_data_;
+  std::uint8_t status = resp_status_;
+  if (last_toggle_) status |= sbit::kToggleD;
   if (cons_nr_r_) status |= sbit::kConsNrR;
 
   // The frame is written in its place on the channel (nothing else uses
@@ -569,7 +601,7 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
   tag.data = data;
   tag.corrupted = tag.foreign = tag.repeated = false;
   std::uint16_t seed = crc1_;
-  if (foreign_ > 0) {
+  if (injecting_ && foreign_ > 0) [[unlikely]] {
     seed = static_cast<std::uint16_t>(crc1_ ^ 0x5A5Au);  // another F-device's CRC1
     --foreign_;
     tag.foreign = true;
@@ -581,7 +613,7 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
   s.produced = now_;
   s.data = data;
   s.pdu = pdu_;
-  if (repeat_resp_ > 0 && sent_head_ >= 3) {
+  if (injecting_ && repeat_resp_ > 0 && sent_head_ >= 3) [[unlikely]] {
     const Sent& old = sent_[(sent_head_ - 3) % kHist];  // two exchanges earlier
     pdu_ = old.pdu;
     tag.produced = old.produced;
@@ -589,7 +621,7 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
     tag.repeated = true;
     --repeat_resp_;
   }
-  if (corrupt_resp_n_ > 0) {
+  if (injecting_ && corrupt_resp_n_ > 0) [[unlikely]] {
     pdu_[corrupt_resp_byte_] ^= corrupt_resp_mask_;
     --corrupt_resp_n_;
     tag.corrupted = true;
@@ -642,6 +674,7 @@ io::RecordError NordProfisafeModel::read_record(std::uint16_t index, std::span<s
 io::RecordError NordProfisafeModel::write_record(std::uint16_t index,
                                                  std::span<const std::uint8_t> data) {
   if (index != safety::kFParamRecordIndex) return io::RecordError::InvalidIndex;
+  at_rest_ = false;  // a block, accepted or refused, may change what evaluate() reads
   auto refuse = [this](std::uint16_t code) {
     pas_.no_fpar = true;
     raise_code(code);

@@ -67,6 +67,7 @@ class FillingProcess {
   SeededNoise noise_;
   Valve coarse_, fine_, discharge_;
   std::vector<double> flight_;  // kg leaving the valves per ms, ring buffer
+  std::size_t flight_n_;        // flight_.size(), fixed at construction (one load per ms)
   std::size_t head_ = 0;
   double load_ = 0.0;
   double landing_rate_ = 0.0;  // kg/s
@@ -108,7 +109,7 @@ inline void FillingProcess::step_1ms(bool coarse, bool fine, bool discharge) {
   // oldest entry lands now.
   const double landing = flight_[head_];
   flight_[head_] = leaving;
-  if (++head_ == flight_.size()) head_ = 0;
+  if (++head_ == flight_n_) head_ = 0;
   load_ += landing;
   landing_rate_ = landing * 1000.0;
   if (discharge_.open > 0.0)

@@ -64,17 +64,39 @@ void Pr5510Model::step_io(TIME, TIME dt, std::span<const std::uint8_t> from_plc,
                           std::span<std::uint8_t> to_plc) {
   if (new_message) master_lost_ = false;  // a master again: its outputs count
   since_ms_ += dt;
-  const double alpha = filter_alpha_;
+  since_cycle_ += dt;  // the ms ticks do not read it
+  if (since_cycle_ < kCycle) {
+    // No device cycle in this step (19 of 20): the read window stays as it
+    // is through the ticks (only device_cycle() and power_cycle() write
+    // it), so it is handed over first and nothing is kept across the
+    // ticks' calls.
+    put_read_window(to_plc);
+    while (since_ms_ >= 1ms) {
+      since_ms_ -= 1ms;
+      tick_1ms();
+    }
+    return;
+  }
+  step_with_cycle(from_plc, to_plc);
+}
+
+// step_io() with a device cycle due: the ticks, then the cycle(s), then
+// the read window. Out of line, so the usual step keeps nothing across its
+// calls.
+void Pr5510Model::step_with_cycle(std::span<const std::uint8_t> from_plc,
+                                  std::span<std::uint8_t> to_plc) {
   while (since_ms_ >= 1ms) {
     since_ms_ -= 1ms;
-    process_.step_1ms(outputs_ & 1U, outputs_ & 2U, outputs_ & 4U);
-    filtered_kg_ += (process_.measured() - filtered_kg_) * alpha;
+    tick_1ms();
   }
-  since_cycle_ += dt;
   while (since_cycle_ >= kCycle) {
     since_cycle_ -= kCycle;
     if (cfg_.scale_interface && from_plc.size() >= wg::kWindowSize) device_cycle(from_plc);
   }
+  put_read_window(to_plc);
+}
+
+void Pr5510Model::put_read_window(std::span<std::uint8_t> to_plc) const {
   if (to_plc.size() >= wg::kWindowSize) {
     if (cfg_.scale_interface) {
       // std::memcpy of the constant size: inline (std::copy called memmove).
@@ -83,6 +105,13 @@ void Pr5510Model::step_io(TIME, TIME dt, std::span<const std::uint8_t> from_plc,
       std::fill(to_plc.begin(), to_plc.end(), std::uint8_t{0});
     }
   }
+}
+
+// One ms of the process and the filter, out of line: step_io() then keeps
+// nothing across the noise's libm calls (no spills of its spans).
+void Pr5510Model::tick_1ms() {
+  process_.step_1ms(outputs_ & 1U, outputs_ & 2U, outputs_ & 4U);
+  filtered_kg_ += (process_.measured() - filtered_kg_) * filter_alpha_;
 }
 
 void Pr5510Model::device_cycle(std::span<const std::uint8_t> w) {

@@ -124,6 +124,11 @@ class Pr5510Model final : public io::DeviceModel {
  private:
   enum class Pending : std::uint8_t { None, Zero, Tare };
 
+  [[gnu::noinline]] void tick_1ms();
+  [[gnu::noinline]] void step_with_cycle(std::span<const std::uint8_t> from_plc,
+                                         std::span<std::uint8_t> to_plc);
+  // The read window to the master (zeros without the scale interface).
+  [[gnu::always_inline]] inline void put_read_window(std::span<std::uint8_t> to_plc) const;
   void device_cycle(std::span<const std::uint8_t> w);
   void update_weight_and_status();
   void serve_read(std::uint8_t code);

@@ -84,19 +84,25 @@ class NordProfisafeModel : public io::DeviceModel {
   void set_speed_rpm(double n) {
     speed_rpm_ = n;
     refresh_inc_per_s();
+    at_rest_ = false;
   }
   void set_position_inc(double p) {
     position_inc_ = p;
     refresh_integrate();
+    at_rest_ = false;
   }
   [[nodiscard]] double position_inc() const { return position_inc_; }
   // Raw SI1/SI2 levels; the device sees them through the P805 filter.
-  void set_si(bool si1, bool si2) { si_raw_ = {si1, si2}; }
+  void set_si(bool si1, bool si2) {
+    si_raw_ = {si1, si2};
+    at_rest_ = false;
+  }
   // What feeds SI1/SI2 (input 0/1): 0 = static 24 V, 1 = TAKT1, 2 = TAKT2.
   // With P806 assigning a clock, any other source is 5737/5738 (spec §4.5).
   void set_si_source(int input, int clock) {
     si_source_[input & 1] = clock;
     refresh_si_causes();
+    at_rest_ = false;
   }
 
   // ---- fault injection (spec §8.4) ----
@@ -105,10 +111,16 @@ class NordProfisafeModel : public io::DeviceModel {
   // XOR `mask` into byte `byte` of the next n responses the device sends.
   void corrupt_responses(int n, std::size_t byte, std::uint8_t mask);
   // The next n responses are replaced by the one sent two exchanges earlier.
-  void repeat_old_responses(int n) { repeat_resp_ = n; }
+  void repeat_old_responses(int n) {
+    repeat_resp_ = n;
+    injecting_ = true;
+  }
   // The next n received requests are replaced by the one received two
   // exchanges earlier (a replayed request).
-  void repeat_old_requests(int n) { repeat_req_ = n; }
+  void repeat_old_requests(int n) {
+    repeat_req_ = n;
+    injecting_ = true;
+  }
   // Responses the device sends during the next `how_long` reach the host
   // `d` late; the channel keeps their order (nord_response_channel.hpp).
   void delay_responses(TIME d, TIME how_long) { channel_.delay(d, how_long); }
@@ -121,11 +133,17 @@ class NordProfisafeModel : public io::DeviceModel {
   void stop(bool s) { stopped_ = s; }
   // The next n responses are computed with a foreign CRC1 (another F-device
   // or address pair answering).
-  void answer_as_foreign_device(int n) { foreign_ = n; }
+  void answer_as_foreign_device(int n) {
+    foreign_ = n;
+    injecting_ = true;
+  }
   // Device fault: q (acknowledgeable; ends when clear_device_fault() was
   // called and, for 5732-5738, >= 10 s after onset) or fatal (latched).
   void inject_device_fault(std::uint16_t code, bool fatal = false);
-  void clear_device_fault() { injected_cause_ = false; }
+  void clear_device_fault() {
+    injected_cause_ = false;
+    at_rest_ = false;
+  }
   // A system error (counted in P848; more than 15 is the permanent 5792).
   void inject_system_error();
   // Wrong F-address: new DIP / P831 values, read at the next power_cycle()
@@ -167,6 +185,12 @@ class NordProfisafeModel : public io::DeviceModel {
   // The frame the host sees after the last step, with its tag (when the
   // telegram in it was produced, its clean F-data, what was injected).
   [[nodiscard]] const NordFrameTag& shown_frame() const { return channel_.shown_tag(); }
+  // Tests: off, evaluate() never skips a step at rest (at_rest_), so a
+  // twin without it shows what the skip must leave as it is.
+  void set_rest_skip(bool on) {
+    rest_skip_ = on;
+    at_rest_ = false;
+  }
 
  private:
   // q-error slots: one per cause kind.
@@ -205,7 +229,7 @@ class NordProfisafeModel : public io::DeviceModel {
   void handle_request(TIME now, std::span<const std::uint8_t> req);
   void evaluate(TIME now, TIME dt);
   void filter_si(TIME now);
-  void update_q(TIME now);
+  bool update_q(TIME now);
   void raise_code(std::uint16_t code);
   void build_response();
   std::array<std::uint8_t, 4> data_now();  // response_data(), inline in build_response()
@@ -271,6 +295,11 @@ class NordProfisafeModel : public io::DeviceModel {
   };
   static_assert(sizeof(Passivation) == sizeof(std::uint64_t));
   Passivation pas_;
+  std::uint64_t pas_word() const {
+    std::uint64_t w;
+    std::memcpy(&w, &pas_, sizeof w);
+    return w;
+  }
   std::uint16_t crc1_ = 0;
   TIME wd_{};
   TIME now_{};
@@ -299,6 +328,29 @@ class NordProfisafeModel : public io::DeviceModel {
   bool discrepancy_timing_ = false;
   bool discrepancy_fault_ = false;
   bool respond_pending_ = false;
+  // evaluate() at rest: the last full evaluate() ended with both SI at
+  // their filtered levels, no SI1/SI2 discrepancy timing (P800[-01]), no
+  // safety function enabled (fn_ evaluates SSM alone), no q error active
+  // and none with a cause. Such an evaluate() writes back what it found,
+  // and so does the next one while nothing it reads has changed but the
+  // watchdog's time: pas_ and requested_ (changed by handle_request(),
+  // write_record(); compared with rest_pas_ / rest_req_), the rest only
+  // through the calls that clear at_rest_ (set_si, set_si_source,
+  // set_speed_rpm, set_position_inc, the fault injections, a channel
+  // acknowledge, power_cycle() / reset_volatile(), write_record()).
+  bool at_rest_ = false;
+  bool rest_skip_ = true;  // tests: set_rest_skip(false)
+  std::uint32_t rest_req_ = 0;
+  std::uint64_t rest_pas_ = 0;
+  // build_response(): the F-data (data_now()) and the status bits but
+  // Toggle_d and cons_nr_R, as computed after the last full evaluate()
+  // (resp_fresh_; cleared by every full evaluate() and reset_volatile()).
+  // They are made of pas_, the fatal code, the functions' status bits,
+  // SI1/SI2, SO1-3 and the applied request, which change only through a
+  // full evaluate() or by calls that make the next evaluate() a full one.
+  bool resp_fresh_ = false;
+  std::uint8_t resp_status_ = 0;
+  std::array<std::uint8_t, 4> resp_data_{};
 
   // Outputs
   std::array<bool, 4> ossd_{};  // SO1..SO3, the 4th always false (written as one word)
@@ -330,11 +382,16 @@ class NordProfisafeModel : public io::DeviceModel {
   std::array<Sent, kHist> sent_{};
   std::array<Sent, kHist> accepted_{};
   std::size_t sent_head_ = 0, accepted_head_ = 0;
-  std::array<std::array<std::uint8_t, kPdu>, 3> req_hist_{};
+  // The last two new requests received, newest first (a replay takes [1]).
+  std::array<std::array<std::uint8_t, kPdu>, 2> req_hist_{};
   std::uint64_t crc_errors_ = 0, wd_expiries_ = 0;
 
   // Injection state
   int corrupt_req_n_ = 0, corrupt_resp_n_ = 0, repeat_resp_ = 0, repeat_req_ = 0, foreign_ = 0;
+  // False: none of the five counts above is > 0 (they are set only by the
+  // injection calls, which set this, and zeroed with it by
+  // reset_volatile()), so an exchange looks at none of them.
+  bool injecting_ = false;
   std::size_t corrupt_req_byte_ = 0, corrupt_resp_byte_ = 0;
   std::uint8_t corrupt_req_mask_ = 0, corrupt_resp_mask_ = 0;
   TIME drop_for_{}, drop_until_{};

@@ -51,6 +51,9 @@ class NordSafetyFunctions {
   }
   // P820 enables at least one function (else step() does not read rq).
   [[nodiscard]] bool any_enabled() const { return enabled_ != 0; }
+  // No function enabled and each as an inactive one leaves it: step()
+  // evaluates SSM alone, from the speed.
+  [[nodiscard]] bool at_rest() const { return enabled_ == 0 && idle_; }
 
   // A violation tripped this function (latched until clear_trip()).
   [[nodiscard]] bool tripped(int fn) const { return ((trip_ >> fn) & 1u) != 0; }
