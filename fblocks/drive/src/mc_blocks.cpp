@@ -112,7 +112,7 @@ void MC_Power::operator()(const ScanContext& ctx, DriveAxis& axis) {
 }
 
 // ------------------------------------------------------------ MC_Reset
-void MC_Reset::operator()(const ScanContext& ctx, DriveAxis& axis) {
+void MC_Reset::run(const ScanContext& ctx, DriveAxis& axis) {
   axis.begin(ctx);
   if (on_call()) {
     Busy = true;
@@ -156,7 +156,7 @@ void McExecute::start_positioning(DriveAxis& axis, TaskKind kind, LREAL target, 
   }
 }
 
-void MC_MoveAbsolute::operator()(const ScanContext& ctx, DriveAxis& axis) {
+void MC_MoveAbsolute::run(const ScanContext& ctx, DriveAxis& axis) {
   axis.begin(ctx);
   if (on_call())
     start_positioning(axis, TaskKind::Absolute, Position, Velocity, Acceleration, Deceleration);
@@ -164,7 +164,7 @@ void MC_MoveAbsolute::operator()(const ScanContext& ctx, DriveAxis& axis) {
   axis.block_done();
 }
 
-void MC_MoveRelative::operator()(const ScanContext& ctx, DriveAxis& axis) {
+void MC_MoveRelative::run(const ScanContext& ctx, DriveAxis& axis) {
   axis.begin(ctx);
   if (on_call())
     start_positioning(axis, TaskKind::Relative, Distance, Velocity, Acceleration, Deceleration);

@@ -55,6 +55,22 @@ struct McExecute {
   bool poll(DriveAxis& axis);
   // State check for a new motion command; 0 if allowed.
   static std::uint16_t motion_refusal(const DriveAxis& axis);
+  // The call of an idle block (Execute FALSE, not Busy), most calls: all
+  // that the blocks using it (MC_Reset, MC_MoveAbsolute, MC_MoveRelative)
+  // do then is on_call()'s clearing of the outputs (no edge), as poll() and
+  // their Busy branches do nothing while not Busy. Inline in their
+  // operator(), so an idle block costs the program no call into the
+  // library; false (nothing done) otherwise, and run() makes the call.
+  // McIdleCall (test_mc_idle.cpp) compares the two over scripted scans.
+  [[gnu::always_inline]] bool idle_call(const ScanContext& ctx, DriveAxis& axis) {
+    if (Execute || Busy) return false;
+    axis.begin(ctx);
+    Done = Error = CommandAborted = false;
+    ErrorID = 0;
+    prev_execute_ = false;
+    axis.block_done();
+    return true;
+  }
   // Checks the inputs of a positioning command and starts the task, or
   // finishes with the error that refuses it (MoveAbsolute, MoveRelative).
   void start_positioning(DriveAxis& axis, TaskKind kind, LREAL target, LREAL velocity,
@@ -111,7 +127,12 @@ struct MC_Power {
 // error if the drive does not answer; the axis stays in ErrorStop.
 struct MC_Reset : McExecute {
   TIME Timeout = std::chrono::seconds(1);
-  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  void operator()(const ScanContext& ctx, DriveAxis& axis) {
+    if (!idle_call(ctx, axis)) run(ctx, axis);
+  }
+  // The whole call, whatever the state (out of line; operator() makes it
+  // unless the block is idle).
+  void run(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Execute, Timeout, Done, Busy, Error, ErrorID, id_, prev_execute_)
   PLC_INTERNAL(id_, prev_execute_)
 };
@@ -121,7 +142,12 @@ struct MC_MoveAbsolute : McExecute {
   LREAL Velocity{};
   LREAL Acceleration{};
   LREAL Deceleration{};
-  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  void operator()(const ScanContext& ctx, DriveAxis& axis) {
+    if (!idle_call(ctx, axis)) run(ctx, axis);
+  }
+  // The whole call, whatever the state (out of line; operator() makes it
+  // unless the block is idle).
+  void run(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Execute, Position, Velocity, Acceleration, Deceleration, Done, Busy, Active,
               CommandAborted, Error, ErrorID, id_, prev_execute_)
   PLC_INTERNAL(id_, prev_execute_)
@@ -132,7 +158,12 @@ struct MC_MoveRelative : McExecute {
   LREAL Velocity{};
   LREAL Acceleration{};
   LREAL Deceleration{};
-  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  void operator()(const ScanContext& ctx, DriveAxis& axis) {
+    if (!idle_call(ctx, axis)) run(ctx, axis);
+  }
+  // The whole call, whatever the state (out of line; operator() makes it
+  // unless the block is idle).
+  void run(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Execute, Distance, Velocity, Acceleration, Deceleration, Done, Busy, Active,
               CommandAborted, Error, ErrorID, id_, prev_execute_)
   PLC_INTERNAL(id_, prev_execute_)
