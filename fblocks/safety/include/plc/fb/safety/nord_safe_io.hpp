@@ -22,7 +22,9 @@
 // (its port is the device handle); the main ones are mirrored here.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include "plc/fb/safety/f_module.hpp"
 #include "plc/fb/safety/nord_fdata_bits.hpp"
@@ -108,24 +110,12 @@ class NORD_SAFE_IO {
       status_ = decode_status(d, QBAD);
       status_key_ = key;
     }
-    const DeviceStatus& st = status_;
-    OSSD1_OFF = st.ossd1_off;
-    OSSD2_OFF = st.ossd2_off;
-    OSSD3_OFF = st.ossd3_off;
-    CLOCK1_OFF = st.clock1_off;
-    CLOCK2_OFF = st.clock2_off;
-    OSSD1_ON = st.ossd1_on;
-    OSSD2_ON = st.ossd2_on;
-    OSSD3_ON = st.ossd3_on;
-    SI1 = st.si1;
-    SI2 = st.si2;
-    SOS_OK = st.sos_ok;
-    SLS_OK = st.sls_ok;
-    SLS_LEVEL_ACT = st.sls_level_act;
-    SDI_P_OK = st.sdi_p_ok;
-    SDI_N_OK = st.sdi_n_ok;
-    SSM = st.ssm;
-    SSR_OK = st.ssr_ok;
+    // The 17 outputs OSSD1_OFF..SSR_OK are declared one byte each in
+    // DeviceStatus's order (static_asserts below the class), so the decode
+    // is written as one copy of its bytes into this object's, not 17 byte
+    // moves.
+    std::memcpy(reinterpret_cast<unsigned char*>(this) + kStatusOffset, &status_,
+                sizeof(DeviceStatus));
   }
 
   // The device status outputs, in their order, from the F-data the device
@@ -173,6 +163,54 @@ class NORD_SAFE_IO {
   // debugger cannot write either, so status_ is always the key's decode.
   std::uint64_t status_key_ = ~std::uint64_t{0};
   DeviceStatus status_{};
+
+  static const std::size_t kStatusOffset;
 };
+
+// Where the device status outputs begin; offsetof on a class that is not
+// standard-layout (F_MODULE mixes access levels), which GCC and Clang
+// compute as for any class without virtual bases.
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Winvalid-offsetof"
+#endif
+inline constexpr std::size_t NORD_SAFE_IO::kStatusOffset = offsetof(NORD_SAFE_IO, OSSD1_OFF);
+// operator()'s copy of status_: every output in DeviceStatus's place.
+static_assert(sizeof(NORD_SAFE_IO::DeviceStatus) == 17);
+static_assert(offsetof(NORD_SAFE_IO, OSSD2_OFF) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, ossd2_off));
+static_assert(offsetof(NORD_SAFE_IO, OSSD3_OFF) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, ossd3_off));
+static_assert(offsetof(NORD_SAFE_IO, CLOCK1_OFF) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, clock1_off));
+static_assert(offsetof(NORD_SAFE_IO, CLOCK2_OFF) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, clock2_off));
+static_assert(offsetof(NORD_SAFE_IO, OSSD1_ON) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, ossd1_on));
+static_assert(offsetof(NORD_SAFE_IO, OSSD2_ON) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, ossd2_on));
+static_assert(offsetof(NORD_SAFE_IO, OSSD3_ON) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, ossd3_on));
+static_assert(offsetof(NORD_SAFE_IO, SI1) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, si1));
+static_assert(offsetof(NORD_SAFE_IO, SI2) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, si2));
+static_assert(offsetof(NORD_SAFE_IO, SOS_OK) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, sos_ok));
+static_assert(offsetof(NORD_SAFE_IO, SLS_OK) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, sls_ok));
+static_assert(offsetof(NORD_SAFE_IO, SLS_LEVEL_ACT) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, sls_level_act));
+static_assert(offsetof(NORD_SAFE_IO, SDI_P_OK) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, sdi_p_ok));
+static_assert(offsetof(NORD_SAFE_IO, SDI_N_OK) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, sdi_n_ok));
+static_assert(offsetof(NORD_SAFE_IO, SSM) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, ssm));
+static_assert(offsetof(NORD_SAFE_IO, SSR_OK) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, ssr_ok));
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
 
 }  // namespace plc::safety
