@@ -108,7 +108,7 @@ struct MC_Power {
   BOOL Error{};
   WORD ErrorID{};
 
-  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  void operator()(const ScanContext& ctx, DriveAxis& axis);  // inline, below
   PLC_REFLECT(Enable, StopMode, EnableTimeout, RequireEnableEdgeAfterReset, Status, Valid, Error,
               ErrorID, enable_since_, prev_enable_)
   PLC_INTERNAL(enable_since_, prev_enable_)
@@ -116,6 +116,36 @@ struct MC_Power {
   TIME enable_since_{};
   bool prev_enable_ = false;
 };
+
+// Inline: the block runs every scan while a program powers its axis, and
+// as a call into the library it paid its call and register saves each time.
+inline void MC_Power::operator()(const ScanContext& ctx, DriveAxis& axis) {
+  axis.begin(ctx);
+  const bool mode_ok = StopMode >= 0 && StopMode <= 2;
+  axis.PowerRequest = Enable && mode_ok;
+  axis.RequireEnableEdgeAfterReset = RequireEnableEdgeAfterReset;
+  if (mode_ok) axis.PowerStopMode = static_cast<drive::StopMode>(StopMode);
+  Status = axis.CommOk && axis.operation_enabled();
+  const std::uint16_t axis_e = axis.axis_error();
+  std::uint16_t e = !mode_ok ? kErrMode : axis_e;
+  // The error is cleared but the axis still waits for MC_Reset (after
+  // AbsEncoderInit's own reset) or, with RequireEnableEdgeAfterReset, for
+  // Enable to be given again (DriveAxis::RestartInhibit).
+  if (!e && Enable && axis.RestartInhibit) e = kErrRestartInhibit;
+  // EnableTimeout counts from the Enable edge, and again from the scan in
+  // which nothing holds power off any more: the walk S1 -> S4 after a reset
+  // with Enable held is not late.
+  const bool held_off = axis_e || axis.RestartInhibit || axis.InhibitPower;
+  if ((Enable && !prev_enable_) || held_off) enable_since_ = ctx.now;
+  prev_enable_ = Enable;
+  if (!e && Enable && !Status && ctx.now - enable_since_ > EnableTimeout)
+    e = axis.drive_state() == DriveState::SwitchingOnInhibited ? kErrLockout : kErrEnableTimeout;
+  if (Status) enable_since_ = ctx.now;
+  Error = e != 0;
+  ErrorID = e;
+  Valid = Enable && !Error;
+  axis.block_done();
+}
 
 // MC_Reset: its Execute edge starts the axis' reset (DriveAxis::start_reset):
 // a new rising edge of STW1.7 for this request (0 first, 1 until the drive
