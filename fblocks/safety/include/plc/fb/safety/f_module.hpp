@@ -101,26 +101,30 @@ class F_MODULE {
       publish_passive();
       return;
     }
-    switch (phase_) {
-      case Phase::SendParams:
-        if (port.online()) send_fparams();
-        break;
-      case Phase::WaitParams:
-        poll_fparams(ctx.now);
-        break;
-      case Phase::Retry:
-        if (ctx.now >= retry_at_) phase_ = Phase::SendParams;
-        break;
-      case Phase::Cyclic:
-        // The device has been silent for kLostAfter watchdog periods (e.g.
-        // power-cycled, so it lost its F-parameters): send them again; the
-        // restart then needs ACK_REI like any communication fault.
-        if (proto_.watchdog_expiries_in_row() >= kLostAfter) {
-          restart_after_fault_ = true;
-          dev_code_ = 0;  // unknown until the device is back
-          phase_ = Phase::SendParams;
-        }
-        break;
+    // Cyclic asked first: every scan once the F-parameters are in.
+    if (phase_ == Phase::Cyclic) [[likely]] {
+      // The device has been silent for kLostAfter watchdog periods (e.g.
+      // power-cycled, so it lost its F-parameters): send them again; the
+      // restart then needs ACK_REI like any communication fault.
+      if (proto_.watchdog_expiries_in_row() >= kLostAfter) {
+        restart_after_fault_ = true;
+        dev_code_ = 0;  // unknown until the device is back
+        phase_ = Phase::SendParams;
+      }
+    } else {
+      switch (phase_) {
+        case Phase::SendParams:
+          if (port.online()) send_fparams();
+          break;
+        case Phase::WaitParams:
+          poll_fparams(ctx.now);
+          break;
+        case Phase::Retry:
+          if (ctx.now >= retry_at_) phase_ = Phase::SendParams;
+          break;
+        case Phase::Cyclic:
+          break;
+      }
     }
 
     std::uint8_t app_out[NOut];
