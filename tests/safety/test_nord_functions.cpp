@@ -2,6 +2,9 @@
 // through NORD_SAFE_IO (spec nord-profisafe.md §1.5, §2.8, §8.3, §8.4 item 6).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+
 #include "plc/fb/safety/f_host_diag.hpp"
 #include "plc/fb/safety/nord_error_codes.hpp"
 #include "safety_rig.hpp"
@@ -459,4 +462,90 @@ TEST(SafetyNordFunctions, StatusOutputsFollowEveryScansFData_Spec2_4) {
   EXPECT_GT(zero_good, 100);
   EXPECT_GT(zero_bad, 100);
   EXPECT_TRUE(q.io.OSSD1_ON);
+}
+
+// NORD_SAFE_IO builds the F-data In once per change of its ten input bytes
+// and ack_hold_ (issue 23): lockstep with a block that builds it every scan
+// (scan_uncached), the same F-data, request PDUs and outputs in every scan,
+// over random inputs (SLS_LEVEL 0..255), one-scan and held CH_PASS_ACK, and
+// device silences that hold the acknowledge over several scans.
+TEST(SafetyNordFunctions, FDataInCache_SameAsBuiltEveryScan_Spec2_3) {
+  Rig cached, full;
+  Random rng{0xCAC4Eull};
+  int silent_left = 0, holds_past_pulse = 0, key_repeats = 0;
+  std::array<plc::BYTE, 4> prev_out{};
+  for (int i = 0; i < 60000; ++i) {
+    const int what = rng.below(30);
+    const int v = rng.below(256);
+    bool stop = false;
+    for (Rig* r : {&cached, &full}) {
+      auto& io = r->io;
+      switch (what) {
+        case 0:
+          io.OSSD1 = v & 1;
+          break;
+        case 1:
+          io.OSSD2 = v & 1;
+          break;
+        case 2:
+          io.OSSD3 = v & 1;
+          break;
+        case 3:
+          io.SOS = v & 1;
+          break;
+        case 4:
+          io.SLS = v & 1;
+          break;
+        case 5:
+          io.SLS_LEVEL = static_cast<plc::USINT>(v & 3);
+          break;
+        case 6:
+          io.SLS_LEVEL = static_cast<plc::USINT>(v);
+          break;
+        case 7:
+          io.SDI_P = v & 1;
+          break;
+        case 8:
+          io.SDI_N = v & 1;
+          break;
+        case 9:
+          io.SSR = v & 1;
+          break;
+        case 10:
+        case 11:
+          io.CH_PASS_ACK = true;
+          break;  // dropped again below
+        case 12:
+          stop = silent_left == 0 && (v & 7) == 0;
+          break;
+        default:
+          io.CH_PASS_ACK = io.CH_PASS_ACK && (v & 3) != 0;
+          break;
+      }
+      r->io.FMOD.ACK_REI = r->io.ACK_REQ && (i & 1);
+    }
+    if (stop) {
+      silent_left = 1 + rng.below(150);
+      for (Rig* r : {&cached, &full}) r->model->stop(true);
+    } else if (silent_left > 0 && --silent_left == 0) {
+      for (Rig* r : {&cached, &full}) r->model->stop(false);
+    }
+    cached.scan();
+    full.ctx.now += full.dt;
+    full.io.scan_uncached(full.ctx);
+    full.dev->step(full.ctx.now, full.dt);
+    ++full.ctx.cycle;
+    ASSERT_EQ(cached.io.FMOD.OUT_DATA, full.io.FMOD.OUT_DATA) << "scan " << i;
+    const auto a = cached.io.FMOD.port.out(), b = full.io.FMOD.port.out();
+    ASSERT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end())) << "scan " << i;
+    ASSERT_EQ(cached.io.QBAD, full.io.QBAD) << "scan " << i;
+    ASSERT_EQ(cached.io.OSSD1_ON, full.io.OSSD1_ON) << "scan " << i;
+    ASSERT_EQ(cached.io.DIAG, full.io.DIAG) << "scan " << i;
+    const bool ack_bit = (cached.io.FMOD.OUT_DATA[3] & 0x80) != 0;
+    if (ack_bit && !cached.io.CH_PASS_ACK) ++holds_past_pulse;
+    if (cached.io.FMOD.OUT_DATA == prev_out) ++key_repeats;
+    prev_out = cached.io.FMOD.OUT_DATA;
+  }
+  EXPECT_GT(holds_past_pulse, 20);
+  EXPECT_GT(key_repeats, 10000);
 }

@@ -129,8 +129,14 @@ void DriveAxis::begin_scan(const ScanContext& ctx) {
 
   const auto tg = telegram();
   const auto in = Port.in();
-  const bool shape_ok = is_supported_telegram(Telegram) && in.size() >= in_bytes(tg) &&
-                        Port.out().size() >= out_bytes(tg);
+  // Telegram 111 (the E1's) asked first: is_supported_telegram() tests it
+  // after 3 and 9. The same value either way (tg is Telegram, same width).
+  static_assert(sizeof(TelegramType) == sizeof(Telegram));
+  const bool shape_ok = tg == TelegramType::Hiwin111
+                            ? in.size() >= in_bytes(TelegramType::Hiwin111) &&
+                                  Port.out().size() >= out_bytes(TelegramType::Hiwin111)
+                            : is_supported_telegram(Telegram) && in.size() >= in_bytes(tg) &&
+                                  Port.out().size() >= out_bytes(tg);
   const bool online = Port.online();
   if (shape_ok) {
     switch (tg) {
@@ -493,7 +499,10 @@ bool DriveAxis::in_velocity(std::uint32_t id) const {
 void DriveAxis::commit() {
   const auto tg = telegram();
   const auto out = Port.out();
-  if (!is_supported_telegram(Telegram) || out.size() < out_bytes(tg)) return;
+  // Telegram 111 asked first, as in begin_scan().
+  if (tg == TelegramType::Hiwin111 ? out.size() < out_bytes(TelegramType::Hiwin111)
+                                   : !is_supported_telegram(Telegram) || out.size() < out_bytes(tg))
+    return;
   std::uint16_t stw1 = Stw1Pos::kControlByPlc;
   // A withdrawn power request ends the inhibit once the error is cleared
   // (the next request is a new Enable edge); an explicit reset ends it in

@@ -82,37 +82,8 @@ std::optional<INT> accel_to_mdi(const DriveAxis& axis, LREAL accel, bool deceler
   return INT{*v};
 }
 
-// ------------------------------------------------------------ MC_Power
-void MC_Power::operator()(const ScanContext& ctx, DriveAxis& axis) {
-  axis.begin(ctx);
-  const bool mode_ok = StopMode >= 0 && StopMode <= 2;
-  axis.PowerRequest = Enable && mode_ok;
-  axis.RequireEnableEdgeAfterReset = RequireEnableEdgeAfterReset;
-  if (mode_ok) axis.PowerStopMode = static_cast<drive::StopMode>(StopMode);
-  Status = axis.CommOk && axis.operation_enabled();
-  const std::uint16_t axis_e = axis.axis_error();
-  std::uint16_t e = !mode_ok ? kErrMode : axis_e;
-  // The error is cleared but the axis still waits for MC_Reset (after
-  // AbsEncoderInit's own reset) or, with RequireEnableEdgeAfterReset, for
-  // Enable to be given again (DriveAxis::RestartInhibit).
-  if (!e && Enable && axis.RestartInhibit) e = kErrRestartInhibit;
-  // EnableTimeout counts from the Enable edge, and again from the scan in
-  // which nothing holds power off any more: the walk S1 -> S4 after a reset
-  // with Enable held is not late.
-  const bool held_off = axis_e || axis.RestartInhibit || axis.InhibitPower;
-  if ((Enable && !prev_enable_) || held_off) enable_since_ = ctx.now;
-  prev_enable_ = Enable;
-  if (!e && Enable && !Status && ctx.now - enable_since_ > EnableTimeout)
-    e = axis.drive_state() == DriveState::SwitchingOnInhibited ? kErrLockout : kErrEnableTimeout;
-  if (Status) enable_since_ = ctx.now;
-  Error = e != 0;
-  ErrorID = e;
-  Valid = Enable && !Error;
-  axis.block_done();
-}
-
 // ------------------------------------------------------------ MC_Reset
-void MC_Reset::operator()(const ScanContext& ctx, DriveAxis& axis) {
+void MC_Reset::run(const ScanContext& ctx, DriveAxis& axis) {
   axis.begin(ctx);
   if (on_call()) {
     Busy = true;
@@ -156,7 +127,7 @@ void McExecute::start_positioning(DriveAxis& axis, TaskKind kind, LREAL target, 
   }
 }
 
-void MC_MoveAbsolute::operator()(const ScanContext& ctx, DriveAxis& axis) {
+void MC_MoveAbsolute::run(const ScanContext& ctx, DriveAxis& axis) {
   axis.begin(ctx);
   if (on_call())
     start_positioning(axis, TaskKind::Absolute, Position, Velocity, Acceleration, Deceleration);
@@ -164,7 +135,7 @@ void MC_MoveAbsolute::operator()(const ScanContext& ctx, DriveAxis& axis) {
   axis.block_done();
 }
 
-void MC_MoveRelative::operator()(const ScanContext& ctx, DriveAxis& axis) {
+void MC_MoveRelative::run(const ScanContext& ctx, DriveAxis& axis) {
   axis.begin(ctx);
   if (on_call())
     start_positioning(axis, TaskKind::Relative, Distance, Velocity, Acceleration, Deceleration);

@@ -55,6 +55,22 @@ struct McExecute {
   bool poll(DriveAxis& axis);
   // State check for a new motion command; 0 if allowed.
   static std::uint16_t motion_refusal(const DriveAxis& axis);
+  // The call of an idle block (Execute FALSE, not Busy), most calls: all
+  // that the blocks using it (MC_Reset, MC_MoveAbsolute, MC_MoveRelative)
+  // do then is on_call()'s clearing of the outputs (no edge), as poll() and
+  // their Busy branches do nothing while not Busy. Inline in their
+  // operator(), so an idle block costs the program no call into the
+  // library; false (nothing done) otherwise, and run() makes the call.
+  // McIdleCall (test_mc_idle.cpp) compares the two over scripted scans.
+  [[gnu::always_inline]] bool idle_call(const ScanContext& ctx, DriveAxis& axis) {
+    if (Execute || Busy) return false;
+    axis.begin(ctx);
+    Done = Error = CommandAborted = false;
+    ErrorID = 0;
+    prev_execute_ = false;
+    axis.block_done();
+    return true;
+  }
   // Checks the inputs of a positioning command and starts the task, or
   // finishes with the error that refuses it (MoveAbsolute, MoveRelative).
   void start_positioning(DriveAxis& axis, TaskKind kind, LREAL target, LREAL velocity,
@@ -92,7 +108,7 @@ struct MC_Power {
   BOOL Error{};
   WORD ErrorID{};
 
-  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  void operator()(const ScanContext& ctx, DriveAxis& axis);  // inline, below
   PLC_REFLECT(Enable, StopMode, EnableTimeout, RequireEnableEdgeAfterReset, Status, Valid, Error,
               ErrorID, enable_since_, prev_enable_)
   PLC_INTERNAL(enable_since_, prev_enable_)
@@ -100,6 +116,36 @@ struct MC_Power {
   TIME enable_since_{};
   bool prev_enable_ = false;
 };
+
+// Inline: the block runs every scan while a program powers its axis, and
+// as a call into the library it paid its call and register saves each time.
+inline void MC_Power::operator()(const ScanContext& ctx, DriveAxis& axis) {
+  axis.begin(ctx);
+  const bool mode_ok = StopMode >= 0 && StopMode <= 2;
+  axis.PowerRequest = Enable && mode_ok;
+  axis.RequireEnableEdgeAfterReset = RequireEnableEdgeAfterReset;
+  if (mode_ok) axis.PowerStopMode = static_cast<drive::StopMode>(StopMode);
+  Status = axis.CommOk && axis.operation_enabled();
+  const std::uint16_t axis_e = axis.axis_error();
+  std::uint16_t e = !mode_ok ? kErrMode : axis_e;
+  // The error is cleared but the axis still waits for MC_Reset (after
+  // AbsEncoderInit's own reset) or, with RequireEnableEdgeAfterReset, for
+  // Enable to be given again (DriveAxis::RestartInhibit).
+  if (!e && Enable && axis.RestartInhibit) e = kErrRestartInhibit;
+  // EnableTimeout counts from the Enable edge, and again from the scan in
+  // which nothing holds power off any more: the walk S1 -> S4 after a reset
+  // with Enable held is not late.
+  const bool held_off = axis_e || axis.RestartInhibit || axis.InhibitPower;
+  if ((Enable && !prev_enable_) || held_off) enable_since_ = ctx.now;
+  prev_enable_ = Enable;
+  if (!e && Enable && !Status && ctx.now - enable_since_ > EnableTimeout)
+    e = axis.drive_state() == DriveState::SwitchingOnInhibited ? kErrLockout : kErrEnableTimeout;
+  if (Status) enable_since_ = ctx.now;
+  Error = e != 0;
+  ErrorID = e;
+  Valid = Enable && !Error;
+  axis.block_done();
+}
 
 // MC_Reset: its Execute edge starts the axis' reset (DriveAxis::start_reset):
 // a new rising edge of STW1.7 for this request (0 first, 1 until the drive
@@ -111,7 +157,12 @@ struct MC_Power {
 // error if the drive does not answer; the axis stays in ErrorStop.
 struct MC_Reset : McExecute {
   TIME Timeout = std::chrono::seconds(1);
-  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  void operator()(const ScanContext& ctx, DriveAxis& axis) {
+    if (!idle_call(ctx, axis)) run(ctx, axis);
+  }
+  // The whole call, whatever the state (out of line; operator() makes it
+  // unless the block is idle).
+  void run(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Execute, Timeout, Done, Busy, Error, ErrorID, id_, prev_execute_)
   PLC_INTERNAL(id_, prev_execute_)
 };
@@ -121,7 +172,12 @@ struct MC_MoveAbsolute : McExecute {
   LREAL Velocity{};
   LREAL Acceleration{};
   LREAL Deceleration{};
-  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  void operator()(const ScanContext& ctx, DriveAxis& axis) {
+    if (!idle_call(ctx, axis)) run(ctx, axis);
+  }
+  // The whole call, whatever the state (out of line; operator() makes it
+  // unless the block is idle).
+  void run(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Execute, Position, Velocity, Acceleration, Deceleration, Done, Busy, Active,
               CommandAborted, Error, ErrorID, id_, prev_execute_)
   PLC_INTERNAL(id_, prev_execute_)
@@ -132,7 +188,12 @@ struct MC_MoveRelative : McExecute {
   LREAL Velocity{};
   LREAL Acceleration{};
   LREAL Deceleration{};
-  void operator()(const ScanContext& ctx, DriveAxis& axis);
+  void operator()(const ScanContext& ctx, DriveAxis& axis) {
+    if (!idle_call(ctx, axis)) run(ctx, axis);
+  }
+  // The whole call, whatever the state (out of line; operator() makes it
+  // unless the block is idle).
+  void run(const ScanContext& ctx, DriveAxis& axis);
   PLC_REFLECT(Execute, Distance, Velocity, Acceleration, Deceleration, Done, Busy, Active,
               CommandAborted, Error, ErrorID, id_, prev_execute_)
   PLC_INTERNAL(id_, prev_execute_)

@@ -25,6 +25,7 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -76,24 +77,24 @@ class Crc2Cache {
   [[gnu::always_inline]] void seal_pdu(std::span<std::uint8_t> pdu, std::size_t fdata_len,
                                        std::uint8_t cb_sb, std::uint32_t cons_nr,
                                        std::uint16_t crc1_seed) {
-    pdu[fdata_len] = cb_sb;
     if (fdata_len <= kMaxCachedFData) {  // crc2_length() == 3
       const std::uint32_t c = cached_crc2(pdu.first(fdata_len), cb_sb, cons_nr, crc1_seed);
-      pdu[fdata_len + 1] = static_cast<std::uint8_t>(c >> 16);
-      pdu[fdata_len + 2] = static_cast<std::uint8_t>(c >> 8);
-      pdu[fdata_len + 3] = static_cast<std::uint8_t>(c);
+      // The control/status byte and the 3-byte CRC2 behind it (most
+      // significant first) as one big-endian word: one store, not four.
+      store_be32(pdu.data() + fdata_len, static_cast<std::uint32_t>(cb_sb) << 24 | (c & 0xFFFFFFu));
       return;
     }
-    put_crc2(pdu, fdata_len, compute_crc2(pdu.first(fdata_len), cb_sb, cons_nr, crc1_seed));
+    seal_uncached(pdu, fdata_len, cb_sb, cons_nr, crc1_seed);
   }
   [[gnu::always_inline]] bool check_pdu(std::span<const std::uint8_t> pdu, std::size_t fdata_len,
                                         std::uint32_t cons_nr, std::uint16_t crc1_seed) {
     if (pdu.size() < pdu_size(fdata_len)) return false;
     if (fdata_len <= kMaxCachedFData) {  // crc2_length() == 3
-      const std::uint32_t got = static_cast<std::uint32_t>(pdu[fdata_len + 1]) << 16 |
-                                static_cast<std::uint32_t>(pdu[fdata_len + 2]) << 8 |
-                                pdu[fdata_len + 3];
-      return cached_crc2(pdu.first(fdata_len), pdu[fdata_len], cons_nr, crc1_seed) == got;
+      // The status byte and the 3-byte CRC2 (most significant first) as one
+      // big-endian word (pdu_size() = fdata_len + 4 bytes are there).
+      const std::uint32_t w = load_be32(pdu.data() + fdata_len);
+      const auto cb_sb = static_cast<std::uint8_t>(w >> 24);
+      return cached_crc2(pdu.first(fdata_len), cb_sb, cons_nr, crc1_seed) == (w & 0xFFFFFFu);
     }
     return compute_crc2(pdu.first(fdata_len), pdu[fdata_len], cons_nr, crc1_seed) ==
            get_crc2(pdu, fdata_len);
@@ -164,6 +165,26 @@ class Crc2Cache {
       z4 = c;
     }
   };
+
+  [[gnu::always_inline]] static std::uint32_t load_be32(const std::uint8_t* p) {
+    std::uint32_t v;
+    std::memcpy(&v, p, 4);
+    if constexpr (std::endian::native == std::endian::little) v = __builtin_bswap32(v);
+    return v;
+  }
+  [[gnu::always_inline]] static void store_be32(std::uint8_t* p, std::uint32_t v) {
+    if constexpr (std::endian::native == std::endian::little) v = __builtin_bswap32(v);
+    std::memcpy(p, &v, 4);
+  }
+
+  // write_pdu()'s seal for F-data over 12 bytes (the 4-byte CRC2, not
+  // cached); out of line, rare.
+  [[gnu::noinline]] static void seal_uncached(std::span<std::uint8_t> pdu, std::size_t n,
+                                              std::uint8_t cb_sb, std::uint32_t cons_nr,
+                                              std::uint16_t crc1_seed) {
+    pdu[n] = cb_sb;
+    put_crc2(pdu, n, compute_crc2(pdu.first(n), cb_sb, cons_nr, crc1_seed));
+  }
 
   static void put_crc2(std::span<std::uint8_t> pdu, std::size_t n, std::uint32_t c) {
     const std::size_t len = crc2_length(n);

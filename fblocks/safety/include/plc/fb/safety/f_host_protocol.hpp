@@ -117,9 +117,12 @@ class FHostProtocol {
   // (tests only) takes the general path for the steady exchange too. An
   // F-module whose F-data lengths are constants gives them as InLen/OutLen
   // (0: not known): the steady path then indexes and copies with them, once
-  // it has checked that they are the configured ones.
+  // it has checked that they are the configured ones. Returns true when the
+  // scan was the steady exchange (state Run before and after, the answer
+  // valid, in time and delivered, PASS_ON off), so a caller may show its
+  // outputs for that without reading the state back; false otherwise.
   template <bool SteadyPath = true, std::size_t InLen = 0, std::size_t OutLen = 0>
-  void cycle(TIME now, std::span<const std::uint8_t> response, std::span<std::uint8_t> request,
+  bool cycle(TIME now, std::span<const std::uint8_t> response, std::span<std::uint8_t> request,
              std::span<const std::uint8_t> app_out, std::span<std::uint8_t> app_in,
              const FHostCommand& cmd);
 
@@ -207,7 +210,7 @@ inline void copy_fdata(std::uint8_t* dst, const std::uint8_t* src, std::size_t n
 // scan, and as a call (five spans by value) it cost the marshalling of its
 // arguments and its register saves every scan.
 template <bool SteadyPath, std::size_t InLen, std::size_t OutLen>
-inline void FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> response,
+inline bool FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> response,
                                  std::span<std::uint8_t> request,
                                  std::span<const std::uint8_t> app_out,
                                  std::span<std::uint8_t> app_in, const FHostCommand& cmd) {
@@ -221,7 +224,7 @@ inline void FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> respons
     std::fill(request.begin(), request.end(), std::uint8_t{0});
     std::fill(app_in.begin(), app_in.end(), std::uint8_t{0});
     data_valid_ = false;
-    return;
+    return false;
   }
 
   const std::uint8_t status = response[in_len_];
@@ -272,7 +275,7 @@ inline void FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> respons
     detail::copy_fdata(app_in.data(), response.data(), in_len);
     detail::copy_fdata(request.data(), app_out.data(), out_len);
     request_crc_.seal_pdu(request, out_len, control, next_cn, crc1);
-    return;
+    return true;
   }
   bool valid = false;
   if (answered) {
@@ -365,6 +368,7 @@ inline void FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> respons
   }
 
   if (answered || !sent_any_) build_request(now, request, app_out, cmd);
+  return false;
 }
 
 // Inline into cycle(), its one caller: a request is built every exchange.

@@ -101,26 +101,30 @@ class F_MODULE {
       publish_passive();
       return;
     }
-    switch (phase_) {
-      case Phase::SendParams:
-        if (port.online()) send_fparams();
-        break;
-      case Phase::WaitParams:
-        poll_fparams(ctx.now);
-        break;
-      case Phase::Retry:
-        if (ctx.now >= retry_at_) phase_ = Phase::SendParams;
-        break;
-      case Phase::Cyclic:
-        // The device has been silent for kLostAfter watchdog periods (e.g.
-        // power-cycled, so it lost its F-parameters): send them again; the
-        // restart then needs ACK_REI like any communication fault.
-        if (proto_.watchdog_expiries_in_row() >= kLostAfter) {
-          restart_after_fault_ = true;
-          dev_code_ = 0;  // unknown until the device is back
-          phase_ = Phase::SendParams;
-        }
-        break;
+    // Cyclic asked first: every scan once the F-parameters are in.
+    if (phase_ == Phase::Cyclic) [[likely]] {
+      // The device has been silent for kLostAfter watchdog periods (e.g.
+      // power-cycled, so it lost its F-parameters): send them again; the
+      // restart then needs ACK_REI like any communication fault.
+      if (proto_.watchdog_expiries_in_row() >= kLostAfter) {
+        restart_after_fault_ = true;
+        dev_code_ = 0;  // unknown until the device is back
+        phase_ = Phase::SendParams;
+      }
+    } else {
+      switch (phase_) {
+        case Phase::SendParams:
+          if (port.online()) send_fparams();
+          break;
+        case Phase::WaitParams:
+          poll_fparams(ctx.now);
+          break;
+        case Phase::Retry:
+          if (ctx.now >= retry_at_) phase_ = Phase::SendParams;
+          break;
+        case Phase::Cyclic:
+          break;
+      }
     }
 
     std::uint8_t app_out[NOut];
@@ -130,10 +134,27 @@ class F_MODULE {
     std::uint8_t app_in[NIn];
     for (std::size_t i = 0; i < NIn; ++i) app_in[i] = IN_DATA[i];
     FHostCommand cmd{PASS_ON, ACK_NEC, ACK_REI, IPAR_EN};
-    proto_.cycle<true, NIn, NOut>(ctx.now, port.in().first(kInPdu), port.out().first(kOutPdu),
-                                  app_out, app_in, cmd);
+    const bool steady = proto_.cycle<true, NIn, NOut>(
+        ctx.now, port.in().first(kInPdu), port.out().first(kOutPdu), app_out, app_in, cmd);
     for (std::size_t i = 0; i < NIn; ++i) IN_DATA[i] = app_in[i];
     if (phase_ == Phase::Cyclic) poll_device_diag(ctx.now);
+
+    if (steady) {
+      // The steady exchange (nearly every scan in Run) leaves the state Run
+      // and the data valid, with PASS_ON off (cmd.pass_on): the outputs
+      // below for that, without reading the protocol back (the PDU byte
+      // stores in cycle() may alias it for the compiler).
+      // FModuleOutputs.FollowTheProtocolEveryScan (test_f_module_outputs.cpp).
+      STATE = FHostState::Run;
+      PASS_OUT = false;
+      QBAD = false;
+      ACK_REQ = false;
+      IPAR_OK = proto_.ipar_ok();
+      DIAG = static_cast<BYTE>(proto_.diag() | (dev_code_ != 0 ? diag::kDevCode : 0));
+      VS_IN.fill(0xFF);
+      VS_OUT.fill(0xFF);
+      return;
+    }
 
     STATE = proto_.state();
     PASS_OUT = proto_.pass_out();
@@ -149,6 +170,9 @@ class F_MODULE {
 
   // The pure protocol underneath (tests and diagnostics).
   [[nodiscard]] const FHostProtocol& protocol() const { return proto_; }
+  // The device's current 57xx code (P841) at the last diagnosis read, 0
+  // for none (DIAG bit kDevCode).
+  [[nodiscard]] std::uint16_t device_code() const { return dev_code_; }
   // The encoded F-parameter block as last sent.
   [[nodiscard]] const std::array<std::uint8_t, kFParamBlockSize>& fparam_block() const {
     return block_;

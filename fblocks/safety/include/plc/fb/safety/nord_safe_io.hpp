@@ -22,7 +22,9 @@
 // (its port is the device handle); the main ones are mirrored here.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include "plc/fb/safety/f_module.hpp"
 #include "plc/fb/safety/nord_fdata_bits.hpp"
@@ -63,7 +65,13 @@ class NORD_SAFE_IO {
               QBAD, ACK_REQ, DIAG, DIAG_CODE, ack_prev_, ack_hold_, ack_cn_)
   PLC_INTERNAL(ack_prev_, ack_hold_, ack_cn_)
 
-  void operator()(const ScanContext& ctx) {
+  void operator()(const ScanContext& ctx) { scan<true>(ctx); }
+  // operator() building the F-data In from the inputs every scan (tests
+  // compare the two: FDataInCache in test_nord_functions.cpp).
+  void scan_uncached(const ScanContext& ctx) { scan<false>(ctx); }
+
+  template <bool Cached>
+  void scan(const ScanContext& ctx) {
     // Channel-passivation acknowledge: hold a rising edge until a request
     // built after it (a new consecutive number) has been sent.
     if (CH_PASS_ACK && !ack_prev_) {
@@ -72,19 +80,31 @@ class NORD_SAFE_IO {
     }
     ack_prev_ = CH_PASS_ACK;
 
-    std::uint8_t o[nord::kFDataBytes] = {};
-    nord::put(o, nord::in::kOssd1, OSSD1);
-    nord::put(o, nord::in::kOssd2, OSSD2);
-    nord::put(o, nord::in::kOssd3, OSSD3);
-    nord::put(o, nord::in::kSos, SOS);
-    nord::put(o, nord::in::kSls, SLS);
-    nord::put(o, nord::in::kSlsLevel0, (SLS_LEVEL & 1u) != 0);
-    nord::put(o, nord::in::kSlsLevel1, (SLS_LEVEL & 2u) != 0);
-    nord::put(o, nord::in::kSdiP, SDI_P);
-    nord::put(o, nord::in::kSdiN, SDI_N);
-    nord::put(o, nord::in::kSsr, SSR);
-    nord::put(o, nord::in::kChannelAck, CH_PASS_ACK || ack_hold_);
-    for (std::size_t i = 0; i < nord::kFDataBytes; ++i) FMOD.OUT_DATA[i] = o[i];
+    // The F-data In is a function of the ten input bytes OSSD1..CH_PASS_ACK
+    // (one byte each, in a row: static_asserts below the class) and
+    // ack_hold_ alone: built once per change of those bytes (two word
+    // compares), not bit by bit every scan. Equal bytes are equal inputs,
+    // so the kept F-data is the one the inputs give whatever wrote them.
+    std::uint32_t fdata;
+    if constexpr (Cached) {
+      const unsigned char* in = reinterpret_cast<const unsigned char*>(this) + kInputsOffset;
+      std::uint64_t k0;
+      std::uint16_t k1;
+      std::memcpy(&k0, in, 8);
+      std::memcpy(&k1, in + 8, 2);
+      // Bit 17 set in every key: the initial in_key1_ 0 matches none.
+      const std::uint32_t k1x = k1 | (ack_hold_ ? 1u << 16 : 0u) | 1u << 17;
+      if (k0 != in_key0_ || k1x != in_key1_) {
+        fdata_in_ = build_fdata_in();
+        in_key0_ = k0;
+        in_key1_ = k1x;
+      }
+      fdata = fdata_in_;
+    } else {
+      fdata = build_fdata_in();
+    }
+    for (std::size_t i = 0; i < nord::kFDataBytes; ++i)
+      FMOD.OUT_DATA[i] = static_cast<std::uint8_t>(fdata >> (8 * i));
 
     FMOD(ctx);
     if (ack_hold_ && FMOD.protocol().cons_nr() != ack_cn_) ack_hold_ = false;
@@ -108,24 +128,12 @@ class NORD_SAFE_IO {
       status_ = decode_status(d, QBAD);
       status_key_ = key;
     }
-    const DeviceStatus& st = status_;
-    OSSD1_OFF = st.ossd1_off;
-    OSSD2_OFF = st.ossd2_off;
-    OSSD3_OFF = st.ossd3_off;
-    CLOCK1_OFF = st.clock1_off;
-    CLOCK2_OFF = st.clock2_off;
-    OSSD1_ON = st.ossd1_on;
-    OSSD2_ON = st.ossd2_on;
-    OSSD3_ON = st.ossd3_on;
-    SI1 = st.si1;
-    SI2 = st.si2;
-    SOS_OK = st.sos_ok;
-    SLS_OK = st.sls_ok;
-    SLS_LEVEL_ACT = st.sls_level_act;
-    SDI_P_OK = st.sdi_p_ok;
-    SDI_N_OK = st.sdi_n_ok;
-    SSM = st.ssm;
-    SSR_OK = st.ssr_ok;
+    // The 17 outputs OSSD1_OFF..SSR_OK are declared one byte each in
+    // DeviceStatus's order (static_asserts below the class), so the decode
+    // is written as one copy of its bytes into this object's, not 17 byte
+    // moves.
+    std::memcpy(reinterpret_cast<unsigned char*>(this) + kStatusOffset, &status_,
+                sizeof(DeviceStatus));
   }
 
   // The device status outputs, in their order, from the F-data the device
@@ -173,6 +181,95 @@ class NORD_SAFE_IO {
   // debugger cannot write either, so status_ is always the key's decode.
   std::uint64_t status_key_ = ~std::uint64_t{0};
   DeviceStatus status_{};
+  // Cache of build_fdata_in() (F-data In bytes 0..3, byte i in bits 8i):
+  // its key is the ten input bytes (in_key0_: OSSD1..SDI_N, in_key1_:
+  // SSR, CH_PASS_ACK, ack_hold_ << 16, 1 << 17). Not reflected: only this
+  // block writes them, from the inputs of the same scan.
+  std::uint64_t in_key0_ = 0;
+  std::uint32_t in_key1_ = 0;
+  std::uint32_t fdata_in_ = 0;
+
+  // The F-data In (host -> device) from the inputs, bit by bit.
+  [[nodiscard]] std::uint32_t build_fdata_in() const {
+    std::uint8_t o[nord::kFDataBytes] = {};
+    nord::put(o, nord::in::kOssd1, OSSD1);
+    nord::put(o, nord::in::kOssd2, OSSD2);
+    nord::put(o, nord::in::kOssd3, OSSD3);
+    nord::put(o, nord::in::kSos, SOS);
+    nord::put(o, nord::in::kSls, SLS);
+    nord::put(o, nord::in::kSlsLevel0, (SLS_LEVEL & 1u) != 0);
+    nord::put(o, nord::in::kSlsLevel1, (SLS_LEVEL & 2u) != 0);
+    nord::put(o, nord::in::kSdiP, SDI_P);
+    nord::put(o, nord::in::kSdiN, SDI_N);
+    nord::put(o, nord::in::kSsr, SSR);
+    nord::put(o, nord::in::kChannelAck, CH_PASS_ACK || ack_hold_);
+    std::uint32_t f = 0;
+    for (std::size_t i = 0; i < nord::kFDataBytes; ++i)
+      f |= static_cast<std::uint32_t>(o[i]) << (8 * i);
+    return f;
+  }
+
+  static const std::size_t kStatusOffset;
+  static const std::size_t kInputsOffset;
 };
+
+// Where the device status outputs begin; offsetof on a class that is not
+// standard-layout (F_MODULE mixes access levels), which GCC and Clang
+// compute as for any class without virtual bases.
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Winvalid-offsetof"
+#endif
+inline constexpr std::size_t NORD_SAFE_IO::kStatusOffset = offsetof(NORD_SAFE_IO, OSSD1_OFF);
+inline constexpr std::size_t NORD_SAFE_IO::kInputsOffset = offsetof(NORD_SAFE_IO, OSSD1);
+// scan()'s key: the ten inputs OSSD1..CH_PASS_ACK, one byte each, in a row.
+static_assert(sizeof(NORD_SAFE_IO::OSSD1) == 1 && sizeof(NORD_SAFE_IO::SLS_LEVEL) == 1 &&
+              sizeof(NORD_SAFE_IO::CH_PASS_ACK) == 1);
+static_assert(offsetof(NORD_SAFE_IO, OSSD2) == offsetof(NORD_SAFE_IO, OSSD1) + 1);
+static_assert(offsetof(NORD_SAFE_IO, OSSD3) == offsetof(NORD_SAFE_IO, OSSD1) + 2);
+static_assert(offsetof(NORD_SAFE_IO, SOS) == offsetof(NORD_SAFE_IO, OSSD1) + 3);
+static_assert(offsetof(NORD_SAFE_IO, SLS) == offsetof(NORD_SAFE_IO, OSSD1) + 4);
+static_assert(offsetof(NORD_SAFE_IO, SLS_LEVEL) == offsetof(NORD_SAFE_IO, OSSD1) + 5);
+static_assert(offsetof(NORD_SAFE_IO, SDI_P) == offsetof(NORD_SAFE_IO, OSSD1) + 6);
+static_assert(offsetof(NORD_SAFE_IO, SDI_N) == offsetof(NORD_SAFE_IO, OSSD1) + 7);
+static_assert(offsetof(NORD_SAFE_IO, SSR) == offsetof(NORD_SAFE_IO, OSSD1) + 8);
+static_assert(offsetof(NORD_SAFE_IO, CH_PASS_ACK) == offsetof(NORD_SAFE_IO, OSSD1) + 9);
+// operator()'s copy of status_: every output in DeviceStatus's place.
+static_assert(sizeof(NORD_SAFE_IO::DeviceStatus) == 17);
+static_assert(offsetof(NORD_SAFE_IO, OSSD2_OFF) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, ossd2_off));
+static_assert(offsetof(NORD_SAFE_IO, OSSD3_OFF) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, ossd3_off));
+static_assert(offsetof(NORD_SAFE_IO, CLOCK1_OFF) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, clock1_off));
+static_assert(offsetof(NORD_SAFE_IO, CLOCK2_OFF) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, clock2_off));
+static_assert(offsetof(NORD_SAFE_IO, OSSD1_ON) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, ossd1_on));
+static_assert(offsetof(NORD_SAFE_IO, OSSD2_ON) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, ossd2_on));
+static_assert(offsetof(NORD_SAFE_IO, OSSD3_ON) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, ossd3_on));
+static_assert(offsetof(NORD_SAFE_IO, SI1) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, si1));
+static_assert(offsetof(NORD_SAFE_IO, SI2) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, si2));
+static_assert(offsetof(NORD_SAFE_IO, SOS_OK) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, sos_ok));
+static_assert(offsetof(NORD_SAFE_IO, SLS_OK) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, sls_ok));
+static_assert(offsetof(NORD_SAFE_IO, SLS_LEVEL_ACT) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, sls_level_act));
+static_assert(offsetof(NORD_SAFE_IO, SDI_P_OK) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, sdi_p_ok));
+static_assert(offsetof(NORD_SAFE_IO, SDI_N_OK) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, sdi_n_ok));
+static_assert(offsetof(NORD_SAFE_IO, SSM) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, ssm));
+static_assert(offsetof(NORD_SAFE_IO, SSR_OK) - offsetof(NORD_SAFE_IO, OSSD1_OFF) ==
+              offsetof(NORD_SAFE_IO::DeviceStatus, ssr_ok));
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
 
 }  // namespace plc::safety
