@@ -31,10 +31,13 @@
 // with a steady path, PR5510_Device's arbitration templates, Crc2Cache
 // inline compare (issue 23, fourth round).
 // 9: plc::io::DeviceLink points at its runtime's count of state changes
-// (set_deferred's third argument), TaskRuntime::latched_changes, the
-// current owner as an inline thread_local (plc/io/current_owner.hpp),
-// SimDevice's last state; the NORD model's and safety functions' caches
-// (issue 23, fifth round).
+// (set_deferred's third argument), TaskRuntime::latched_changes and
+// via_plugin as PluginDevice entries, the current owner as an inline
+// thread_local (plc/io/current_owner.hpp), SimDevice::step_full(); the
+// NORD model's and safety functions' caches; NORD_SAFE_IO's cached F-data,
+// FHostProtocol::cycle() returning bool; MC_Power's, MC_Reset's and the
+// move blocks' operator() inline (no longer exported by the drive library)
+// (issue 23, fifth and sixth rounds).
 #define PLC_ABI_VERSION 9
 
 // The exported symbol's name, for dlsym.
