@@ -49,20 +49,25 @@ root="$work/root"
 mkdir -p "$root"/{bin,dev,proc,sys,tmp,vm/bin,vm/cell,vm/modules}
 cp "$busybox" "$root/bin/busybox"
 
-# An executable and every shared library ldd resolves for it (the ELF
-# loader included), each library at the path it has here, so the build
-# tree's absolute RUNPATH finds libsoftplc-*.so in the VM too; the folders
-# also go into the VM's LD_LIBRARY_PATH (vm/libdirs) for a $ORIGIN RUNPATH.
+# An executable and every shared library ldd resolves for it. The ELF loader
+# keeps its path (the executables name it); the libraries go into /vm/lib,
+# which the VM's LD_LIBRARY_PATH (vm/libdirs) puts before the build tree's
+# RUNPATH. Not at their own paths: a build tree under /tmp (a CI clone)
+# would be hidden by the tmpfs the VM's init mounts on /tmp.
 copy_elf() {
   cp -L "$1" "$root/vm/bin/"
   local lib
-  for lib in $(ldd "$1" | awk '$2 == "=>" && $3 ~ /^\// { print $3 } $1 ~ /^\// { print $1 }'); do
+  for lib in $(ldd "$1" | awk '$2 == "=>" && $3 ~ /^\// { print $3 }'); do
+    [ -e "$root/vm/lib/$(basename "$lib")" ] || cp -L "$lib" "$root/vm/lib/"
+  done
+  for lib in $(ldd "$1" | awk '$1 ~ /^\// { print $1 }'); do
     [ -e "$root$lib" ] && continue
     mkdir -p "$root$(dirname "$lib")"
     cp -L "$lib" "$root$lib"
-    dirname "$lib" >>"$root/vm/libdirs"
   done
 }
+mkdir -p "$root/vm/lib"
+echo /vm/lib >"$root/vm/libdirs"
 for b in "$build/bin/plcrun" "$build/bin/dnslave" "$(command -v candump)" "$(command -v cansend)"; do
   copy_elf "$b"
 done
