@@ -66,3 +66,64 @@ def instr_per_sim_ms(bin_dir, cells=None, jobs=None, valgrind="valgrind"):
                 for name, config, long_s in cells for s in (long_s, SHORT_S)}
         return {name: (runs[(name, long_s)].result() - runs[(name, SHORT_S)].result()) /
                 ((long_s - SHORT_S) * 1000) for name, _, long_s in cells}
+
+
+# The debugger's cost on the scan thread: the filling cell (one task of
+# 1 ms: one scan per simulated ms) with a trace of 100 of its variables, and
+# with a recording, against the plain cell; callgrind --separate-threads
+# counts the scan thread (plcrun's main thread in virtual time) apart from
+# the writer threads that format the trace and write the recording.
+DEBUG_CELL = "programs/filling_cell/cell.yaml"
+DEBUG_LONG_S = 3
+
+
+def trace_vars(bin_dir, config, n=100):
+    """The first n scalar, unlocated variables of `plcrun CONFIG --list-vars`."""
+    p = subprocess.run([str(pathlib.Path(bin_dir) / "plcrun"), str(ROOT / config), "--list-vars"],
+                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        raise CallgrindError(f"plcrun {config} --list-vars failed: {p.stderr[-500:]}")
+    names = [line.split()[0] for line in p.stdout.splitlines()
+             if line.strip() and "%" not in line and "STRING" not in line]
+    if len(names) < n:
+        raise CallgrindError(f"{config} has {len(names)} traceable variables, not {n}")
+    return names[:n]
+
+
+def scan_thread_ir(bin_dir, config, seconds, extra, valgrind="valgrind"):
+    """Instructions of plcrun's main thread (the scan thread in virtual time)."""
+    with tempfile.TemporaryDirectory(prefix="plc-callgrind-") as tmp:
+        out = pathlib.Path(tmp) / "callgrind.out"
+        args = [a.replace("{tmp}", tmp) for a in extra]
+        cmd = [valgrind, "--tool=callgrind", "--separate-threads=yes",
+               f"--callgrind-out-file={out}", str(pathlib.Path(bin_dir) / "plcrun"),
+               str(ROOT / config), "--virtual", "--for", f"{seconds}s", "-q", *args]
+        p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if p.returncode != 0:
+            raise CallgrindError(f"{shlex.join(cmd)} failed with exit code {p.returncode}:\n"
+                                 f"{p.stderr[-2000:]}")
+        main = pathlib.Path(f"{out}-01")
+        if not main.exists():
+            raise CallgrindError(f"callgrind wrote no per-thread file {main.name}")
+        text = main.read_text(errors="replace")
+    m = re.search(r"^summary: (\d+)", text, re.M) or re.search(r"^totals: (\d+)", text, re.M)
+    if not m:
+        raise CallgrindError(f"no instruction total in callgrind's output of {config}")
+    return int(m.group(1))
+
+
+def debugger_scan_costs(bin_dir, jobs=None, valgrind="valgrind"):
+    """{figure: scan-thread instructions per scan} of a trace of 100
+    variables and of a recording, each over the plain cell."""
+    modes = {"plain": [],
+             "trace100_scan_thread_instr_per_scan":
+                 ["--trace", "{tmp}/trace.csv", "--trace-vars",
+                  ",".join(trace_vars(bin_dir, DEBUG_CELL))],
+             "record_scan_thread_instr_per_scan": ["--record", "{tmp}/cell.rec"]}
+    jobs = jobs or os.cpu_count() or 1
+    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+        runs = {(name, s): pool.submit(scan_thread_ir, bin_dir, DEBUG_CELL, s, extra, valgrind)
+                for name, extra in modes.items() for s in (DEBUG_LONG_S, SHORT_S)}
+        per_ms = {name: (runs[(name, DEBUG_LONG_S)].result() - runs[(name, SHORT_S)].result()) /
+                  ((DEBUG_LONG_S - SHORT_S) * 1000) for name in modes}
+    return {name: per_ms[name] - per_ms["plain"] for name in modes if name != "plain"}

@@ -28,7 +28,8 @@ void ImageMirror::diff_area(std::span<const std::uint8_t> src, std::size_t at, r
   if (std::memcmp(src.data(), copy, src.size()) == 0) return;  // the common case
   for (std::size_t c = 0; c < src.size(); c += kChunk) {
     const std::size_t len = std::min(kChunk, src.size() - c);
-    if (std::memcmp(src.data() + c, copy + c, len) == 0) continue;
+    // An area of one chunk (the filling cell's %Q) differs: compared above.
+    if (len != src.size() && std::memcmp(src.data() + c, copy + c, len) == 0) continue;
     // Whole words with fixed-size loads (a variable-length memcpy per word
     // was a library call: with the PROFIsafe bytes changing every scan the
     // filling cell's %Q chunk is walked every scan); the area's last,
