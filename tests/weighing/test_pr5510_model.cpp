@@ -2,6 +2,9 @@
 // tables of shared/specs/sartorius-pr1721.md (section named per test).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+
 #include "plc/fb/weighing/window_codec.hpp"
 #include "plc/io/device_model.hpp"
 #include "pr5510_harness.hpp"
@@ -66,6 +69,36 @@ TEST(Pr5510Model, Spec0_WindowsUpdateEvery20ms) {
   h.run(1ms);
   EXPECT_EQ(0x0E, h.r()[wg::r::kReadValueSelected]);
   EXPECT_EQ(2u, h.model.cycles());
+}
+
+// §0 with the process moving: while the coarse and fine valves fill the
+// hopper (the weight changes every 1 ms tick, noise on), the whole read
+// window changes only in the steps that ran a device cycle, and it does
+// follow the weight at those. The usual step (no cycle due) hands the
+// window over before its ticks (a35fe87), which is exact only while the
+// ticks never write it: this test fails if one does.
+TEST(Pr5510Model, Spec0_ReadWindowFrozenBetweenCyclesWhileFilling) {
+  plc::sim::Pr5510Config c;  // the default noise and flow variation
+  c.filling.initial_load = 1.0;
+  Harness h(c);
+  h.w()[wg::w::kReadValueSelect] = 0x08;  // gross (§5.2)
+  h.w()[wg::w::kOutputs] = 0x03;          // outputs 1 and 2: coarse and fine valves
+  std::array<std::uint8_t, wg::kWindowSize> before{};
+  std::copy_n(h.r().begin(), wg::kWindowSize, before.begin());
+  int changes_at_cycles = 0;
+  for (int ms = 1; ms <= 2000; ++ms) {
+    const auto cycles_before = h.model.cycles();
+    h.run(1ms);
+    const bool cycled = h.model.cycles() != cycles_before;
+    const bool changed = !std::equal(before.begin(), before.end(), h.r().begin());
+    if (!cycled) {
+      ASSERT_FALSE(changed) << "R changed between device cycles at t = " << ms << " ms";
+    }
+    if (cycled && changed) ++changes_at_cycles;
+    std::copy_n(h.r().begin(), wg::kWindowSize, before.begin());
+  }
+  EXPECT_EQ(100u, h.model.cycles());  // 2 s of 20 ms cycles
+  EXPECT_GT(changes_at_cycles, 50) << "the gross weight did not follow the filling";
 }
 
 // §5.2 read codes and §5.3 packed codes 4/5, in both byte orders (§3).
