@@ -297,18 +297,38 @@ std::string store_real(VarType type, std::string_view text, void* dst) {
   return {};
 }
 
-std::string hex(std::uint64_t v, int digits) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "16#%0*llX", digits, static_cast<unsigned long long>(v));
-  return buf;
+// The text of an integer, as std::to_string makes it, appended.
+template <class T>
+void append_int(std::string& out, T v) {
+  char buf[24];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  out.append(buf, r.ptr);
 }
 
-std::string real_text(double d, int precision) {
+// "16#" and `digits` upper-case hex digits at least: printf's "%0*llX"
+// (digits <= 16), built in a buffer and appended once.
+void append_hex(std::string& out, std::uint64_t v, int digits) {
+  char hex[16];
+  const auto r = std::to_chars(hex, hex + sizeof hex, v, 16);
+  const auto n = static_cast<int>(r.ptr - hex);
+  char buf[3 + 16] = {'1', '6', '#'};
+  int k = 3;
+  for (int pad = digits - n; pad > 0; --pad) buf[k++] = '0';
+  for (int i = 0; i < n; ++i)
+    buf[k++] = (hex[i] >= 'a') ? static_cast<char>(hex[i] - 'a' + 'A') : hex[i];
+  out.append(buf, static_cast<std::size_t>(k));
+}
+
+// printf's "%.*g" (std::to_chars with a precision is specified as printf
+// in the C locale, and is several times cheaper: the trace's writer formats
+// every value of every row), then ".0" when the text looks like an integer.
+// Test: IecLiteral.FormattedRealsAndHexAreThePrintfTexts.
+void append_real(std::string& out, double d, int precision) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", precision, d);
-  std::string s = buf;
-  if (s.find_first_of(".eEni") == std::string::npos) s += ".0";
-  return s;
+  const auto r = std::to_chars(buf, buf + sizeof buf, d, std::chars_format::general, precision);
+  const std::string_view s(buf, static_cast<std::size_t>(r.ptr - buf));
+  out += s;
+  if (s.find_first_of(".eEni") == std::string_view::npos) out += ".0";
 }
 
 }  // namespace
@@ -400,44 +420,55 @@ std::string check_raw_value(VarType type, const void* src) {
   }
 }
 
-std::string format_value(VarType type, const void* src) {
+void append_value(std::string& out, VarType type, const void* src) {
   switch (type) {
     case VarType::BOOL:
-      return *static_cast<const bool*>(src) ? "TRUE" : "FALSE";
+      out += *static_cast<const bool*>(src) ? "TRUE" : "FALSE";
+      return;
     case VarType::SINT:
-      return std::to_string(*static_cast<const std::int8_t*>(src));
+      return append_int(out, *static_cast<const std::int8_t*>(src));
     case VarType::INT:
-      return std::to_string(*static_cast<const std::int16_t*>(src));
+      return append_int(out, *static_cast<const std::int16_t*>(src));
     case VarType::DINT:
-      return std::to_string(*static_cast<const std::int32_t*>(src));
+      return append_int(out, *static_cast<const std::int32_t*>(src));
     case VarType::LINT:
-      return std::to_string(*static_cast<const std::int64_t*>(src));
+      return append_int(out, *static_cast<const std::int64_t*>(src));
     case VarType::USINT:
-      return std::to_string(*static_cast<const std::uint8_t*>(src));
+      return append_int(out, *static_cast<const std::uint8_t*>(src));
     case VarType::UINT:
-      return std::to_string(*static_cast<const std::uint16_t*>(src));
+      return append_int(out, *static_cast<const std::uint16_t*>(src));
     case VarType::UDINT:
-      return std::to_string(*static_cast<const std::uint32_t*>(src));
+      return append_int(out, *static_cast<const std::uint32_t*>(src));
     case VarType::ULINT:
-      return std::to_string(*static_cast<const std::uint64_t*>(src));
+      return append_int(out, *static_cast<const std::uint64_t*>(src));
     case VarType::BYTE:
-      return hex(*static_cast<const std::uint8_t*>(src), 2);
+      return append_hex(out, *static_cast<const std::uint8_t*>(src), 2);
     case VarType::WORD:
-      return hex(*static_cast<const std::uint16_t*>(src), 4);
+      return append_hex(out, *static_cast<const std::uint16_t*>(src), 4);
     case VarType::DWORD:
-      return hex(*static_cast<const std::uint32_t*>(src), 8);
+      return append_hex(out, *static_cast<const std::uint32_t*>(src), 8);
     case VarType::LWORD:
-      return hex(*static_cast<const std::uint64_t*>(src), 16);
+      return append_hex(out, *static_cast<const std::uint64_t*>(src), 16);
     case VarType::REAL:
-      return real_text(*static_cast<const float*>(src), 9);
+      return append_real(out, *static_cast<const float*>(src), 9);
     case VarType::LREAL:
-      return real_text(*static_cast<const double*>(src), 17);
+      return append_real(out, *static_cast<const double*>(src), 17);
     case VarType::TIME:
-      return format_iec_time(*static_cast<const TIME*>(src));
+      out += format_iec_time(*static_cast<const TIME*>(src));
+      return;
     case VarType::STRING:
-      return "'" + std::string(static_cast<const STRING*>(src)->view()) + "'";
+      out += '\'';
+      out += static_cast<const STRING*>(src)->view();
+      out += '\'';
+      return;
   }
-  return "?";
+  out += '?';
+}
+
+std::string format_value(VarType type, const void* src) {
+  std::string out;
+  append_value(out, type, src);
+  return out;
 }
 
 }  // namespace plc

@@ -2,7 +2,13 @@
 // typed literals; and printing in IEC notation.
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "plc/iec_literal.hpp"
 
@@ -178,4 +184,98 @@ TEST(IecLiteral, TimesAndStringsBeyondTheirRangeAreRefused) {
   EXPECT_EQ(s.view(), "keep");
   ASSERT_EQ(parse_value(VarType::STRING, std::string(80, 'y'), &s), "");
   EXPECT_EQ(s.size(), 80u);
+}
+
+namespace {
+// The texts format_value() made with printf before it used std::to_chars
+// (runtime/src/iec_literal.cpp): "%.*g" plus ".0" when the text looks like
+// an integer, and "16#%0*llX".
+std::string printf_real(double d, int precision) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", precision, d);
+  std::string s = buf;
+  if (s.find_first_of(".eEni") == std::string::npos) s += ".0";
+  return s;
+}
+std::string printf_hex(std::uint64_t v, int digits) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "16#%0*llX", digits, static_cast<unsigned long long>(v));
+  return buf;
+}
+}  // namespace
+
+// Traces, the debugger and the HMI print values through format_value(); its
+// REAL/LREAL and hex texts must stay byte for byte what printf made (golden
+// traces compare them): random bit patterns (every exponent, subnormals,
+// NaN payloads), the special values, and values near the precision's edge.
+TEST(IecLiteral, FormattedRealsAndHexAreThePrintfTexts) {
+  std::uint64_t x = 0x9E3779B97F4A7C15ULL;
+  auto next = [&] {
+    x ^= x >> 12;
+    x ^= x << 25;
+    x ^= x >> 27;
+    return x * 0x2545F4914F6CDD1DULL;
+  };
+  std::vector<double> doubles = {0.0,
+                                 -0.0,
+                                 1.0,
+                                 -1.0,
+                                 0.1,
+                                 1e16,
+                                 1e17,
+                                 123456789012345678.0,
+                                 1e-5,
+                                 1e-4,
+                                 0.5e-4,
+                                 std::numeric_limits<double>::min(),
+                                 std::numeric_limits<double>::denorm_min(),
+                                 std::numeric_limits<double>::max(),
+                                 std::numeric_limits<double>::infinity(),
+                                 -std::numeric_limits<double>::infinity(),
+                                 std::numeric_limits<double>::quiet_NaN(),
+                                 -std::numeric_limits<double>::quiet_NaN(),
+                                 20.0100002,
+                                 3950000.0};
+  for (int i = 0; i < 200000; ++i) {
+    const std::uint64_t bits = next();
+    double d;
+    std::memcpy(&d, &bits, sizeof d);
+    doubles.push_back(d);
+    doubles.push_back(static_cast<double>(static_cast<std::int64_t>(bits) >> (bits & 63)));
+  }
+  int checked = 0;
+  for (const double d : doubles) {
+    ASSERT_EQ(printf_real(d, 17), format_value(VarType::LREAL, &d))
+        << "LREAL bits " << std::hex << std::bit_cast<std::uint64_t>(d);
+    const auto f = static_cast<float>(d);
+    ASSERT_EQ(printf_real(f, 9), format_value(VarType::REAL, &f))
+        << "REAL bits " << std::hex << std::bit_cast<std::uint32_t>(f);
+    std::uint32_t fbits = static_cast<std::uint32_t>(std::bit_cast<std::uint64_t>(d));
+    float g;
+    std::memcpy(&g, &fbits, sizeof g);
+    ASSERT_EQ(printf_real(g, 9), format_value(VarType::REAL, &g))
+        << "REAL bits " << std::hex << fbits;
+    checked += 3;
+  }
+  EXPECT_GT(checked, 1'200'000);
+  for (int i = 0; i < 50000; ++i) {
+    const std::uint64_t v = next() >> (i % 64);
+    const auto b = static_cast<std::uint8_t>(v);
+    const auto w = static_cast<std::uint16_t>(v);
+    const auto dw = static_cast<std::uint32_t>(v);
+    ASSERT_EQ(printf_hex(b, 2), format_value(VarType::BYTE, &b));
+    ASSERT_EQ(printf_hex(w, 4), format_value(VarType::WORD, &w));
+    ASSERT_EQ(printf_hex(dw, 8), format_value(VarType::DWORD, &dw));
+    ASSERT_EQ(printf_hex(v, 16), format_value(VarType::LWORD, &v));
+    const auto li = static_cast<std::int64_t>(v);
+    const auto si = static_cast<std::int8_t>(v);
+    ASSERT_EQ(std::to_string(li), format_value(VarType::LINT, &li));
+    ASSERT_EQ(std::to_string(si), format_value(VarType::SINT, &si));
+    ASSERT_EQ(std::to_string(v), format_value(VarType::ULINT, &v));
+  }
+  // append_value() appends exactly that text.
+  std::string row = "t,";
+  const double d = 0.1;
+  append_value(row, VarType::LREAL, &d);
+  EXPECT_EQ("t,0.10000000000000001", row);
 }

@@ -38,5 +38,8 @@ std::string check_raw_value(VarType type, const void* src);
 // Prints the variable at `src` of `type` in IEC notation: TRUE, -5, 16#047F,
 // 1.5, T#20ms, 'text'.
 std::string format_value(VarType type, const void* src);
+// format_value()'s text appended to `out`, with no string of its own (the
+// trace's writer thread formats a row of values per scan).
+void append_value(std::string& out, VarType type, const void* src);
 
 }  // namespace plc

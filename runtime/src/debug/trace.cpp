@@ -358,7 +358,7 @@ void Trace::format_row(const Row& m, const std::uint8_t* bytes) {
     text_ += std::to_string(m.cycle);
     for (std::size_t i = 0; i < columns_.size(); ++i) {
       text_ += ',';
-      text_ += format_value(columns_[i].var.type, &row[i]);
+      append_value(text_, columns_[i].var.type, &row[i]);
     }
     text_ += '\n';
     return;
