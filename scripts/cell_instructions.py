@@ -36,18 +36,25 @@ class CallgrindError(RuntimeError):
     pass
 
 
-def callgrind_ir(bin_dir, config, seconds, valgrind="valgrind"):
-    """Instructions of `plcrun CONFIG --virtual --for SECONDS` under callgrind."""
+def callgrind_ir(bin_dir, config, seconds, valgrind="valgrind", extra=(), main_thread=False):
+    """Instructions of `plcrun CONFIG --virtual --for SECONDS [EXTRA]` under
+    callgrind: of the whole process, or with main_thread of plcrun's main
+    thread alone (--separate-threads; the scan thread in virtual time).
+    "{tmp}" in `extra` is a temporary folder (for files the run writes)."""
     with tempfile.TemporaryDirectory(prefix="plc-callgrind-") as tmp:
         out = pathlib.Path(tmp) / "callgrind.out"
         cmd = [valgrind, "--tool=callgrind", f"--callgrind-out-file={out}",
+               *(["--separate-threads=yes"] if main_thread else []),
                str(pathlib.Path(bin_dir) / "plcrun"), str(ROOT / config), "--virtual", "--for",
-               f"{seconds}s", "-q"]
+               f"{seconds}s", "-q", *[a.replace("{tmp}", tmp) for a in extra]]
         p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if p.returncode != 0:
             raise CallgrindError(f"{shlex.join(cmd)} failed with exit code {p.returncode}:\n"
                                  f"{p.stderr[-2000:]}")
-        text = out.read_text(errors="replace")
+        result = pathlib.Path(f"{out}-01") if main_thread else out
+        if not result.exists():
+            raise CallgrindError(f"callgrind wrote no file {result.name}")
+        text = result.read_text(errors="replace")
     m = re.search(r"^summary: (\d+)", text, re.M) or re.search(r"^totals: (\d+)", text, re.M)
     if not m:
         raise CallgrindError(f"no instruction total in callgrind's output of {config}")
@@ -90,28 +97,6 @@ def trace_vars(bin_dir, config, n=100):
     return names[:n]
 
 
-def scan_thread_ir(bin_dir, config, seconds, extra, valgrind="valgrind"):
-    """Instructions of plcrun's main thread (the scan thread in virtual time)."""
-    with tempfile.TemporaryDirectory(prefix="plc-callgrind-") as tmp:
-        out = pathlib.Path(tmp) / "callgrind.out"
-        args = [a.replace("{tmp}", tmp) for a in extra]
-        cmd = [valgrind, "--tool=callgrind", "--separate-threads=yes",
-               f"--callgrind-out-file={out}", str(pathlib.Path(bin_dir) / "plcrun"),
-               str(ROOT / config), "--virtual", "--for", f"{seconds}s", "-q", *args]
-        p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        if p.returncode != 0:
-            raise CallgrindError(f"{shlex.join(cmd)} failed with exit code {p.returncode}:\n"
-                                 f"{p.stderr[-2000:]}")
-        main = pathlib.Path(f"{out}-01")
-        if not main.exists():
-            raise CallgrindError(f"callgrind wrote no per-thread file {main.name}")
-        text = main.read_text(errors="replace")
-    m = re.search(r"^summary: (\d+)", text, re.M) or re.search(r"^totals: (\d+)", text, re.M)
-    if not m:
-        raise CallgrindError(f"no instruction total in callgrind's output of {config}")
-    return int(m.group(1))
-
-
 def debugger_scan_costs(bin_dir, jobs=None, valgrind="valgrind"):
     """{figure: scan-thread instructions per scan} of a trace of 100
     variables and of a recording, each over the plain cell."""
@@ -122,7 +107,7 @@ def debugger_scan_costs(bin_dir, jobs=None, valgrind="valgrind"):
              "record_scan_thread_instr_per_scan": ["--record", "{tmp}/cell.rec"]}
     jobs = jobs or os.cpu_count() or 1
     with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
-        runs = {(name, s): pool.submit(scan_thread_ir, bin_dir, DEBUG_CELL, s, extra, valgrind)
+        runs = {(name, s): pool.submit(callgrind_ir, bin_dir, DEBUG_CELL, s, valgrind, extra, True)
                 for name, extra in modes.items() for s in (DEBUG_LONG_S, SHORT_S)}
         per_ms = {name: (runs[(name, DEBUG_LONG_S)].result() - runs[(name, SHORT_S)].result()) /
                   ((DEBUG_LONG_S - SHORT_S) * 1000) for name in modes}
