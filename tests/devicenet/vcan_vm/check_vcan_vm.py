@@ -174,10 +174,9 @@ def main():
     for prog, section in [("plcrun", "plcrun-stderr"), ("dnslave", "dnslave")]:
         code = re.search(rf"^vcan-vm: exit {prog} (\S+)$", clean, re.M)
         first = next((l for l in s.get(section, "").splitlines() if l.strip()), "")
-        c.check(code is not None and code.group(1) == "0",
-                f"{prog} stopped on SIGTERM after the scenario, exit 0",
-                f"exit {code.group(1) if code else '?'}: {first}" if not code or code.group(1) != "0"
-                else "")
+        ok = code is not None and code.group(1) == "0"
+        c.check(ok, f"{prog} stopped on SIGTERM after the scenario, exit 0",
+                "" if ok else f"exit {code.group(1) if code else '?'}: {first}")
     c.check("candump" in s and "plcrun-stdout" in s, "the results came back from the VM",
             ", ".join(sorted(s)))
     if "candump" not in s or "plcrun-stdout" not in s:

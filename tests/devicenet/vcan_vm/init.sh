@@ -16,8 +16,8 @@
 # "=== vcan-vm: END name ===" markers, then powers the VM off.
 /bin/busybox --install -s /bin
 export PATH=/vm/bin:/bin
-LD_LIBRARY_PATH=$(sort -u /vm/libdirs | tr '\n' ':')
-export LD_LIBRARY_PATH
+# Every library the executables need is in /vm/lib (run_vcan_vm.sh).
+export LD_LIBRARY_PATH=/vm/lib
 mount -t proc proc /proc
 mount -t sysfs sysfs /sys
 mount -t devtmpfs devtmpfs /dev

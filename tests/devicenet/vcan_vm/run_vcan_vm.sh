@@ -51,7 +51,7 @@ cp "$busybox" "$root/bin/busybox"
 
 # An executable and every shared library ldd resolves for it. The ELF loader
 # keeps its path (the executables name it); the libraries go into /vm/lib,
-# which the VM's LD_LIBRARY_PATH (vm/libdirs) puts before the build tree's
+# which the VM's LD_LIBRARY_PATH (init.sh) puts before the build tree's
 # RUNPATH. Not at their own paths: a build tree under /tmp (a CI clone)
 # would be hidden by the tmpfs the VM's init mounts on /tmp.
 copy_elf() {
@@ -67,7 +67,6 @@ copy_elf() {
   done
 }
 mkdir -p "$root/vm/lib"
-echo /vm/lib >"$root/vm/libdirs"
 for b in "$build/bin/plcrun" "$build/bin/dnslave" "$(command -v candump)" "$(command -v cansend)"; do
   copy_elf "$b"
 done
