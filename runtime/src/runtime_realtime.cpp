@@ -223,15 +223,17 @@ void Runtime::watchdog_loop() {
       const std::int64_t started = t.scan_started_ns.load(std::memory_order_acquire);
       if (started < 0) continue;
       if (virtual_time) {
+        const std::int64_t cpu_limit = std::max(limit, kVirtualWatchdogFloorNs);
         const std::uint64_t seq = t.scan_seq.load(std::memory_order_relaxed);
         if (seq != seen[i].seq) {
           seen[i] = {seq, cpu_now()};
           continue;
         }
         const std::int64_t used = cpu_now() - seen[i].cpu0;
-        if (used > limit) {
+        if (used > cpu_limit) {
           t.trip_reason = "watchdog: scan used more than " + std::to_string(used / 1000) +
-                          " us of CPU, limit " + std::to_string(limit / 1000) + " us";
+                          " us of CPU, limit " + std::to_string(cpu_limit / 1000) +
+                          " us (virtual time: a runaway scan, at least 0.5 s of CPU)";
           t.trip_requested.store(true, std::memory_order_release);
           std::fprintf(stderr,
                        "plcrun: task '%s' exceeded its watchdog; it stops when the scan returns\n",

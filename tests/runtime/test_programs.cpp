@@ -1,6 +1,9 @@
 #include "test_programs.hpp"
 
+#include <time.h>
+
 #include <chrono>
+#include <cstdint>
 #include <stdexcept>
 
 namespace plctest {
@@ -10,9 +13,15 @@ void Spinner::cycle(const ScanContext&) {
   out = INT(1234);
   lamp = true;
   if (spin) {
-    // Deliberately burns wall time: the watchdog measures real scan time.
-    const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(spin_us);
-    while (std::chrono::steady_clock::now() < until) {
+    // CPU time, not wall time: a preempted spin on a loaded machine would
+    // otherwise end with less CPU used than the test asked for.
+    auto cpu_ns = [] {
+      timespec ts{};
+      clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+      return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+    };
+    const std::int64_t until = cpu_ns() + std::int64_t(spin_us) * 1000;
+    while (cpu_ns() < until) {
     }
   }
 }

@@ -36,8 +36,10 @@ class ReleaseLog : public ProgramBase<ReleaseLog> {
   PLC_REFLECT(scans)
 };
 
-// Busy-waits `spin_us` microseconds of wall time in a scan while `spin` is
-// TRUE (to trip the watchdog); drives a located output every scan.
+// Busy-waits until its thread has used `spin_us` microseconds of CPU in a
+// scan while `spin` is TRUE (to trip the watchdog: the real-time one times
+// the wall clock, which runs at least as far; the virtual-time one the
+// scan thread's CPU time); drives a located output every scan.
 class Spinner : public ProgramBase<Spinner> {
  public:
   io::Located<INT> out{"%QW0"};

@@ -1,7 +1,8 @@
 // Watchdog and fault isolation: a scan longer than `watchdog` x period stops
 // that task and puts its outputs to their safe values; other tasks go on.
 // In virtual time the watchdog counts the scan thread's CPU time, so a
-// preempted (not runaway) scan never trips it.
+// preempted (not runaway) scan never trips it, and it stops only a runaway
+// scan: one above Runtime::kVirtualWatchdogFloorNs of CPU (0.5 s).
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -40,14 +41,16 @@ TEST(Watchdog, LongScanStopsOnlyItsTaskAndDrivesItsOutputsSafe) {
   EXPECT_EQ(dev_out[1], 0xD2) << "1234 = 16#04D2 while running";
   EXPECT_EQ(dev_out[4], 0x01) << "%QX4.0 on";
   spin->spin = true;
-  // 200 ms of CPU in a 1 ms task with watchdog 3 (3 ms of CPU per scan): the
-  // watchdog thread (polling every 1 ms) sees it long before the scan ends,
-  // even on a loaded machine.
-  spin->spin_us = 200000;
+  // 800 ms of CPU in a 1 ms task with watchdog 3: above the virtual-time
+  // floor of 500 ms, so the watchdog thread (polling every 1 ms) sees it
+  // long before the scan ends, even on a loaded machine.
+  static_assert(Runtime::kVirtualWatchdogFloorNs == 500'000'000);
+  spin->spin_us = 800000;
   for (int i = 0; i < 10; ++i) rt->tick();
   const TaskRuntime& fast = *rt->task("fast");
   EXPECT_TRUE(fast.stats.snapshot().watchdog_tripped);
-  EXPECT_NE(fast.stats.snapshot().stop_reason.find("watchdog"), std::string::npos);
+  EXPECT_NE(fast.stats.snapshot().stop_reason.find("of CPU, limit 500000 us"), std::string::npos)
+      << fast.stats.snapshot().stop_reason;
   EXPECT_EQ(spin->scans, 11) << "no scan after the trip";
   EXPECT_EQ(dev_out[0], 0x04);
   EXPECT_EQ(dev_out[1], 0x00) << "safe value 16#0400 configured for %QW0";
@@ -100,6 +103,28 @@ programs: [{name: L, type: LoopCounter}]
   rt->run(io::ClockMode::Virtual, std::chrono::seconds(10));
   EXPECT_FALSE(rt->task("t")->stats.snapshot().watchdog_tripped);
   EXPECT_EQ(rt->task("t")->stats.scans(), 10000u);
+}
+
+// The CI failure of 3 December: an ASan build's demo scan, recorded in
+// virtual time, was charged 11 ms of CPU (the host's delays in the wait for
+// the recording writer) and the 10 ms watchdog stopped a reproducible run.
+// A scan of 50 ms of CPU in a 1 ms task with watchdog 3 (3 ms) is slow, not
+// runaway: virtual time runs on, the same on a slow machine as on a fast
+// one. (Before the floor: stopped at the first such scan.)
+TEST(Watchdog, VirtualTimeStopsOnlyRunawayScansNotSlowOnes) {
+  auto rt = plctest::make_runtime(kCell);
+  auto* spin = static_cast<plctest::Spinner*>(rt->program("Spin"));
+  rt->start(io::ClockMode::Virtual);
+  spin->spin = true;
+  spin->spin_us = 50000;
+  for (int i = 0; i < 4; ++i) rt->tick();
+  const TaskStats st = rt->task("fast")->stats.snapshot();
+  EXPECT_FALSE(st.watchdog_tripped) << st.stop_reason;
+  EXPECT_EQ(spin->scans, 4);
+  spin->spin = false;
+  for (int i = 0; i < 4; ++i) rt->tick();
+  EXPECT_EQ(spin->scans, 8) << "the task runs on";
+  rt->finish();
 }
 
 // Real time: the watchdog stops a task whose program never returns; the run

@@ -24,9 +24,15 @@
 // Watchdog in virtual time: a scan has no duration in virtual time, so the
 // watchdog there catches runaway programs by the CPU time the scan thread
 // spends in one scan (not wall time, which a busy machine stretches by
-// preempting us: that would make a reproducible run trip at random). The
-// watchdog thread requests the stop; the scan thread applies it when the
-// scan returns.
+// preempting us: that would make a reproducible run trip at random), and
+// only above kVirtualWatchdogFloor whatever `watchdog` x period is. CPU time
+// is not free of the machine either: in a VM the host's delays inside a
+// system call, an IPI or a page fault are charged to the thread (a recorded
+// demo scan waiting for the writer took 1-3 ms of CPU here, one scan of an
+// ASan build on CI 11 ms), so a limit of a few periods stopped reproducible
+// runs at random, and a program near its budget would stop on one machine
+// and not on another. The watchdog thread requests the stop; the scan
+// thread applies it when the scan returns.
 #pragma once
 
 #include <time.h>
@@ -232,6 +238,10 @@ class Runtime {
   // Virtual time times one scan in this many for the statistics (every scan
   // is counted); real time times every scan.
   static constexpr std::uint32_t kVirtualTimedEvery = 16;
+  // Virtual time: the least CPU time of one scan that the watchdog stops
+  // (see the top of this file). Half a second: far above any noise seen,
+  // and a runaway program still stops at once for a person watching.
+  static constexpr std::int64_t kVirtualWatchdogFloorNs = 500'000'000;
 
   // Builds the whole cell; throws ConfigError naming file:line:column.
   explicit Runtime(const CellConfig& cfg);
