@@ -70,7 +70,10 @@ TEST(DeviceNetUdp, AllocatePollExplicitLoseAndReallocate) {
   e.input_size = 12;  // fragmented responses
   e.output_size = 8;
   e.vendor = 560;
-  e.epr = std::chrono::milliseconds(50);
+  // Connection timeout 4 x EPR = 1 s: one thread ticks both ends (and the
+  // hub forwards on its own), so a stall of that long on a loaded machine
+  // would be a loss the test did not make.
+  e.epr = std::chrono::milliseconds(250);
   const auto d = r.scanner.add(e);
   auto online = [&] { return r.scanner.state(d) == dn::ScanState::Online; };
 

@@ -194,6 +194,23 @@ TEST(HmiSupervisedRealTime, BackoffStartsAgainAfterALongRun) {
   EXPECT_EQ(count(log, "restart in 0.2 s"), 1U) << log;
 }
 
+// Overruns the crash window may have above the steady windows. A TSan
+// build starts plchmi with fork(), not clone(CLONE_VM | CLONE_VFORK)
+// (host/supervisor.cpp): the scan thread then takes copy-on-write faults on
+// TSan's shadow memory at each of the three restarts, which the product
+// does not; once 10 against 8 were counted there on a loaded machine.
+#if defined(__SANITIZE_THREAD__)
+constexpr std::uint64_t kCrashOverrunMargin = 50;
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+constexpr std::uint64_t kCrashOverrunMargin = 50;
+#else
+constexpr std::uint64_t kCrashOverrunMargin = 5;
+#endif
+#else
+constexpr std::uint64_t kCrashOverrunMargin = 5;
+#endif
+
 // The cell scans on while its bridge crashes and restarts three times: in
 // real time, the second with the crashes has no more overruns than the
 // steady seconds before and after it (generous: plus a few, for a loaded
@@ -225,7 +242,7 @@ TEST(HmiSupervisedRealTime, CellKeepsScanningWhileTheBridgeCrashes) {
   ::testing::Test::RecordProperty("overruns_before", int(before.first));
   ::testing::Test::RecordProperty("overruns_during", int(during.first));
   ::testing::Test::RecordProperty("overruns_after", int(after.first));
-  EXPECT_LE(during.first, std::max(before.first, after.first) + 5)
+  EXPECT_LE(during.first, std::max(before.first, after.first) + kCrashOverrunMargin)
       << "before " << before.first << ", during " << during.first << ", after " << after.first;
   EXPECT_GT(during.second, 500U) << "the 1 ms task ran " << during.second << " scans";
   EXPECT_GE(count(s.lines(), "SEGV"), 1U) << s.lines();

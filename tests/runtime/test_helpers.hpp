@@ -72,4 +72,20 @@ inline std::string read_file(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// The demo cell (programs/demo/cell.yaml) with both tasks' watchdogs off,
+// written to the temporary file `name`: for real-time tests that assert
+// nothing about timing, where a loaded machine that stalls one scan for
+// more than 10 periods must not stop a task (plcrun then exits 1, and a
+// session's forces stop taking effect). "" when the demo no longer has
+// the lines this edits.
+inline std::string demo_without_watchdogs(const std::string& name) {
+  std::string cell = read_file(source_path("programs/demo/cell.yaml"));
+  const auto wd = cell.find("    watchdog: 10 ");
+  const auto slow = cell.find("    priority: 5\n");
+  if (wd == std::string::npos || slow == std::string::npos) return "";
+  cell.insert(slow + 16, "    watchdog: 0\n");  // after wd: wd's offset holds
+  cell.replace(wd, 17, "    watchdog: 0  ");
+  return write_temp(name, cell);
+}
+
 }  // namespace plctest

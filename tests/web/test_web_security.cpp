@@ -225,7 +225,10 @@ TEST(WebHmiSecurity, OversizedRequestsAreRefusedAndCounted) {
 // otherwise), the cell scans, and a page that reads gets the newest values.
 TEST(WebHmiSecurity, APageThatDoesNotReadIsDroppedAndStallsNothing) {
   hmi::web::WebOptions o;
-  o.max_queue_messages = 32;
+  // Not smaller: the reading page's queue must not fill while the machine
+  // leaves the web thread unscheduled for a few rounds (it would then be
+  // dropped too, rightly); 128 rounds are 30-100 ms of that.
+  o.max_queue_messages = 128;
   WebCell w(o);
   w.login();
   auto open_ws = [&](bool small_buffer) {
