@@ -25,7 +25,7 @@
 // watchdog there catches runaway programs by the CPU time the scan thread
 // spends in one scan (not wall time, which a busy machine stretches by
 // preempting us: that would make a reproducible run trip at random), and
-// only above kVirtualWatchdogFloor whatever `watchdog` x period is. CPU time
+// only above kVirtualWatchdogFloorNs whatever `watchdog` x period is. CPU time
 // is not free of the machine either: in a VM the host's delays inside a
 // system call, an IPI or a page fault are charged to the thread (a recorded
 // demo scan waiting for the writer took 1-3 ms of CPU here, one scan of an
