@@ -4,7 +4,6 @@
 // that the recorder, the reader and the replayer share.
 #pragma once
 
-#include <boost/crc.hpp>
 #include <boost/endian/conversion.hpp>
 #include <cstdint>
 #include <cstring>
@@ -13,6 +12,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "plc/debug/crc32.hpp"
 #include "plc/types.hpp"
 
 namespace plc::debug::recfmt {
@@ -147,7 +147,7 @@ bool skip_value(In& in, std::uint8_t type);
 // CRC-32 of IEEE 802.3 (as zlib's crc32): a record's stored CRC is the CRC
 // of every record's type, length and payload from the first record up to
 // and including its own, i.e. zlib.crc32 continued over the records.
-using RunningCrc = boost::crc_32_type;
+using RunningCrc = Crc32;
 
 // The scan's outputs as the replay compares them: the global %Q and %M
 // after the merge. Each area as 8-byte little-endian words (its tail
