@@ -24,6 +24,7 @@
 #include "loopback_netns.hpp"
 #include "plc/hmi/checked_decode.hpp"
 #include "plc/hmi/host.hpp"
+#include "plc_test_sanitizers.hpp"
 #include "runtime/test_helpers.hpp"
 #include "softplc_hmi/alarm_t.hpp"
 #include "softplc_hmi/diagnostics_t.hpp"
@@ -199,17 +200,7 @@ TEST(HmiSupervisedRealTime, BackoffStartsAgainAfterALongRun) {
 // (host/supervisor.cpp): the scan thread then takes copy-on-write faults on
 // TSan's shadow memory at each of the three restarts, which the product
 // does not; once 10 against 8 were counted there on a loaded machine.
-#if defined(__SANITIZE_THREAD__)
-constexpr std::uint64_t kCrashOverrunMargin = 50;
-#elif defined(__has_feature)
-#if __has_feature(thread_sanitizer)
-constexpr std::uint64_t kCrashOverrunMargin = 50;
-#else
-constexpr std::uint64_t kCrashOverrunMargin = 5;
-#endif
-#else
-constexpr std::uint64_t kCrashOverrunMargin = 5;
-#endif
+constexpr std::uint64_t kCrashOverrunMargin = plctest::kThreadSanitizer ? 50 : 5;
 
 // The cell scans on while its bridge crashes and restarts three times: in
 // real time, the second with the crashes has no more overruns than the

@@ -17,6 +17,7 @@
 #include "hmi_test_cell.hpp"
 #include "loopback_netns.hpp"
 #include "plc/hmi/transport.hpp"
+#include "plc_test_sanitizers.hpp"
 #include "softplc_hmi/command_t.hpp"
 #include "softplc_hmi/stats_t.hpp"
 #include "udpm_test_datagrams.hpp"
@@ -32,17 +33,7 @@ constexpr const char* kUrl = "udpm://239.255.76.99:7699?ttl=0";
 constexpr std::uint32_t kGroup = 0xEFFF4C63;  // 239.255.76.99
 constexpr std::uint16_t kPort = 7699;
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
+constexpr bool kSanitized = plctest::kSanitized;
 
 class UdpmNetns : public ::testing::Test {
  protected:

@@ -2,13 +2,7 @@
 
 #include <atomic>
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define PLANT_TEST_SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-#define PLANT_TEST_SANITIZED 1
-#endif
-#endif
+#include "plc_test_sanitizers.hpp"
 
 namespace {
 std::atomic<std::size_t> g_allocations{0};
@@ -16,14 +10,10 @@ std::atomic<std::size_t> g_allocations{0};
 
 namespace plant_test {
 std::size_t allocations() { return g_allocations.load(); }
-#ifdef PLANT_TEST_SANITIZED
-bool counting() { return false; }
-#else
-bool counting() { return true; }
-#endif
+bool counting() { return !plctest::kSanitized; }
 }  // namespace plant_test
 
-#ifndef PLANT_TEST_SANITIZED
+#if !PLC_TEST_ASAN && !PLC_TEST_TSAN
 extern "C" {
 void* __libc_malloc(std::size_t);
 void* __libc_calloc(std::size_t, std::size_t);
