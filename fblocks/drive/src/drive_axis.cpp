@@ -83,6 +83,48 @@ static_assert(round_trip_is_mask_everywhere<Stw2>);
         secs;
 }
 
+// update_state()'s work, always inline: begin_scan() runs it every scan
+// (as a call it was a tail call that reloaded what begin_scan() had just
+// computed); update_state() stays for the blocks that call it.
+[[gnu::always_inline]] inline void update_state_of(DriveAxis& a) {
+  const std::uint16_t e = a.axis_error();
+  if (e) {
+    if (a.State != AxisState::ErrorStop) a.abort_all();
+    a.latch_error(e);
+    a.State = AxisState::ErrorStop;
+    a.RestartInhibit = true;  // no restart without an explicit reset
+    return;
+  }
+  if (a.State == AxisState::ErrorStop) return;  // until MC_Reset clears error_
+  if (!a.operation_enabled()) {
+    if (a.State != AxisState::Disabled) a.abort_all();
+    a.State = AxisState::Disabled;
+    return;
+  }
+  const bool running = a.phase_ == DriveAxis::Phase::PreLow ||
+                       a.phase_ == DriveAxis::Phase::Request ||
+                       a.phase_ == DriveAxis::Phase::Running;
+  // Every state below but Standstill needs StopActive or a running command:
+  // without both (a powered axis at rest, most scans) it is Standstill at
+  // once, without asking the command's kind.
+  if (!a.StopActive && !running) {
+    a.State = AxisState::Standstill;
+  } else if (a.StopActive || (a.kind_ == DriveAxis::Kind::Stop && running)) {
+    a.State = AxisState::Stopping;
+  } else if (a.kind_ == DriveAxis::Kind::Homing && running) {
+    a.State = AxisState::Homing;
+  } else if (a.kind_ == DriveAxis::Kind::Task && running) {
+    a.State = a.task_kind_ == TaskKind::Velocity ? AxisState::ContinuousMotion
+                                                 : AxisState::DiscreteMotion;
+  } else if (a.kind_ == DriveAxis::Kind::Halt && running) {
+    a.State = AxisState::DiscreteMotion;
+  } else if (a.kind_ == DriveAxis::Kind::Jog && running) {
+    a.State = AxisState::ContinuousMotion;
+  } else {
+    a.State = AxisState::Standstill;
+  }
+}
+
 }  // namespace
 
 const char* to_string(AxisState s) {
@@ -206,7 +248,7 @@ void DriveAxis::begin_scan(const ScanContext& ctx) {
       phase_ == Phase::PreLow || phase_ == Phase::Request || phase_ == Phase::Running;
   if (kind_ != Kind::None && (running || (kind_ == Kind::Halt && phase_ == Phase::Done))) advance();
   if (reset_phase_ == ResetPhase::AckLow || reset_phase_ == ResetPhase::AckHigh) advance_reset();
-  update_state();
+  update_state_of(*this);
 }
 
 void DriveAxis::abort_all() {
@@ -290,38 +332,7 @@ void DriveAxis::advance_reset() {
   }
 }
 
-void DriveAxis::update_state() {
-  const std::uint16_t e = axis_error();
-  if (e) {
-    if (State != AxisState::ErrorStop) abort_all();
-    latch_error(e);
-    State = AxisState::ErrorStop;
-    RestartInhibit = true;  // no restart without an explicit reset
-    return;
-  }
-  if (State == AxisState::ErrorStop) return;  // until MC_Reset clears error_
-  if (!operation_enabled()) {
-    if (State != AxisState::Disabled) abort_all();
-    State = AxisState::Disabled;
-    return;
-  }
-  const bool running =
-      phase_ == Phase::PreLow || phase_ == Phase::Request || phase_ == Phase::Running;
-  if (StopActive || (kind_ == Kind::Stop && running)) {
-    State = AxisState::Stopping;
-  } else if (kind_ == Kind::Homing && running) {
-    State = AxisState::Homing;
-  } else if (kind_ == Kind::Task && running) {
-    State =
-        task_kind_ == TaskKind::Velocity ? AxisState::ContinuousMotion : AxisState::DiscreteMotion;
-  } else if (kind_ == Kind::Halt && running) {
-    State = AxisState::DiscreteMotion;
-  } else if (kind_ == Kind::Jog && running) {
-    State = AxisState::ContinuousMotion;
-  } else {
-    State = AxisState::Standstill;
-  }
-}
+void DriveAxis::update_state() { update_state_of(*this); }
 
 // The handshakes of the command in control, once per scan.
 void DriveAxis::advance() {
