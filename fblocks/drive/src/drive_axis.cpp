@@ -1,6 +1,8 @@
 #include "plc/fb/drive/drive_axis.hpp"
 
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <utility>
 
 #include "plc/fb/drive/scaling.hpp"
@@ -52,6 +54,30 @@ static_assert(round_trip_is_mask_everywhere<Stw1Pos>);
 static_assert(round_trip_is_mask_everywhere<PosStw1>);
 static_assert(round_trip_is_mask_everywhere<PosStw2>);
 static_assert(round_trip_is_mask_everywhere<Stw2>);
+
+// commit()'s test of the four task requests (JogRequest1, JogRequest2,
+// IntermediateStop, RejectTask): one byte each in a row, read as one word
+// of the axis' bytes; 0 when all four are FALSE. offsetof on a class that
+// is not standard-layout (DevicePort has private members), which GCC and
+// Clang compute as for any class without virtual bases.
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Winvalid-offsetof"
+#endif
+constexpr std::size_t kTaskRequestsOffset = offsetof(DriveAxis, JogRequest1);
+static_assert(sizeof(DriveAxis::JogRequest1) == 1 && sizeof(DriveAxis::JogRequest2) == 1 &&
+              sizeof(DriveAxis::IntermediateStop) == 1 && sizeof(DriveAxis::RejectTask) == 1);
+static_assert(offsetof(DriveAxis, JogRequest2) == kTaskRequestsOffset + 1);
+static_assert(offsetof(DriveAxis, IntermediateStop) == kTaskRequestsOffset + 2);
+static_assert(offsetof(DriveAxis, RejectTask) == kTaskRequestsOffset + 3);
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
+inline std::uint32_t task_requests(const DriveAxis& a) {
+  std::uint32_t r;
+  std::memcpy(&r, reinterpret_cast<const unsigned char*>(&a) + kTaskRequestsOffset, sizeof r);
+  return r;
+}
 
 // The telegram 3 and 9 reads of begin_scan(), out of line: the telegram 111
 // path (the E1's own, every scan) then needs fewer registers and no stack
@@ -507,77 +533,142 @@ bool DriveAxis::in_velocity(std::uint32_t id) const {
   return std::fabs(std::fabs(ActVelocity) - want) <= tol;
 }
 
-void DriveAxis::commit() {
-  const auto tg = telegram();
-  const auto out = Port.out();
-  // Telegram 111 asked first, as in begin_scan().
-  if (tg == TelegramType::Hiwin111 ? out.size() < out_bytes(TelegramType::Hiwin111)
-                                   : !is_supported_telegram(Telegram) || out.size() < out_bytes(tg))
-    return;
+namespace {
+
+// STW1's power and acknowledge bits (and kControlByPlc), as every
+// telegram sends them; `power` tells whether power is asked for. Ends
+// RestartInhibit on a withdrawn power request (below).
+[[gnu::always_inline]] inline std::uint16_t power_bits(DriveAxis& a, bool& power) {
   std::uint16_t stw1 = Stw1Pos::kControlByPlc;
   // A withdrawn power request ends the inhibit once the error is cleared
   // (the next request is a new Enable edge); an explicit reset ends it in
   // advance_reset() (header comment).
-  if (RestartInhibit && State != AxisState::ErrorStop && !PowerRequest) RestartInhibit = false;
-  const bool power = CommOk && PowerRequest && !InhibitPower && !drive_fault() && !RestartInhibit &&
-                     State != AxisState::ErrorStop;
+  if (a.RestartInhibit && a.State != AxisState::ErrorStop && !a.PowerRequest)
+    a.RestartInhibit = false;
+  power = a.CommOk && a.PowerRequest && !a.InhibitPower && !a.drive_fault() && !a.RestartInhibit &&
+          a.State != AxisState::ErrorStop;
   if (power) {
     stw1 |= Stw1Pos::kNoCoastStop | Stw1Pos::kNoQuickStop | Stw1Pos::kEnableOperation;
     // From S1 the drive needs ON = 0 first (S1 -> S2), then ON = 1.
-    if (!(ZSW1 & Zsw1Pos::kSwitchOnInhibited)) stw1 |= Stw1Pos::kOn;
+    if (!(a.ZSW1 & Zsw1Pos::kSwitchOnInhibited)) stw1 |= Stw1Pos::kOn;
   } else {
-    const StopMode m = CommOk && !InhibitPower ? PowerStopMode : StopMode::Off1Ramp;
+    const StopMode m = a.CommOk && !a.InhibitPower ? a.PowerStopMode : StopMode::Off1Ramp;
     if (m != StopMode::Off2Coast) stw1 |= Stw1Pos::kNoCoastStop;
     if (m != StopMode::Off3Quick) stw1 |= Stw1Pos::kNoQuickStop;
   }
-  if (AckRequest) stw1 |= Stw1Pos::kFaultAck;
-  STW2 = static_cast<std::uint16_t>(sol_out_ << 12);
+  if (a.AckRequest) stw1 |= Stw1Pos::kFaultAck;
+  return stw1;
+}
+
+// STW1's traversing-task bits (telegrams 9 and 111).
+[[gnu::always_inline]] inline std::uint16_t task_bits(const DriveAxis& a, std::uint16_t stw1) {
+  // The four task requests JogRequest1, JogRequest2, IntermediateStop and
+  // RejectTask, one byte each in a row (static_asserts at the top): all
+  // FALSE (most scans) is one test of the four bytes, whose bits are then
+  // those of !RejectTask and !IntermediateStop.
+  if (task_requests(a) == 0) {
+    stw1 |= Stw1Pos::kNoRejectTask | Stw1Pos::kNoIntermediateStop;
+  } else {
+    if (!a.RejectTask) stw1 |= Stw1Pos::kNoRejectTask;
+    if (!a.IntermediateStop) stw1 |= Stw1Pos::kNoIntermediateStop;
+    if (a.JogRequest1) stw1 |= Stw1Pos::kJog1;
+    if (a.JogRequest2) stw1 |= Stw1Pos::kJog2;
+  }
+  if (a.stw6_) stw1 |= Stw1Pos::kActivateTask;
+  if (a.homing_bit_) stw1 |= Stw1Pos::kStartHoming;
+  return stw1;
+}
+
+// POS_STW1: MDI active, absolute as MDI_MODE's bit (shifted into place
+// rather than chosen by a branch: the same word).
+static_assert(PosStw1::kAbsolute == MdiMode::kAbsolute << 8);
+[[gnu::always_inline]] inline std::uint16_t pos_stw1_of(const DriveAxis& a) {
+  return static_cast<std::uint16_t>(PosStw1::kActivateMdi | (a.MDI_MODE & MdiMode::kAbsolute) << 8);
+}
+[[gnu::always_inline]] inline std::uint16_t pos_stw2_of(const DriveAxis& a) {
+  return static_cast<std::uint16_t>(a.SetReferenceRequest ? PosStw2::kSetReferencePoint : 0);
+}
+
+// commit() on telegrams 3 and 9 (and a telegram the axis does not know),
+// out of line: the telegram 111 path (the E1's own, every scan) then keeps
+// fewer values in registers.
+[[gnu::noinline]] void commit_standard(DriveAxis& a, std::span<std::uint8_t> out) {
+  const auto tg = a.telegram();
+  if (!is_supported_telegram(a.Telegram) || out.size() < out_bytes(tg)) return;
+  bool power = false;
+  std::uint16_t stw1 = power_bits(a, power);
+  a.STW2 = static_cast<std::uint16_t>(a.sol_out_ << 12);
   if (tg == TelegramType::Standard3) {
-    STW1 = static_cast<std::uint16_t>(stw1 & Stw1Speed::kDefined);
+    a.STW1 = static_cast<std::uint16_t>(stw1 & Stw1Speed::kDefined);
     Telegram3Out t;
-    t.stw1 = Stw1Speed::from(STW1);
-    t.nsoll_b = power ? NSOLL_B : 0;
-    t.stw2 = Stw2::from(STW2);
-    t.g1_stw = G1Stw::from(G1_STW);
+    t.stw1 = Stw1Speed::from(a.STW1);
+    t.nsoll_b = power ? a.NSOLL_B : 0;
+    t.stw2 = Stw2::from(a.STW2);
+    t.g1_stw = G1Stw::from(a.G1_STW);
     t.encode(out);
     return;
   }
-  if (!RejectTask) stw1 |= Stw1Pos::kNoRejectTask;
-  if (!IntermediateStop) stw1 |= Stw1Pos::kNoIntermediateStop;
-  if (stw6_) stw1 |= Stw1Pos::kActivateTask;
-  if (JogRequest1) stw1 |= Stw1Pos::kJog1;
-  if (JogRequest2) stw1 |= Stw1Pos::kJog2;
-  if (homing_bit_) stw1 |= Stw1Pos::kStartHoming;
-  STW1 = stw1;
-  stw6_sent_ = stw6_;
-  POS_STW1 = static_cast<std::uint16_t>(PosStw1::kActivateMdi |
-                                        ((MDI_MODE & MdiMode::kAbsolute) ? PosStw1::kAbsolute : 0));
-  POS_STW2 = SetReferenceRequest ? PosStw2::kSetReferencePoint : 0;
-  SATZANW = Satzanw::kActivateMdi;
-  if (tg == TelegramType::Standard9) {
-    Telegram9Out t;
-    t.stw1 = Stw1Pos::from(STW1);
-    t.satzanw = Satzanw::from(SATZANW);
-    t.stw2 = Stw2::from(STW2);
-    t.mdi_tarpos = MDI_TARPOS;
-    t.mdi_velocity = MDI_VELOCITY;
-    t.mdi_acc = MDI_ACC;
-    t.mdi_dec = MDI_DEC;
-    t.mdi_mode = MdiMode::from(MDI_MODE);
-    t.encode(out);
+  stw1 = task_bits(a, stw1);
+  a.STW1 = stw1;
+  a.stw6_sent_ = a.stw6_;
+  a.POS_STW1 = pos_stw1_of(a);
+  a.POS_STW2 = pos_stw2_of(a);
+  a.SATZANW = Satzanw::kActivateMdi;
+  Telegram9Out t;
+  t.stw1 = Stw1Pos::from(a.STW1);
+  t.satzanw = Satzanw::from(a.SATZANW);
+  t.stw2 = Stw2::from(a.STW2);
+  t.mdi_tarpos = a.MDI_TARPOS;
+  t.mdi_velocity = a.MDI_VELOCITY;
+  t.mdi_acc = a.MDI_ACC;
+  t.mdi_dec = a.MDI_DEC;
+  t.mdi_mode = MdiMode::from(a.MDI_MODE);
+  t.encode(out);
+}
+
+}  // namespace
+
+void DriveAxis::commit() {
+  const auto out = Port.out();
+  // Telegram 111 asked first, as in begin_scan().
+  if (telegram() != TelegramType::Hiwin111) {
+    commit_standard(*this, out);
     return;
   }
-  // Telegram111Out::encode, the words as masks.
+  if (out.size() < out_bytes(TelegramType::Hiwin111)) return;
+  bool power = false;
+  const std::uint16_t stw1 = task_bits(*this, power_bits(*this, power));
+  const auto stw2 = static_cast<std::uint16_t>(sol_out_ << 12);
+  const bool stw6 = stw6_;
+  const std::uint16_t pos_stw1 = pos_stw1_of(*this);
+  const std::uint16_t pos_stw2 = pos_stw2_of(*this);
+  // Telegram111Out::encode, the words as masks, sent from the values just
+  // composed. The setpoints are read before the first byte goes out (for
+  // the compiler the bytes may alias any member: it would load each again
+  // after a store), and each composed word is kept in its member next to
+  // its store (so the compiler does not merge the four stores into one
+  // word built with shifts, more instructions than the stores).
+  const std::uint16_t override_ = OVERRIDE;
+  const auto tarpos = static_cast<std::uint32_t>(MDI_TARPOS);
+  const auto velocity = static_cast<std::uint32_t>(MDI_VELOCITY);
+  const auto acc = static_cast<std::uint16_t>(MDI_ACC);
+  const auto dec = static_cast<std::uint16_t>(MDI_DEC);
   using T = Telegram111Out;
-  wire::put16(out, T::kStw1, static_cast<std::uint16_t>(STW1 & kept_bits<Stw1Pos>));
-  wire::put16(out, T::kPosStw1, static_cast<std::uint16_t>(POS_STW1 & kept_bits<PosStw1>));
-  wire::put16(out, T::kPosStw2, static_cast<std::uint16_t>(POS_STW2 & kept_bits<PosStw2>));
-  wire::put16(out, T::kStw2, static_cast<std::uint16_t>(STW2 & kept_bits<Stw2>));
-  wire::put16(out, T::kOverride, OVERRIDE);
-  wire::put32(out, T::kMdiTarpos, static_cast<std::uint32_t>(MDI_TARPOS));
-  wire::put32(out, T::kMdiVelocity, static_cast<std::uint32_t>(MDI_VELOCITY));
-  wire::put16(out, T::kMdiAcc, static_cast<std::uint16_t>(MDI_ACC));
-  wire::put16(out, T::kMdiDec, static_cast<std::uint16_t>(MDI_DEC));
+  STW1 = stw1;
+  wire::put16(out, T::kStw1, static_cast<std::uint16_t>(stw1 & kept_bits<Stw1Pos>));
+  POS_STW1 = pos_stw1;
+  wire::put16(out, T::kPosStw1, static_cast<std::uint16_t>(pos_stw1 & kept_bits<PosStw1>));
+  POS_STW2 = pos_stw2;
+  wire::put16(out, T::kPosStw2, static_cast<std::uint16_t>(pos_stw2 & kept_bits<PosStw2>));
+  STW2 = stw2;
+  wire::put16(out, T::kStw2, static_cast<std::uint16_t>(stw2 & kept_bits<Stw2>));
+  stw6_sent_ = stw6;
+  wire::put16(out, T::kOverride, override_);
+  SATZANW = Satzanw::kActivateMdi;
+  wire::put32(out, T::kMdiTarpos, tarpos);
+  wire::put32(out, T::kMdiVelocity, velocity);
+  wire::put16(out, T::kMdiAcc, acc);
+  wire::put16(out, T::kMdiDec, dec);
   wire::put16(out, T::kReserved12, 0);
 }
 
