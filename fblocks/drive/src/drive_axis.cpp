@@ -147,6 +147,14 @@ static_assert(offsetof(DriveAxis, ZSW2) == kStatusWordsOffset + 2);
 static_assert(offsetof(DriveAxis, POS_ZSW1) == kStatusWordsOffset + 4);
 static_assert(offsetof(DriveAxis, POS_ZSW2) == kStatusWordsOffset + 6);
 static_assert(offsetof(DriveAxis, WARN_CODE) == kCodesOffset + 2);
+// commit()'s setpoint pairs: MDI_TARPOS, MDI_VELOCITY in a row (8 bytes),
+// MDI_ACC, MDI_DEC in a row (4 bytes).
+constexpr std::size_t kSetpointsOffset = offsetof(DriveAxis, MDI_TARPOS);
+constexpr std::size_t kRampsOffset = offsetof(DriveAxis, MDI_ACC);
+static_assert(sizeof(DriveAxis::MDI_TARPOS) == 4 && sizeof(DriveAxis::MDI_VELOCITY) == 4 &&
+              sizeof(DriveAxis::MDI_ACC) == 2 && sizeof(DriveAxis::MDI_DEC) == 2);
+static_assert(offsetof(DriveAxis, MDI_VELOCITY) == kSetpointsOffset + 4);
+static_assert(offsetof(DriveAxis, MDI_DEC) == kRampsOffset + 2);
 #if defined(__GNUC__)
 #pragma GCC diagnostic pop
 #endif
@@ -712,11 +720,18 @@ void DriveAxis::commit() {
   // after a store), and each composed word is kept in its member next to
   // its store (so the compiler does not merge the four stores into one
   // word built with shifts, more instructions than the stores).
+  // MDI_TARPOS and MDI_VELOCITY (PZD6..9), MDI_ACC and MDI_DEC (PZD10..11)
+  // lie in the same order in the axis and in the telegram: each pair is
+  // read as one word and sent byte-swapped as one, its halves swapped back
+  // into their places (the same bytes as two big-endian stores).
   const std::uint16_t override_ = OVERRIDE;
-  const auto tarpos = static_cast<std::uint32_t>(MDI_TARPOS);
-  const auto velocity = static_cast<std::uint32_t>(MDI_VELOCITY);
-  const auto acc = static_cast<std::uint16_t>(MDI_ACC);
-  const auto dec = static_cast<std::uint16_t>(MDI_DEC);
+  const auto* const bytes = reinterpret_cast<const unsigned char*>(this);
+  std::uint64_t tarpos_velocity;  // MDI_TARPOS | MDI_VELOCITY << 32
+  std::memcpy(&tarpos_velocity, bytes + kSetpointsOffset, sizeof tarpos_velocity);
+  std::uint32_t acc_dec;  // MDI_ACC | MDI_DEC << 16
+  std::memcpy(&acc_dec, bytes + kRampsOffset, sizeof acc_dec);
+  tarpos_velocity = std::rotl(__builtin_bswap64(tarpos_velocity), 32);
+  acc_dec = std::rotl(__builtin_bswap32(acc_dec), 16);
   using T = Telegram111Out;
   STW1 = stw1;
   wire::put16(out, T::kStw1, static_cast<std::uint16_t>(stw1 & kept_bits<Stw1Pos>));
@@ -729,10 +744,9 @@ void DriveAxis::commit() {
   stw6_sent_ = stw6;
   wire::put16(out, T::kOverride, override_);
   SATZANW = Satzanw::kActivateMdi;
-  wire::put32(out, T::kMdiTarpos, tarpos);
-  wire::put32(out, T::kMdiVelocity, velocity);
-  wire::put16(out, T::kMdiAcc, acc);
-  wire::put16(out, T::kMdiDec, dec);
+  static_assert(T::kMdiVelocity == T::kMdiTarpos + 4 && T::kMdiDec == T::kMdiAcc + 2);
+  std::memcpy(out.data() + T::kMdiTarpos, &tarpos_velocity, sizeof tarpos_velocity);
+  std::memcpy(out.data() + T::kMdiAcc, &acc_dec, sizeof acc_dec);
   wire::put16(out, T::kReserved12, 0);
 }
 
