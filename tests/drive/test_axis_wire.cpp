@@ -14,6 +14,7 @@
 #include <random>
 
 #include "plc/fb/drive/drive_axis.hpp"
+#include "plc/fb/drive/mc_blocks.hpp"
 #include "plc/fb/drive/scaling.hpp"
 #include "plc/fb/drive/telegrams.hpp"
 
@@ -161,6 +162,81 @@ TEST(Table3_2_2, Telegram111CommitEqualsEncodeOfEveryState) {
     ASSERT_EQ(a.stw6_sent_, want.stw6_sent) << i;
     ASSERT_EQ(a.RestartInhibit, want.restart_inhibit) << i;
   }
+}
+
+}  // namespace
+}  // namespace plc::drive
+
+namespace plc::drive {
+namespace {
+
+// MC_Power::operator() as it was before it skipped the EnableTimeout
+// bookkeeping while Status (the count restarts every such scan anyway).
+void reference_power(MC_Power& p, const ScanContext& ctx, DriveAxis& axis) {
+  const bool mode_ok = p.StopMode >= 0 && p.StopMode <= 2;
+  axis.PowerRequest = p.Enable && mode_ok;
+  axis.RequireEnableEdgeAfterReset = p.RequireEnableEdgeAfterReset;
+  if (mode_ok) axis.PowerStopMode = static_cast<drive::StopMode>(p.StopMode);
+  p.Status = axis.CommOk && axis.operation_enabled();
+  const std::uint16_t axis_e = axis.axis_error();
+  std::uint16_t e = !mode_ok ? kErrMode : axis_e;
+  if (!e && p.Enable && axis.RestartInhibit) e = kErrRestartInhibit;
+  const bool held_off = axis_e || axis.RestartInhibit || axis.InhibitPower;
+  if ((p.Enable && !p.prev_enable_) || held_off) p.enable_since_ = ctx.now;
+  p.prev_enable_ = p.Enable;
+  if (!e && p.Enable && !p.Status && ctx.now - p.enable_since_ > p.EnableTimeout)
+    e = axis.drive_state() == DriveState::SwitchingOnInhibited ? kErrLockout : kErrEnableTimeout;
+  if (p.Status) p.enable_since_ = ctx.now;
+  p.Error = e != 0;
+  p.ErrorID = e;
+  p.Valid = p.Enable && !p.Error;
+}
+
+// Random axis states held for a few scans (so that the timeout can run out
+// and the Enable edges matter), the block inputs changed now and then.
+TEST(McPower, EqualsTheFormerBlockOverRandomScans) {
+  DriveAxis a;  // not bound: the block's own logic only
+  a.set_program_commits(true);
+  MC_Power fast, full;
+  fast.EnableTimeout = full.EnableTimeout = 20ms;
+  std::mt19937 rng(3);
+  auto flag = [&rng](unsigned one_in) { return rng() % one_in == 0; };
+  TIME now{};
+  int timeouts = 0;
+  for (int i = 0; i < 200000; ++i) {
+    now += 1ms;
+    if (flag(10)) {
+      a.CommOk = !flag(5);
+      a.CommError = flag(6) ? kErrOffline : 0;
+      a.ZSW1 = static_cast<std::uint16_t>(flag(2) ? 0x0637 : rng());  // S4 or anything
+      a.error_ = flag(8) ? kErrSignOfLife : 0;
+      a.RestartInhibit = flag(6);
+      a.InhibitPower = flag(8);
+    }
+    if (flag(15)) {
+      fast.Enable = full.Enable = !flag(3);
+      fast.StopMode = full.StopMode = static_cast<INT>(flag(10) ? 3 : rng() % 3);
+      fast.RequireEnableEdgeAfterReset = full.RequireEnableEdgeAfterReset = flag(4);
+    }
+    const ScanContext ctx{now, 1ms, static_cast<std::uint64_t>(i)};
+    a.begun_ = true;
+    a.last_cycle_ = ctx.cycle;
+    a.now_ = ctx.now;  // begun: the blocks do not read the (unbound) port
+    DriveAxis b = a;
+    fast(ctx, a);
+    reference_power(full, ctx, b);
+    ASSERT_EQ(fast.Status, full.Status) << i;
+    ASSERT_EQ(fast.Valid, full.Valid) << i;
+    ASSERT_EQ(fast.Error, full.Error) << i;
+    ASSERT_EQ(fast.ErrorID.value, full.ErrorID.value) << i;
+    ASSERT_EQ(fast.enable_since_, full.enable_since_) << i;
+    ASSERT_EQ(fast.prev_enable_, full.prev_enable_) << i;
+    ASSERT_EQ(a.PowerRequest, b.PowerRequest) << i;
+    ASSERT_EQ(a.PowerStopMode, b.PowerStopMode) << i;
+    ASSERT_EQ(a.RequireEnableEdgeAfterReset, b.RequireEnableEdgeAfterReset) << i;
+    if (full.ErrorID == kErrEnableTimeout || full.ErrorID == kErrLockout) ++timeouts;
+  }
+  EXPECT_GT(timeouts, 100);  // the timeout ran out, often
 }
 
 }  // namespace

@@ -134,13 +134,19 @@ inline void MC_Power::operator()(const ScanContext& ctx, DriveAxis& axis) {
   if (!e && Enable && axis.RestartInhibit) e = kErrRestartInhibit;
   // EnableTimeout counts from the Enable edge, and again from the scan in
   // which nothing holds power off any more: the walk S1 -> S4 after a reset
-  // with Enable held is not late.
-  const bool held_off = axis_e || axis.RestartInhibit || axis.InhibitPower;
-  if ((Enable && !prev_enable_) || held_off) enable_since_ = ctx.now;
+  // with Enable held is not late. While Status (a powered axis, most
+  // scans) the count starts at every scan and there is no timeout, so
+  // neither the edge nor what holds power off is asked.
+  const bool prev_enable = prev_enable_;
   prev_enable_ = Enable;
-  if (!e && Enable && !Status && ctx.now - enable_since_ > EnableTimeout)
-    e = axis.drive_state() == DriveState::SwitchingOnInhibited ? kErrLockout : kErrEnableTimeout;
-  if (Status) enable_since_ = ctx.now;
+  if (Status) {
+    enable_since_ = ctx.now;
+  } else {
+    const bool held_off = axis_e || axis.RestartInhibit || axis.InhibitPower;
+    if ((Enable && !prev_enable) || held_off) enable_since_ = ctx.now;
+    if (!e && Enable && ctx.now - enable_since_ > EnableTimeout)
+      e = axis.drive_state() == DriveState::SwitchingOnInhibited ? kErrLockout : kErrEnableTimeout;
+  }
   Error = e != 0;
   ErrorID = e;
   Valid = Enable && !Error;
