@@ -282,28 +282,11 @@ DriveState drive_state_from_zsw1(std::uint16_t z) {
   return DriveState::SwitchingOff;  // OFF3 branch: bits 0-2 = 0, bit 6 = 0
 }
 
-void DriveAxis::begin_scan(const ScanContext& ctx) {
-  const auto in = Port.in();
-  // Telegram 111 (the E1's) asked first and read here; telegrams 3 and 9
-  // out of line (read_standard(), which needs the last scan's now_ before
-  // it is set below: nothing else before that line reads it).
-  bool shape_ok;
-  if (telegram() == TelegramType::Hiwin111) {
-    shape_ok = in.size() >= in_bytes(TelegramType::Hiwin111) &&
-               Port.out().size() >= out_bytes(TelegramType::Hiwin111);
-    if (shape_ok) {
-      read_hiwin111(*this, in);
-      prev_xist_ = XIST_A;
-      have_prev_xist_ = true;
-    }
-  } else {
-    shape_ok = read_standard(*this, in, ctx.now);
-  }
-  begun_ = true;
-  last_cycle_ = ctx.cycle;
-  now_ = ctx.now;
-  const bool online = Port.online();
+namespace {
 
+// begin_scan()'s watch of the drive's sign-of-life and its communication
+// error, once the telegram was read (or found of the wrong shape).
+[[gnu::always_inline]] inline void watch_communication(DriveAxis& a, bool shape_ok, bool online) {
   // Drive sign-of-life: the counter must move; standing still for more
   // than SignOfLifeTolerance scans is a loss (latched until a reset, or
   // until the device goes offline). An offline device has no counter to
@@ -311,42 +294,108 @@ void DriveAxis::begin_scan(const ScanContext& ctx) {
   // from its first non-zero value (spec §10.1), as the drive does with ours.
   // The loss stays latched as the axis error (ErrorStop) until a reset.
   if (!online) {
-    SignOfLifeLost = false;
-    sol_seen_ = false;
-    sol_stall_ = 0;
-  } else if (SignOfLifeCheck && shape_ok) {
-    const auto s = static_cast<std::uint8_t>((ZSW2.value >> 12) & 0xF);
-    if (!sol_seen_) {
+    a.SignOfLifeLost = false;
+    a.sol_seen_ = false;
+    a.sol_stall_ = 0;
+  } else if (a.SignOfLifeCheck && shape_ok) {
+    const auto s = static_cast<std::uint8_t>((a.ZSW2.value >> 12) & 0xF);
+    if (!a.sol_seen_) {
       if (s != 0) {
-        sol_seen_ = true;
-        sol_in_last_ = s;
-        sol_stall_ = 0;
+        a.sol_seen_ = true;
+        a.sol_in_last_ = s;
+        a.sol_stall_ = 0;
       }
-    } else if (s == sol_in_last_) {
-      if (++sol_stall_ > SignOfLifeTolerance) SignOfLifeLost = true;
+    } else if (s == a.sol_in_last_) {
+      if (++a.sol_stall_ > a.SignOfLifeTolerance) a.SignOfLifeLost = true;
     } else {
-      sol_stall_ = 0;
-      sol_in_last_ = s;
+      a.sol_stall_ = 0;
+      a.sol_in_last_ = s;
     }
   }
   // Not bound: offline; a wrong telegram shape; not online: offline; a
   // lost sign-of-life; else none. An online port is bound, so the common
   // case (online, right shape) asks only the sign-of-life.
   if (online && shape_ok)
-    CommError = SignOfLifeLost ? kErrSignOfLife : 0;
+    a.CommError = a.SignOfLifeLost ? kErrSignOfLife : 0;
   else
-    CommError = !Port.bound() || shape_ok ? kErrOffline : kErrTelegram;
-  CommOk = CommError == 0;
-  sol_out_ = next_sign_of_life(sol_out_);
+    a.CommError = !a.Port.bound() || shape_ok ? kErrOffline : kErrTelegram;
+  a.CommOk = a.CommError == 0;
+  a.sol_out_ = next_sign_of_life(a.sol_out_);
+}
 
-  // advance() acts only in a command's running phases (and on a halt's
-  // release after Done), advance_reset() only during a reset: in the other
-  // scans (most) both return at once, so they are not called.
+// begin_scan()'s last part: the command's and the reset's handshakes, then
+// the axis state. advance() acts only in a command's running phases (and
+// on a halt's release after Done), advance_reset() only during a reset: in
+// the other scans (most) both return at once, so they are not called.
+[[gnu::always_inline]] inline void advance_and_update(DriveAxis& a) {
+  using Phase = DriveAxis::Phase;
+  using Kind = DriveAxis::Kind;
+  using ResetPhase = DriveAxis::ResetPhase;
+  const bool running =
+      a.phase_ == Phase::PreLow || a.phase_ == Phase::Request || a.phase_ == Phase::Running;
+  if (a.kind_ != Kind::None && (running || (a.kind_ == Kind::Halt && a.phase_ == Phase::Done)))
+    a.advance();
+  if (a.reset_phase_ == ResetPhase::AckLow || a.reset_phase_ == ResetPhase::AckHigh)
+    a.advance_reset();
+  update_state_of(a);
+}
+
+// Out of line, for begin_scan() to jump to (a tail call, no frame of its own):
+// the scans with a command or a reset to advance, or with a state other
+// than a quiet Standstill to keep.
+[[gnu::noinline]] void advance_and_update_out_of_line(DriveAxis& a) { advance_and_update(a); }
+[[gnu::noinline]] void update_state_out_of_line(DriveAxis& a) { update_state_of(a); }
+
+// begin_scan() on telegrams 3 and 9 (and a telegram the axis does not
+// know), out of line: the read needs the last scan's now_ (read_standard()).
+[[gnu::noinline]] void begin_scan_standard(DriveAxis& a, const ScanContext& ctx) {
+  const bool shape_ok = read_standard(a, a.Port.in(), ctx.now);
+  a.begun_ = true;
+  a.last_cycle_ = ctx.cycle;
+  a.now_ = ctx.now;
+  watch_communication(a, shape_ok, a.Port.online());
+  advance_and_update(a);
+}
+
+}  // namespace
+
+void DriveAxis::begin_scan(const ScanContext& ctx) {
+  // Telegram 111 (the E1's) asked first and read here; the others out of
+  // line. Every call out of this path is a tail call, so it needs no
+  // frame of its own.
+  if (telegram() != TelegramType::Hiwin111) {
+    begin_scan_standard(*this, ctx);
+    return;
+  }
+  const auto in = Port.in();
+  const bool shape_ok = in.size() >= in_bytes(TelegramType::Hiwin111) &&
+                        Port.out().size() >= out_bytes(TelegramType::Hiwin111);
+  if (shape_ok) {
+    read_hiwin111(*this, in);
+    prev_xist_ = XIST_A;
+    have_prev_xist_ = true;
+  }
+  begun_ = true;
+  last_cycle_ = ctx.cycle;
+  now_ = ctx.now;
+  watch_communication(*this, shape_ok, Port.online());
+
   const bool running =
       phase_ == Phase::PreLow || phase_ == Phase::Request || phase_ == Phase::Running;
-  if (kind_ != Kind::None && (running || (kind_ == Kind::Halt && phase_ == Phase::Done))) advance();
-  if (reset_phase_ == ResetPhase::AckLow || reset_phase_ == ResetPhase::AckHigh) advance_reset();
-  update_state_of(*this);
+  if ((kind_ != Kind::None && (running || (kind_ == Kind::Halt && phase_ == Phase::Done))) ||
+      reset_phase_ == ResetPhase::AckLow || reset_phase_ == ResetPhase::AckHigh) {
+    advance_and_update_out_of_line(*this);
+    return;
+  }
+  // Nothing to advance. update_state_of() leaves a powered axis without an
+  // error, StopActive or a running command (most scans) in Standstill; any
+  // other case takes its whole way.
+  if (axis_error() || State == AxisState::ErrorStop || !operation_enabled() || StopActive ||
+      running) {
+    update_state_out_of_line(*this);
+    return;
+  }
+  State = AxisState::Standstill;
 }
 
 void DriveAxis::abort_all() {
