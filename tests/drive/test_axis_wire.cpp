@@ -16,7 +16,10 @@
 #include "plc/fb/drive/drive_axis.hpp"
 #include "plc/fb/drive/mc_blocks.hpp"
 #include "plc/fb/drive/scaling.hpp"
+#include "plc/fb/drive/sign_of_life.hpp"
 #include "plc/fb/drive/telegrams.hpp"
+#include "plc/io/byte_order.hpp"
+#include "plc/io/device_link.hpp"
 
 namespace plc::drive {
 namespace {
@@ -237,6 +240,201 @@ TEST(McPower, EqualsTheFormerBlockOverRandomScans) {
     if (full.ErrorID == kErrEnableTimeout || full.ErrorID == kErrLockout) ++timeouts;
   }
   EXPECT_GT(timeouts, 100);  // the timeout ran out, often
+}
+
+}  // namespace
+}  // namespace plc::drive
+
+namespace plc::drive {
+namespace {
+
+// DriveAxis::begin_scan() on telegram 111 as it was before its fast paths
+// (one function, update_state() at its end; the reads of the library's
+// advance() and advance_reset() are the same).
+void reference_update_state(DriveAxis& a) {
+  using Phase = DriveAxis::Phase;
+  using Kind = DriveAxis::Kind;
+  const std::uint16_t e = a.axis_error();
+  if (e) {
+    if (a.State != AxisState::ErrorStop) a.abort_all();
+    a.latch_error(e);
+    a.State = AxisState::ErrorStop;
+    a.RestartInhibit = true;
+    return;
+  }
+  if (a.State == AxisState::ErrorStop) return;
+  if (!a.operation_enabled()) {
+    if (a.State != AxisState::Disabled) a.abort_all();
+    a.State = AxisState::Disabled;
+    return;
+  }
+  const bool running =
+      a.phase_ == Phase::PreLow || a.phase_ == Phase::Request || a.phase_ == Phase::Running;
+  if (a.StopActive || (a.kind_ == Kind::Stop && running)) {
+    a.State = AxisState::Stopping;
+  } else if (a.kind_ == Kind::Homing && running) {
+    a.State = AxisState::Homing;
+  } else if (a.kind_ == Kind::Task && running) {
+    a.State = a.task_kind_ == TaskKind::Velocity ? AxisState::ContinuousMotion
+                                                 : AxisState::DiscreteMotion;
+  } else if (a.kind_ == Kind::Halt && running) {
+    a.State = AxisState::DiscreteMotion;
+  } else if (a.kind_ == Kind::Jog && running) {
+    a.State = AxisState::ContinuousMotion;
+  } else {
+    a.State = AxisState::Standstill;
+  }
+}
+
+void reference_begin_scan(DriveAxis& a, const ScanContext& ctx) {
+  using Phase = DriveAxis::Phase;
+  using Kind = DriveAxis::Kind;
+  using ResetPhase = DriveAxis::ResetPhase;
+  a.begun_ = true;
+  a.last_cycle_ = ctx.cycle;
+  a.now_ = ctx.now;
+  const auto in = a.Port.in();
+  const bool shape_ok =
+      in.size() >= Telegram111In::kBytes && a.Port.out().size() >= Telegram111Out::kBytes;
+  const bool online = a.Port.online();
+  if (shape_ok) {
+    const auto t = Telegram111In::decode(in);
+    a.ZSW1 = t.zsw1.word();
+    a.POS_ZSW1 = t.pos_zsw1.word();
+    a.POS_ZSW2 = t.pos_zsw2.word();
+    a.ZSW2 = t.zsw2.word();
+    a.MELDW = t.meldw.word();
+    a.XIST_A = t.xist_a;
+    a.NIST_B = t.nist_b;
+    a.FAULT_CODE = t.fault_code;
+    a.WARN_CODE = t.warn_code;
+    a.ActPosition = a.XIST_A;
+    a.ActVelocity = rpm_to_cu_per_s(nist_b_to_speed(a.NIST_B, a.RefSpeedRpm), a.CuPerRev);
+    a.prev_xist_ = a.XIST_A;
+    a.have_prev_xist_ = true;
+  }
+  if (!online) {
+    a.SignOfLifeLost = false;
+    a.sol_seen_ = false;
+    a.sol_stall_ = 0;
+  } else if (a.SignOfLifeCheck && shape_ok) {
+    const auto s = static_cast<std::uint8_t>((a.ZSW2.value >> 12) & 0xF);
+    if (!a.sol_seen_) {
+      if (s != 0) {
+        a.sol_seen_ = true;
+        a.sol_in_last_ = s;
+        a.sol_stall_ = 0;
+      }
+    } else if (s == a.sol_in_last_) {
+      if (++a.sol_stall_ > a.SignOfLifeTolerance) a.SignOfLifeLost = true;
+    } else {
+      a.sol_stall_ = 0;
+      a.sol_in_last_ = s;
+    }
+  }
+  a.CommError = !a.Port.bound()    ? kErrOffline
+                : !shape_ok        ? kErrTelegram
+                : !online          ? kErrOffline
+                : a.SignOfLifeLost ? kErrSignOfLife
+                                   : 0;
+  a.CommOk = a.CommError == 0;
+  a.sol_out_ = next_sign_of_life(a.sol_out_);
+  const bool running =
+      a.phase_ == Phase::PreLow || a.phase_ == Phase::Request || a.phase_ == Phase::Running;
+  if (a.kind_ != Kind::None && (running || (a.kind_ == Kind::Halt && a.phase_ == Phase::Done)))
+    a.advance();
+  if (a.reset_phase_ == ResetPhase::AckLow || a.reset_phase_ == ResetPhase::AckHigh)
+    a.advance_reset();
+  reference_update_state(a);
+}
+
+// Random axis states (commands and resets in every phase, errors, states,
+// sign-of-life histories, the device on and off line, quiet scans most
+// often) and random telegrams: every member the scan may touch must equal
+// the former scan's. A fast path that skips a case it should not fails.
+TEST(Table3_2_2, BeginScanEqualsTheFormerScanOverRandomStates) {
+  std::array<std::uint8_t, Telegram111In::kBytes> in{};
+  std::array<std::uint8_t, Telegram111Out::kBytes> out{};
+  io::DeviceLink link;
+  std::mt19937 rng(9);
+  auto flag = [&rng](unsigned one_in) { return rng() % one_in == 0; };
+  int quiet = 0;
+  for (int i = 0; i < 200000; ++i) {
+    DriveAxis a;
+    a.Telegram = 111;
+    const bool short_in = flag(50);
+    a.Port.bind(std::span<const std::uint8_t>(in.data(), short_in ? 10 : in.size()), out,
+                flag(50) ? nullptr : &link);
+    link.set_state(flag(10) ? io::DeviceState::Offline : io::DeviceState::Online);
+    for (auto& b : in) b = static_cast<std::uint8_t>(rng());
+    if (!flag(4)) {  // a drive in operation, mostly without a fault
+      io::store_be<std::uint16_t>(in, Telegram111In::kZsw1,
+                                  static_cast<std::uint16_t>(flag(8) ? 0x0E3F : 0x0E37));
+    }
+    a.SignOfLifeCheck = !flag(10);
+    a.sol_seen_ = !flag(5);
+    a.sol_in_last_ =
+        static_cast<std::uint8_t>(flag(2) ? (in[Telegram111In::kZsw2] >> 4) : rng() % 16);
+    a.sol_stall_ = static_cast<std::uint16_t>(rng() % 8);
+    a.SignOfLifeLost = flag(10);
+    a.error_ = flag(8) ? kErrSignOfLife : 0;
+    a.State = flag(2) ? AxisState::Standstill : static_cast<AxisState>(rng() % 8);
+    a.StopActive = flag(8);
+    a.kind_ = static_cast<DriveAxis::Kind>(rng() % 6);
+    a.phase_ = flag(2) ? DriveAxis::Phase::Done : static_cast<DriveAxis::Phase>(rng() % 7);
+    a.task_kind_ = static_cast<TaskKind>(1 + rng() % 3);
+    a.reset_phase_ =
+        flag(2) ? DriveAxis::ResetPhase::Idle : static_cast<DriveAxis::ResetPhase>(rng() % 5);
+    a.halt_release_ = flag(2);
+    a.stw6_sent_ = flag(2);
+    a.RestartInhibit = flag(4);
+    a.JogRequest1 = flag(4);
+    a.IntermediateStop = flag(4);
+    a.phase_start_ = std::chrono::milliseconds(rng() % 400);
+    a.reset_start_ = std::chrono::milliseconds(rng() % 2000);
+    a.reset_timeout_ = std::chrono::seconds(1);
+    a.sol_out_ = static_cast<std::uint8_t>(rng() % 16);
+    DriveAxis b = a;
+    const ScanContext ctx{std::chrono::milliseconds(1000 + i), 1ms, static_cast<std::uint64_t>(i)};
+    a.begin_scan(ctx);
+    reference_begin_scan(b, ctx);
+    if (a.State == AxisState::Standstill && a.CommOk) ++quiet;
+    ASSERT_EQ(a.State, b.State) << i;
+    ASSERT_EQ(a.RestartInhibit, b.RestartInhibit) << i;
+    ASSERT_EQ(a.CommError.value, b.CommError.value) << i;
+    ASSERT_EQ(a.CommOk, b.CommOk) << i;
+    ASSERT_EQ(a.SignOfLifeLost, b.SignOfLifeLost) << i;
+    ASSERT_EQ(a.sol_seen_, b.sol_seen_) << i;
+    ASSERT_EQ(a.sol_in_last_, b.sol_in_last_) << i;
+    ASSERT_EQ(a.sol_stall_, b.sol_stall_) << i;
+    ASSERT_EQ(a.sol_out_, b.sol_out_) << i;
+    ASSERT_EQ(a.error_, b.error_) << i;
+    ASSERT_EQ(a.kind_, b.kind_) << i;
+    ASSERT_EQ(a.phase_, b.phase_) << i;
+    ASSERT_EQ(a.cmd_err_, b.cmd_err_) << i;
+    ASSERT_EQ(a.stw6_, b.stw6_) << i;
+    ASSERT_EQ(a.homing_bit_, b.homing_bit_) << i;
+    ASSERT_EQ(a.seen_traversing_, b.seen_traversing_) << i;
+    ASSERT_EQ(a.halt_release_, b.halt_release_) << i;
+    ASSERT_EQ(a.RejectTask, b.RejectTask) << i;
+    ASSERT_EQ(a.IntermediateStop, b.IntermediateStop) << i;
+    ASSERT_EQ(a.JogRequest1, b.JogRequest1) << i;
+    ASSERT_EQ(a.StopActive, b.StopActive) << i;
+    ASSERT_EQ(a.reset_phase_, b.reset_phase_) << i;
+    ASSERT_EQ(a.reset_err_, b.reset_err_) << i;
+    ASSERT_EQ(a.reset_scans_, b.reset_scans_) << i;
+    ASSERT_EQ(a.reset_answered_, b.reset_answered_) << i;
+    ASSERT_EQ(a.AckRequest, b.AckRequest) << i;
+    ASSERT_EQ(a.ZSW1.value, b.ZSW1.value) << i;
+    ASSERT_EQ(a.ZSW2.value, b.ZSW2.value) << i;
+    ASSERT_EQ(a.XIST_A, b.XIST_A) << i;
+    ASSERT_EQ(a.prev_xist_, b.prev_xist_) << i;
+    ASSERT_EQ(a.have_prev_xist_, b.have_prev_xist_) << i;
+    ASSERT_EQ(a.begun_, b.begun_) << i;
+    ASSERT_EQ(a.last_cycle_, b.last_cycle_) << i;
+    ASSERT_EQ(a.now_, b.now_) << i;
+  }
+  EXPECT_GT(quiet, 10000);  // the common case came often
 }
 
 }  // namespace
