@@ -763,24 +763,12 @@ void DriveAxis::commit() {
   const bool stw6 = stw6_;
   const std::uint16_t pos_stw1 = pos_stw1_of(*this);
   const std::uint16_t pos_stw2 = pos_stw2_of(*this);
-  // Telegram111Out::encode, the words as masks, sent from the values just
-  // composed. The setpoints are read before the first byte goes out (for
-  // the compiler the bytes may alias any member: it would load each again
-  // after a store), and each composed word is kept in its member next to
-  // its store (so the compiler does not merge the four stores into one
-  // word built with shifts, more instructions than the stores).
-  // MDI_TARPOS and MDI_VELOCITY (PZD6..9), MDI_ACC and MDI_DEC (PZD10..11)
-  // lie in the same order in the axis and in the telegram: each pair is
-  // read as one word and sent byte-swapped as one, its halves swapped back
-  // into their places (the same bytes as two big-endian stores).
-  const std::uint16_t override_ = OVERRIDE;
-  const auto* const bytes = reinterpret_cast<const unsigned char*>(this);
-  std::uint64_t tarpos_velocity;  // MDI_TARPOS | MDI_VELOCITY << 32
-  std::memcpy(&tarpos_velocity, bytes + kSetpointsOffset, sizeof tarpos_velocity);
-  std::uint32_t acc_dec;  // MDI_ACC | MDI_DEC << 16
-  std::memcpy(&acc_dec, bytes + kRampsOffset, sizeof acc_dec);
-  tarpos_velocity = std::rotl(__builtin_bswap64(tarpos_velocity), 32);
-  acc_dec = std::rotl(__builtin_bswap32(acc_dec), 16);
+  // Telegram111Out::encode, the words as masks. The control words are sent
+  // from the values just composed (for the compiler the bytes may alias any
+  // member: it would load each word again after a store), each kept in its
+  // member next to its store (so that the compiler does not merge the four
+  // stores into one word built with shifts, more instructions than the
+  // stores); the setpoints are read after them, as before, each once.
   using T = Telegram111Out;
   STW1 = stw1;
   wire::put16(out, T::kStw1, static_cast<std::uint16_t>(stw1 & kept_bits<Stw1Pos>));
@@ -791,8 +779,19 @@ void DriveAxis::commit() {
   STW2 = stw2;
   wire::put16(out, T::kStw2, static_cast<std::uint16_t>(stw2 & kept_bits<Stw2>));
   stw6_sent_ = stw6;
-  wire::put16(out, T::kOverride, override_);
   SATZANW = Satzanw::kActivateMdi;
+  wire::put16(out, T::kOverride, OVERRIDE);
+  // MDI_TARPOS and MDI_VELOCITY (PZD6..9), MDI_ACC and MDI_DEC (PZD10..11)
+  // lie in the same order in the axis and in the telegram: each pair is
+  // read as one word and sent byte-swapped as one, its halves swapped back
+  // into their places (the same bytes as two big-endian stores).
+  const auto* const bytes = reinterpret_cast<const unsigned char*>(this);
+  std::uint64_t tarpos_velocity;  // MDI_TARPOS | MDI_VELOCITY << 32
+  std::memcpy(&tarpos_velocity, bytes + kSetpointsOffset, sizeof tarpos_velocity);
+  std::uint32_t acc_dec;  // MDI_ACC | MDI_DEC << 16
+  std::memcpy(&acc_dec, bytes + kRampsOffset, sizeof acc_dec);
+  tarpos_velocity = std::rotl(__builtin_bswap64(tarpos_velocity), 32);
+  acc_dec = std::rotl(__builtin_bswap32(acc_dec), 16);
   static_assert(T::kMdiVelocity == T::kMdiTarpos + 4 && T::kMdiDec == T::kMdiAcc + 2);
   std::memcpy(out.data() + T::kMdiTarpos, &tarpos_velocity, sizeof tarpos_velocity);
   std::memcpy(out.data() + T::kMdiAcc, &acc_dec, sizeof acc_dec);
