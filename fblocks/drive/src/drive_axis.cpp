@@ -380,18 +380,21 @@ void DriveAxis::begin_scan(const ScanContext& ctx) {
   now_ = ctx.now;
   watch_communication(*this, shape_ok, Port.online());
 
+  // A command in a running phase (or a halt's release after Done) or a
+  // reset to advance: the whole way, out of line. A running phase without
+  // a command (kind_ None: nothing to advance) goes there too, as
+  // advance_and_update() then does only what update_state_of() does.
   const bool running =
       phase_ == Phase::PreLow || phase_ == Phase::Request || phase_ == Phase::Running;
-  if ((kind_ != Kind::None && (running || (kind_ == Kind::Halt && phase_ == Phase::Done))) ||
+  if (running || (kind_ == Kind::Halt && phase_ == Phase::Done) ||
       reset_phase_ == ResetPhase::AckLow || reset_phase_ == ResetPhase::AckHigh) {
     advance_and_update_out_of_line(*this);
     return;
   }
-  // Nothing to advance. update_state_of() leaves a powered axis without an
-  // error, StopActive or a running command (most scans) in Standstill; any
-  // other case takes its whole way.
-  if (axis_error() || State == AxisState::ErrorStop || !operation_enabled() || StopActive ||
-      running) {
+  // Nothing to advance and nothing running. update_state_of() leaves a
+  // powered axis without an error or StopActive (most scans) in
+  // Standstill; any other case takes its whole way.
+  if (axis_error() || State == AxisState::ErrorStop || !operation_enabled() || StopActive) {
     update_state_out_of_line(*this);
     return;
   }
