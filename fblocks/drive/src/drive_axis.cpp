@@ -166,8 +166,9 @@ static_assert(std::endian::native == std::endian::little);
 // the members' order (ZSW1, ZSW2, POS_ZSW1, POS_ZSW2: PZD 1, 4, 2, 3) and
 // masked, and the four stored as one 8-byte word; FAULT_CODE and WARN_CODE
 // (PZD10..11) are one big-endian 32-bit read, halves swapped into the
-// members' order. Table3_2_2 (test_telegrams.cpp) compares every field
-// with Telegram111In::decode over random telegrams.
+// members' order. Table3_2_2.Telegram111ReadEqualsDecodeOfEveryField
+// (test_axis_wire.cpp) compares every field with Telegram111In::decode
+// over random telegrams.
 [[gnu::always_inline]] inline void read_hiwin111(DriveAxis& a, std::span<const std::uint8_t> in) {
   using T = Telegram111In;
   auto* const bytes = reinterpret_cast<unsigned char*>(&a);
