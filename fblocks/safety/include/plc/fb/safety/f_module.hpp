@@ -151,8 +151,8 @@ class F_MODULE {
       ACK_REQ = false;
       IPAR_OK = proto_.ipar_ok();
       DIAG = static_cast<BYTE>(proto_.diag() | (dev_code_ != 0 ? diag::kDevCode : 0));
-      VS_IN.fill(0xFF);
-      VS_OUT.fill(0xFF);
+      fill_bytes(VS_IN, 0xFF);
+      fill_bytes(VS_OUT, 0xFF);
       return;
     }
 
@@ -164,8 +164,8 @@ class F_MODULE {
     DIAG = static_cast<BYTE>(proto_.diag() | (dev_code_ != 0 ? diag::kDevCode : 0));
     const std::uint8_t vs_in = proto_.data_valid() ? 0xFF : 0x00;
     const std::uint8_t vs_out = (STATE == FHostState::Run && !PASS_ON) ? 0xFF : 0x00;
-    VS_IN.fill(vs_in);
-    VS_OUT.fill(vs_out);
+    fill_bytes(VS_IN, vs_in);
+    fill_bytes(VS_OUT, vs_out);
   }
 
   // The pure protocol underneath (tests and diagnostics).
@@ -259,6 +259,16 @@ class F_MODULE {
     }
     dev_code_ = current;
     dev_code_count_ = count;
+  }
+
+  // a.fill(v) as the copy of a whole array: one store for the F-data
+  // lengths of one word (std::array::fill left a compare of its begin and
+  // end behind on every steady scan).
+  template <std::size_t N>
+  static void fill_bytes(std::array<BYTE, N>& a, std::uint8_t v) {
+    std::array<BYTE, N> f;
+    for (auto& b : f) b = v;
+    a = f;
   }
 
   void publish_passive() {
