@@ -198,8 +198,15 @@ namespace detail {
 // (NORD: 4 each way) as two 4-byte moves instead of a loop per byte.
 inline void copy_fdata(std::uint8_t* dst, const std::uint8_t* src, std::size_t n) {
   if (n >= 4 && n <= 8) {
-    std::memcpy(dst, src, 4);
-    std::memcpy(dst + n - 4, src + n - 4, 4);
+    // Both words loaded before either store: the buffers are distinct, and
+    // with n == 4 (a constant where cycle() is inlined) the two moves are
+    // then one (the first store could alias the second load for the
+    // compiler, which loaded and stored the same word twice).
+    std::uint32_t head, tail;
+    std::memcpy(&head, src, 4);
+    std::memcpy(&tail, src + n - 4, 4);
+    std::memcpy(dst, &head, 4);
+    std::memcpy(dst + n - 4, &tail, 4);
     return;
   }
   for (std::size_t i = 0; i < n; ++i) dst[i] = src[i];
@@ -357,7 +364,9 @@ inline bool FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> respons
   // telegram is due; everything else is the fail-safe value 0.
   const bool may_pass = state_ == FHostState::Run && !cmd.pass_on;
   if (valid && may_pass && !fv) {
-    detail::copy_fdata(app_in.data(), response.data(), in_len_);
+    // app_in holds in_len_ bytes (the caller's contract); the bound tells
+    // the compiler so when app_in is a member array of the caller.
+    detail::copy_fdata(app_in.data(), response.data(), std::min(in_len_, app_in.size()));
     accepted_cn_ = cn_;
     data_valid_ = true;
     ++deliveries_;

@@ -35,6 +35,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "plc/fb/safety/f_host_diag.hpp"
 #include "plc/fb/safety/f_host_protocol.hpp"
@@ -127,16 +128,15 @@ class F_MODULE {
       }
     }
 
-    std::uint8_t app_out[NOut];
-    for (std::size_t i = 0; i < NOut; ++i) app_out[i] = OUT_DATA[i];
-    // The protocol keeps the last valid data when no new telegram is due,
-    // so it works on the data the block currently shows.
-    std::uint8_t app_in[NIn];
-    for (std::size_t i = 0; i < NIn; ++i) app_in[i] = IN_DATA[i];
+    // The protocol works on OUT_DATA and IN_DATA in place (BYTE is one byte
+    // with no padding), not on copies: it keeps the last valid data when no
+    // new telegram is due, so it works on the data the block currently shows.
+    static_assert(sizeof(BYTE) == 1 && std::is_trivially_copyable_v<BYTE>);
     FHostCommand cmd{PASS_ON, ACK_NEC, ACK_REI, IPAR_EN};
     const bool steady = proto_.cycle<true, NIn, NOut>(
-        ctx.now, port.in().first(kInPdu), port.out().first(kOutPdu), app_out, app_in, cmd);
-    for (std::size_t i = 0; i < NIn; ++i) IN_DATA[i] = app_in[i];
+        ctx.now, port.in().first(kInPdu), port.out().first(kOutPdu),
+        std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(OUT_DATA.data()), NOut),
+        std::span<std::uint8_t>(reinterpret_cast<std::uint8_t*>(IN_DATA.data()), NIn), cmd);
     if (phase_ == Phase::Cyclic) poll_device_diag(ctx.now);
 
     if (steady) {
