@@ -192,31 +192,37 @@ void PR5510_BatchWeigh::operator()(const ScanContext& ctx) {
     enter(BatchState::Aborted, now);
     return;
   }
-  if (Device == nullptr) return fail(error_id::kNoDevice, now);  // Busy set from outside
-  if (!Device->Online) return fail(error_id::kDeviceOffline, now);
-  if (const std::uint16_t e = Device->read_error(slot_); e != error_id::kNone) return fail(e, now);
+  // Device, slot_ and State read once: the device's byte stores below
+  // (its request bits and codes) may alias them for the compiler, which
+  // reloaded each; none of the device's calls writes this block.
+  PR5510_Device* const dev = Device;
+  if (dev == nullptr) return fail(error_id::kNoDevice, now);  // Busy set from outside
+  if (!dev->Online) return fail(error_id::kDeviceOffline, now);
+  const int slot = slot_;
+  if (const std::uint16_t e = dev->read_error(slot); e != error_id::kNone) return fail(e, now);
 
   // The net weight, live through the read window (spec §3.5).
-  if (Device->Ready && Device->read_valid(slot_, kNetCode)) {
-    net_ = Device->to_units(Device->read_dint());
+  if (dev->Ready && dev->read_valid(slot, kNetCode)) {
+    net_ = dev->to_units(dev->read_dint());
     have_net_ = true;
   }
   // While a feed valve may open the cut-off needs every value: urgent.
-  const bool urgent = State == BatchState::Coarse || State == BatchState::Fine;
-  Device->request_read(slot_, kNetCode, urgent);
-  if (State != BatchState::Tare) ActualNet = net_ - start_net_;
+  const BatchState state = State;
+  const bool urgent = state == BatchState::Coarse || state == BatchState::Fine;
+  dev->request_read(slot, kNetCode, urgent);
+  if (state != BatchState::Tare) ActualNet = net_ - start_net_;
 
-  if (!Device->status().BelowZero) below_zero_since_ = now;
+  if (!dev->status().BelowZero) below_zero_since_ = now;
 
   const bool feeding_state =
-      State == BatchState::Coarse || State == BatchState::Fine || State == BatchState::Discharge;
+      state == BatchState::Coarse || state == BatchState::Fine || state == BatchState::Discharge;
   const bool was_paused = Paused;
   Paused = Pause && feeding_state;
   if (Paused) {
     set_valves(false, false, false);
     return;  // timers frozen: active_time_ does not advance
   }
-  if (was_paused && State == BatchState::Fine && !top_up_) {
+  if (was_paused && state == BatchState::Fine && !top_up_) {
     // The flow stopped meanwhile: measure it afresh once it runs again
     // (FineRate keeps the last value until then).
     rate_started_ = false;
