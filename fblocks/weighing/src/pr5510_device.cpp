@@ -129,17 +129,19 @@ void PR5510_Device::scan(const ScanContext& ctx) {
   }
   const auto in = port.in();
   auto out = port.out();
+  // The three status bytes read once, before this block's byte stores
+  // (which may alias the image for the compiler, which read them twice).
+  const std::uint8_t b5 = in[r::kStatus], b6 = in[r::kCommand], b7 = in[r::kWeighing];
   Online = true;
-  StatusByte = in[r::kStatus];
-  CommandByte = in[r::kCommand];
-  WeighingByte = in[r::kWeighing];
+  StatusByte = b5;
+  CommandByte = b6;
+  WeighingByte = b7;
   // Decoded once per change of the three status bytes: status_ is a
   // function of them alone, and neither it nor status_raw_ is reflected
   // (no debugger or HMI write), so the last decode is still exact. Both
   // start as the bytes 0, 0, 0 and their decode.
-  const std::uint32_t raw = static_cast<std::uint32_t>(in[r::kStatus]) |
-                            static_cast<std::uint32_t>(in[r::kCommand]) << 8 |
-                            static_cast<std::uint32_t>(in[r::kWeighing]) << 16;
+  const std::uint32_t raw = static_cast<std::uint32_t>(b5) | static_cast<std::uint32_t>(b6) << 8 |
+                            static_cast<std::uint32_t>(b7) << 16;
   if (raw != status_raw_) {
     status_ = decode_status_changed(in);
     status_raw_ = raw;
