@@ -221,6 +221,60 @@ inline bool FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> respons
                                  std::span<std::uint8_t> request,
                                  std::span<const std::uint8_t> app_out,
                                  std::span<std::uint8_t> app_in, const FHostCommand& cmd) {
+  // The steady exchange, nearly every scan in Run: the outstanding request
+  // answered in time with a valid CRC2, no fault or FV_activated in the
+  // status byte, no fail-safe values asked. What the general path below
+  // does then, without its other branches: the data to the application and
+  // the next request (build_request() with state Run and PASS_ON off:
+  // CN + 1, or 0 with R_cons_nr; no OA_Req, no activate_FV; the F-output
+  // data). In Run no acknowledgement counts (ACK_REQ was not shown), so of
+  // the general path's ACK_REI handling only the edge memory remains. Asked
+  // first, before the general path's preamble, so that the steady scan
+  // reads only what it needs (with a constant length, the status byte at
+  // a constant place). SteadyPathEqualsTheGeneralPath
+  // (test_host_protocol.cpp) compares the two over a random walk of
+  // faults, silences and commands.
+  if constexpr (SteadyPath) {
+    if (state_ == FHostState::Run && sent_any_ && !cmd.pass_on &&
+        (InLen == 0 || in_len_ == InLen) && (OutLen == 0 || out_len_ == OutLen)) {
+      const std::size_t in_len = InLen != 0 ? InLen : in_len_;
+      const std::uint8_t status = response[in_len];
+      if ((((status & sb::kToggleD) != 0) == toggle_h_) && now - t_sent_ <= wd_ &&
+          (status & (sb::kCeCrc | sb::kWdTimeout | sb::kDeviceFault | sb::kFvActivated)) == 0 &&
+          response_crc_.check_pdu(response, in_len, cn_, crc1_)) {
+        prev_ack_rei_ = cmd.ack_rei;
+        // Members read once into locals: the byte stores into the PDUs below
+        // may alias them for the compiler, which would reload each.
+        const std::uint32_t cn = cn_;
+        const std::size_t out_len = OutLen != 0 ? OutLen : out_len_;
+        const std::uint16_t crc1 = crc1_;
+        const bool resync = resync_needed_ && !pending_rcons_;  // answered: a reset is done
+        const bool toggle = !toggle_h_;
+        const std::uint32_t next_cn = resync ? 0 : next_cons_nr(cn);
+        wd_in_row_ = 0;
+        ipar_ok_ = (status & sb::kIparOk) != 0;
+        resync_needed_ = resync;
+        accepted_cn_ = cn;
+        data_valid_ = true;
+        ++deliveries_;
+        sent_any_ = true;
+        t_sent_ = now;
+        wd_tripped_ = false;
+        pending_rcons_ = resync;
+        cn_ = next_cn;
+        toggle_h_ = toggle;
+        pending_fv_ = false;
+        std::uint8_t control = toggle ? cb::kToggleH : 0;
+        if (cmd.ipar_en) control |= cb::kIparEn;
+        if (resync) control |= cb::kRConsNr;
+        detail::copy_fdata(app_in.data(), response.data(), in_len);
+        detail::copy_fdata(request.data(), app_out.data(), out_len);
+        request_crc_.seal_pdu(request, out_len, control, next_cn, crc1);
+        return true;
+      }
+    }
+  }
+
   // ACK_REQ as the program saw it after the last scan: an acknowledgement
   // only counts for a request the operator could see.
   const bool ack_req_shown = state_ == FHostState::WaitAck;
@@ -242,48 +296,6 @@ inline bool FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> respons
   // Its data is no older than the request: in time means no older than
   // F_WD_Time, measured from when this request was sent.
   const bool in_time = now - t_sent_ <= wd_;
-  // The steady exchange, nearly every scan in Run: the outstanding request
-  // answered in time with a valid CRC2, no fault or FV_activated in the
-  // status byte, no fail-safe values asked. What the general path below
-  // does then, without its other branches: the data to the application and
-  // the next request (build_request() with state Run and PASS_ON off:
-  // CN + 1, or 0 with R_cons_nr; no OA_Req, no activate_FV; the F-output
-  // data). SteadyPathEqualsTheGeneralPath (test_host_protocol.cpp)
-  // compares the two over a random walk of faults, silences and commands.
-  const std::size_t in_len = InLen != 0 ? InLen : in_len_;
-  if (SteadyPath && state_ == FHostState::Run && answered && in_time && !cmd.pass_on &&
-      (status & (sb::kCeCrc | sb::kWdTimeout | sb::kDeviceFault | sb::kFvActivated)) == 0 &&
-      (InLen == 0 || in_len_ == InLen) && (OutLen == 0 || out_len_ == OutLen) &&
-      response_crc_.check_pdu(response, in_len, cn_, crc1_)) {
-    // Members read once into locals: the byte stores into the PDUs below
-    // may alias them for the compiler, which would reload each.
-    const std::uint32_t cn = cn_;
-    const std::size_t out_len = OutLen != 0 ? OutLen : out_len_;
-    const std::uint16_t crc1 = crc1_;
-    const bool resync = resync_needed_ && !pending_rcons_;  // answered: a reset is done
-    const bool toggle = !toggle_h_;
-    const std::uint32_t next_cn = resync ? 0 : next_cons_nr(cn);
-    wd_in_row_ = 0;
-    ipar_ok_ = (status & sb::kIparOk) != 0;
-    resync_needed_ = resync;
-    accepted_cn_ = cn;
-    data_valid_ = true;
-    ++deliveries_;
-    sent_any_ = true;
-    t_sent_ = now;
-    wd_tripped_ = false;
-    pending_rcons_ = resync;
-    cn_ = next_cn;
-    toggle_h_ = toggle;
-    pending_fv_ = false;
-    std::uint8_t control = toggle ? cb::kToggleH : 0;
-    if (cmd.ipar_en) control |= cb::kIparEn;
-    if (resync) control |= cb::kRConsNr;
-    detail::copy_fdata(app_in.data(), response.data(), in_len);
-    detail::copy_fdata(request.data(), app_out.data(), out_len);
-    request_crc_.seal_pdu(request, out_len, control, next_cn, crc1);
-    return true;
-  }
   bool valid = false;
   if (answered) {
     wd_in_row_ = 0;  // the device is there, however late
