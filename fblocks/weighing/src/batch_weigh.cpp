@@ -175,8 +175,9 @@ void PR5510_BatchWeigh::operator()(const ScanContext& ctx) {
   prev_reset_ = ResetTotals;
 
   // PLCopen: Done / Error / CommandAborted held while Execute is TRUE, and
-  // for one scan at least; then back to Idle.
-  if ((Done || Error || CommandAborted) && !Execute) {
+  // for one scan at least; then back to Idle. Execute asked first: TRUE
+  // through a whole batch, it spares the three other tests.
+  if (!Execute && (Done || Error || CommandAborted)) {
     Done = Error = CommandAborted = false;
     ErrorID = error_id::kNone;
     enter(BatchState::Idle, now);
