@@ -2,10 +2,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
 
 namespace plc::weighing {
 
 namespace {
+// weight_error()'s word: AduError, AboveFsd, Overload and BelowZero, one
+// byte each, in a row.
+static_assert(sizeof(bool) == 1);
+static_assert(offsetof(StatusBits, AboveFsd) == offsetof(StatusBits, AduError) + 1);
+static_assert(offsetof(StatusBits, Overload) == offsetof(StatusBits, AduError) + 2);
+static_assert(offsetof(StatusBits, BelowZero) == offsetof(StatusBits, AduError) + 3);
+
 constexpr auto kNetCode = static_cast<std::uint8_t>(ReadCode::Net);
 // After the tare the net value needs a few device cycles (20 ms, spec §0)
 // to show the new zero; sample the start weight after that.
@@ -239,6 +249,11 @@ void PR5510_BatchWeigh::operator()(const ScanContext& ctx) {
 // "empty". The header comment gives the rules.
 std::uint16_t PR5510_BatchWeigh::weight_error(TIME now) const {
   const StatusBits& st = Device->status();
+  // None of the four bits below set, the usual scan: nothing to report. The
+  // four are bools in a row (static_asserts below), tested as one word.
+  std::uint32_t bits;
+  std::memcpy(&bits, &st.AduError, sizeof bits);
+  if (bits == 0) return error_id::kNone;
   // Adu Error, Over-load, Above FSD (the at/above-FSD half of Dimmed): the
   // value is invalid. Discharge goes on above FSD: the hopper must empty.
   const bool invalid =
