@@ -125,6 +125,14 @@ class FHostProtocol {
   bool cycle(TIME now, std::span<const std::uint8_t> response, std::span<std::uint8_t> request,
              std::span<const std::uint8_t> app_out, std::span<std::uint8_t> app_in,
              const FHostCommand& cmd);
+  // cycle()'s steady exchange alone: true when the scan was that exchange
+  // (and done); false when it was not, and then nothing has changed, so
+  // cycle() gives the scan. An F-module calls it first, inline, and cycle()
+  // out of line when it returns false.
+  template <std::size_t InLen = 0, std::size_t OutLen = 0>
+  bool steady_exchange(TIME now, std::span<const std::uint8_t> response,
+                       std::span<std::uint8_t> request, std::span<const std::uint8_t> app_out,
+                       std::span<std::uint8_t> app_in, const FHostCommand& cmd);
 
   [[nodiscard]] FHostState state() const { return state_; }
   [[nodiscard]] bool pass_out() const { return state_ != FHostState::Run; }
@@ -235,44 +243,7 @@ inline bool FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> respons
   // (test_host_protocol.cpp) compares the two over a random walk of
   // faults, silences and commands.
   if constexpr (SteadyPath) {
-    if (state_ == FHostState::Run && sent_any_ && !cmd.pass_on &&
-        (InLen == 0 || in_len_ == InLen) && (OutLen == 0 || out_len_ == OutLen)) {
-      const std::size_t in_len = InLen != 0 ? InLen : in_len_;
-      const std::uint8_t status = response[in_len];
-      if ((((status & sb::kToggleD) != 0) == toggle_h_) && now - t_sent_ <= wd_ &&
-          (status & (sb::kCeCrc | sb::kWdTimeout | sb::kDeviceFault | sb::kFvActivated)) == 0 &&
-          response_crc_.check_pdu(response, in_len, cn_, crc1_)) {
-        prev_ack_rei_ = cmd.ack_rei;
-        // Members read once into locals: the byte stores into the PDUs below
-        // may alias them for the compiler, which would reload each.
-        const std::uint32_t cn = cn_;
-        const std::size_t out_len = OutLen != 0 ? OutLen : out_len_;
-        const std::uint16_t crc1 = crc1_;
-        const bool resync = resync_needed_ && !pending_rcons_;  // answered: a reset is done
-        const bool toggle = !toggle_h_;
-        const std::uint32_t next_cn = resync ? 0 : next_cons_nr(cn);
-        wd_in_row_ = 0;
-        ipar_ok_ = (status & sb::kIparOk) != 0;
-        resync_needed_ = resync;
-        accepted_cn_ = cn;
-        data_valid_ = true;
-        ++deliveries_;
-        sent_any_ = true;
-        t_sent_ = now;
-        wd_tripped_ = false;
-        pending_rcons_ = resync;
-        cn_ = next_cn;
-        toggle_h_ = toggle;
-        pending_fv_ = false;
-        std::uint8_t control = toggle ? cb::kToggleH : 0;
-        if (cmd.ipar_en) control |= cb::kIparEn;
-        if (resync) control |= cb::kRConsNr;
-        detail::copy_fdata(app_in.data(), response.data(), in_len);
-        detail::copy_fdata(request.data(), app_out.data(), out_len);
-        request_crc_.seal_pdu(request, out_len, control, next_cn, crc1);
-        return true;
-      }
-    }
+    if (steady_exchange<InLen, OutLen>(now, response, request, app_out, app_in, cmd)) return true;
   }
 
   // ACK_REQ as the program saw it after the last scan: an acknowledgement
@@ -389,6 +360,55 @@ inline bool FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> respons
   }
 
   if (answered || !sent_any_) build_request(now, request, app_out, cmd);
+  return false;
+}
+
+// The steady exchange of cycle() (see there): true when it was taken. It
+// changes nothing when it returns false (the CRC2 cache aside, whose
+// results do not depend on what it holds), so the general path may follow.
+template <std::size_t InLen, std::size_t OutLen>
+[[gnu::always_inline]] inline bool FHostProtocol::steady_exchange(
+    TIME now, std::span<const std::uint8_t> response, std::span<std::uint8_t> request,
+    std::span<const std::uint8_t> app_out, std::span<std::uint8_t> app_in,
+    const FHostCommand& cmd) {
+  if (state_ == FHostState::Run && sent_any_ && !cmd.pass_on && (InLen == 0 || in_len_ == InLen) &&
+      (OutLen == 0 || out_len_ == OutLen)) {
+    const std::size_t in_len = InLen != 0 ? InLen : in_len_;
+    const std::uint8_t status = response[in_len];
+    if ((((status & sb::kToggleD) != 0) == toggle_h_) && now - t_sent_ <= wd_ &&
+        (status & (sb::kCeCrc | sb::kWdTimeout | sb::kDeviceFault | sb::kFvActivated)) == 0 &&
+        response_crc_.check_pdu(response, in_len, cn_, crc1_)) {
+      prev_ack_rei_ = cmd.ack_rei;
+      // Members read once into locals: the byte stores into the PDUs below
+      // may alias them for the compiler, which would reload each.
+      const std::uint32_t cn = cn_;
+      const std::size_t out_len = OutLen != 0 ? OutLen : out_len_;
+      const std::uint16_t crc1 = crc1_;
+      const bool resync = resync_needed_ && !pending_rcons_;  // answered: a reset is done
+      const bool toggle = !toggle_h_;
+      const std::uint32_t next_cn = resync ? 0 : next_cons_nr(cn);
+      wd_in_row_ = 0;
+      ipar_ok_ = (status & sb::kIparOk) != 0;
+      resync_needed_ = resync;
+      accepted_cn_ = cn;
+      data_valid_ = true;
+      ++deliveries_;
+      sent_any_ = true;
+      t_sent_ = now;
+      wd_tripped_ = false;
+      pending_rcons_ = resync;
+      cn_ = next_cn;
+      toggle_h_ = toggle;
+      pending_fv_ = false;
+      std::uint8_t control = toggle ? cb::kToggleH : 0;
+      if (cmd.ipar_en) control |= cb::kIparEn;
+      if (resync) control |= cb::kRConsNr;
+      detail::copy_fdata(app_in.data(), response.data(), in_len);
+      detail::copy_fdata(request.data(), app_out.data(), out_len);
+      request_crc_.seal_pdu(request, out_len, control, next_cn, crc1);
+      return true;
+    }
+  }
   return false;
 }
 
