@@ -150,9 +150,7 @@ class F_MODULE {
       }
     }
 
-    // The protocol works on OUT_DATA and IN_DATA in place (BYTE is one byte
-    // with no padding), not on copies: it keeps the last valid data when no
-    // new telegram is due, so it works on the data the block currently shows.
+    // On OUT_DATA and IN_DATA in place (out_data(), in_data()).
     FHostCommand cmd{PASS_ON, ACK_NEC, ACK_REI, IPAR_EN};
     const bool steady = proto_.cycle<true, NIn, NOut>(
         ctx.now, port.in().first(kInPdu), port.out().first(kOutPdu), out_data(), in_data(), cmd);
@@ -232,7 +230,8 @@ class F_MODULE {
   }
 
   // Reads the device's diagnosis record (P841, P842, code count) every
-  // kDiagPollEvery, and at once when Device_Fault appears.
+  // kDiagPollEvery, and at once when Device_Fault appears. Always inline:
+  // the steady scan (operator()) runs it every scan.
   [[gnu::always_inline]] void poll_device_diag(TIME now) {
     if (diag_req_.status() == io::RecordStatus::Done) {
       take_device_diag(diag_req_.data());
