@@ -2,10 +2,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
 
 namespace plc::weighing {
 
 namespace {
+// weight_error()'s word: AduError, AboveFsd, Overload and BelowZero, one
+// byte each, in a row.
+static_assert(sizeof(bool) == 1);
+static_assert(offsetof(StatusBits, AboveFsd) == offsetof(StatusBits, AduError) + 1);
+static_assert(offsetof(StatusBits, Overload) == offsetof(StatusBits, AduError) + 2);
+static_assert(offsetof(StatusBits, BelowZero) == offsetof(StatusBits, AduError) + 3);
+
 constexpr auto kNetCode = static_cast<std::uint8_t>(ReadCode::Net);
 // After the tare the net value needs a few device cycles (20 ms, spec §0)
 // to show the new zero; sample the start weight after that.
@@ -175,8 +185,9 @@ void PR5510_BatchWeigh::operator()(const ScanContext& ctx) {
   prev_reset_ = ResetTotals;
 
   // PLCopen: Done / Error / CommandAborted held while Execute is TRUE, and
-  // for one scan at least; then back to Idle.
-  if ((Done || Error || CommandAborted) && !Execute) {
+  // for one scan at least; then back to Idle. Execute asked first: TRUE
+  // through a whole batch, it spares the three other tests.
+  if (!Execute && (Done || Error || CommandAborted)) {
     Done = Error = CommandAborted = false;
     ErrorID = error_id::kNone;
     enter(BatchState::Idle, now);
@@ -192,31 +203,37 @@ void PR5510_BatchWeigh::operator()(const ScanContext& ctx) {
     enter(BatchState::Aborted, now);
     return;
   }
-  if (Device == nullptr) return fail(error_id::kNoDevice, now);  // Busy set from outside
-  if (!Device->Online) return fail(error_id::kDeviceOffline, now);
-  if (const std::uint16_t e = Device->read_error(slot_); e != error_id::kNone) return fail(e, now);
+  // Device, slot_ and State read once: the device's byte stores below
+  // (its request bits and codes) may alias them for the compiler, which
+  // reloaded each; none of the device's calls writes this block.
+  PR5510_Device* const dev = Device;
+  if (dev == nullptr) return fail(error_id::kNoDevice, now);  // Busy set from outside
+  if (!dev->Online) return fail(error_id::kDeviceOffline, now);
+  const int slot = slot_;
+  if (const std::uint16_t e = dev->read_error(slot); e != error_id::kNone) return fail(e, now);
 
   // The net weight, live through the read window (spec §3.5).
-  if (Device->Ready && Device->read_valid(slot_, kNetCode)) {
-    net_ = Device->to_units(Device->read_dint());
+  if (dev->Ready && dev->read_valid(slot, kNetCode)) {
+    net_ = dev->to_units(dev->read_dint());
     have_net_ = true;
   }
   // While a feed valve may open the cut-off needs every value: urgent.
-  const bool urgent = State == BatchState::Coarse || State == BatchState::Fine;
-  Device->request_read(slot_, kNetCode, urgent);
-  if (State != BatchState::Tare) ActualNet = net_ - start_net_;
+  const BatchState state = State;
+  const bool urgent = state == BatchState::Coarse || state == BatchState::Fine;
+  dev->request_read(slot, kNetCode, urgent);
+  if (state != BatchState::Tare) ActualNet = net_ - start_net_;
 
-  if (!Device->status().BelowZero) below_zero_since_ = now;
+  if (!dev->status().BelowZero) below_zero_since_ = now;
 
   const bool feeding_state =
-      State == BatchState::Coarse || State == BatchState::Fine || State == BatchState::Discharge;
+      state == BatchState::Coarse || state == BatchState::Fine || state == BatchState::Discharge;
   const bool was_paused = Paused;
   Paused = Pause && feeding_state;
   if (Paused) {
     set_valves(false, false, false);
     return;  // timers frozen: active_time_ does not advance
   }
-  if (was_paused && State == BatchState::Fine && !top_up_) {
+  if (was_paused && state == BatchState::Fine && !top_up_) {
     // The flow stopped meanwhile: measure it afresh once it runs again
     // (FineRate keeps the last value until then).
     rate_started_ = false;
@@ -232,6 +249,11 @@ void PR5510_BatchWeigh::operator()(const ScanContext& ctx) {
 // "empty". The header comment gives the rules.
 std::uint16_t PR5510_BatchWeigh::weight_error(TIME now) const {
   const StatusBits& st = Device->status();
+  // None of the four bits below set, the usual scan: nothing to report. The
+  // four are bools in a row (static_asserts below), tested as one word.
+  std::uint32_t bits;
+  std::memcpy(&bits, &st.AduError, sizeof bits);
+  if (bits == 0) return error_id::kNone;
   // Adu Error, Over-load, Above FSD (the at/above-FSD half of Dimmed): the
   // value is invalid. Discharge goes on above FSD: the hopper must empty.
   const bool invalid =

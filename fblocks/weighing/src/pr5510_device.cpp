@@ -1,5 +1,8 @@
 #include "plc/fb/weighing/pr5510_device.hpp"
 
+#include <bit>
+#include <cstring>
+
 namespace plc::weighing {
 
 namespace {
@@ -129,17 +132,29 @@ void PR5510_Device::scan(const ScanContext& ctx) {
   }
   const auto in = port.in();
   auto out = port.out();
+  // The three status bytes R[5..7] read once, before this block's byte
+  // stores (which may alias the image for the compiler): as R[4..7] in one
+  // load where the byte order allows (usable: the window's 8 bytes are
+  // there), shifted down past the echo R[4].
+  static_assert(r::kStatus == 5 && r::kCommand == 6 && r::kWeighing == 7);
+  std::uint32_t raw;
+  if constexpr (std::endian::native == std::endian::little) {
+    std::memcpy(&raw, in.data() + r::kReadValueSelected, 4);
+    raw >>= 8;
+  } else {
+    raw = static_cast<std::uint32_t>(in[r::kStatus]) |
+          static_cast<std::uint32_t>(in[r::kCommand]) << 8 |
+          static_cast<std::uint32_t>(in[r::kWeighing]) << 16;
+  }
   Online = true;
-  StatusByte = in[r::kStatus];
-  CommandByte = in[r::kCommand];
-  WeighingByte = in[r::kWeighing];
+  StatusByte = static_cast<std::uint8_t>(raw);
+  CommandByte = static_cast<std::uint8_t>(raw >> 8);
+  WeighingByte = static_cast<std::uint8_t>(raw >> 16);
   // Decoded once per change of the three status bytes: status_ is a
-  // function of them alone, and neither it nor status_raw_ is reflected
-  // (no debugger or HMI write), so the last decode is still exact. Both
-  // start as the bytes 0, 0, 0 and their decode.
-  const std::uint32_t raw = static_cast<std::uint32_t>(in[r::kStatus]) |
-                            static_cast<std::uint32_t>(in[r::kCommand]) << 8 |
-                            static_cast<std::uint32_t>(in[r::kWeighing]) << 16;
+  // function of them alone (raw: R[5] | R[6] << 8 | R[7] << 16), and
+  // neither it nor status_raw_ is reflected (no debugger or HMI write), so
+  // the last decode is still exact. Both start as the bytes 0, 0, 0 and
+  // their decode.
   if (raw != status_raw_) {
     status_ = decode_status_changed(in);
     status_raw_ = raw;

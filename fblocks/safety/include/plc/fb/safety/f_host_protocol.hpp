@@ -125,6 +125,14 @@ class FHostProtocol {
   bool cycle(TIME now, std::span<const std::uint8_t> response, std::span<std::uint8_t> request,
              std::span<const std::uint8_t> app_out, std::span<std::uint8_t> app_in,
              const FHostCommand& cmd);
+  // cycle()'s steady exchange alone: true when the scan was that exchange
+  // (and done); false when it was not, and then nothing has changed, so
+  // cycle() gives the scan. An F-module calls it first, inline, and cycle()
+  // out of line when it returns false.
+  template <std::size_t InLen = 0, std::size_t OutLen = 0>
+  bool steady_exchange(TIME now, std::span<const std::uint8_t> response,
+                       std::span<std::uint8_t> request, std::span<const std::uint8_t> app_out,
+                       std::span<std::uint8_t> app_in, const FHostCommand& cmd);
 
   [[nodiscard]] FHostState state() const { return state_; }
   [[nodiscard]] bool pass_out() const { return state_ != FHostState::Run; }
@@ -198,8 +206,15 @@ namespace detail {
 // (NORD: 4 each way) as two 4-byte moves instead of a loop per byte.
 inline void copy_fdata(std::uint8_t* dst, const std::uint8_t* src, std::size_t n) {
   if (n >= 4 && n <= 8) {
-    std::memcpy(dst, src, 4);
-    std::memcpy(dst + n - 4, src + n - 4, 4);
+    // Both words loaded before either store: the buffers are distinct, and
+    // with n == 4 (a constant where cycle() is inlined) the two moves are
+    // then one (the first store could alias the second load for the
+    // compiler, which loaded and stored the same word twice).
+    std::uint32_t head, tail;
+    std::memcpy(&head, src, 4);
+    std::memcpy(&tail, src + n - 4, 4);
+    std::memcpy(dst, &head, 4);
+    std::memcpy(dst + n - 4, &tail, 4);
     return;
   }
   for (std::size_t i = 0; i < n; ++i) dst[i] = src[i];
@@ -214,6 +229,23 @@ inline bool FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> respons
                                  std::span<std::uint8_t> request,
                                  std::span<const std::uint8_t> app_out,
                                  std::span<std::uint8_t> app_in, const FHostCommand& cmd) {
+  // The steady exchange, nearly every scan in Run: the outstanding request
+  // answered in time with a valid CRC2, no fault or FV_activated in the
+  // status byte, no fail-safe values asked. What the general path below
+  // does then, without its other branches: the data to the application and
+  // the next request (build_request() with state Run and PASS_ON off:
+  // CN + 1, or 0 with R_cons_nr; no OA_Req, no activate_FV; the F-output
+  // data). In Run no acknowledgement counts (ACK_REQ was not shown), so of
+  // the general path's ACK_REI handling only the edge memory remains. Asked
+  // first, before the general path's preamble, so that the steady scan
+  // reads only what it needs (with a constant length, the status byte at
+  // a constant place). SteadyPathEqualsTheGeneralPath
+  // (test_host_protocol.cpp) compares the two over a random walk of
+  // faults, silences and commands.
+  if constexpr (SteadyPath) {
+    if (steady_exchange<InLen, OutLen>(now, response, request, app_out, app_in, cmd)) return true;
+  }
+
   // ACK_REQ as the program saw it after the last scan: an acknowledgement
   // only counts for a request the operator could see.
   const bool ack_req_shown = state_ == FHostState::WaitAck;
@@ -235,48 +267,6 @@ inline bool FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> respons
   // Its data is no older than the request: in time means no older than
   // F_WD_Time, measured from when this request was sent.
   const bool in_time = now - t_sent_ <= wd_;
-  // The steady exchange, nearly every scan in Run: the outstanding request
-  // answered in time with a valid CRC2, no fault or FV_activated in the
-  // status byte, no fail-safe values asked. What the general path below
-  // does then, without its other branches: the data to the application and
-  // the next request (build_request() with state Run and PASS_ON off:
-  // CN + 1, or 0 with R_cons_nr; no OA_Req, no activate_FV; the F-output
-  // data). SteadyPathEqualsTheGeneralPath (test_host_protocol.cpp)
-  // compares the two over a random walk of faults, silences and commands.
-  const std::size_t in_len = InLen != 0 ? InLen : in_len_;
-  if (SteadyPath && state_ == FHostState::Run && answered && in_time && !cmd.pass_on &&
-      (status & (sb::kCeCrc | sb::kWdTimeout | sb::kDeviceFault | sb::kFvActivated)) == 0 &&
-      (InLen == 0 || in_len_ == InLen) && (OutLen == 0 || out_len_ == OutLen) &&
-      response_crc_.check_pdu(response, in_len, cn_, crc1_)) {
-    // Members read once into locals: the byte stores into the PDUs below
-    // may alias them for the compiler, which would reload each.
-    const std::uint32_t cn = cn_;
-    const std::size_t out_len = OutLen != 0 ? OutLen : out_len_;
-    const std::uint16_t crc1 = crc1_;
-    const bool resync = resync_needed_ && !pending_rcons_;  // answered: a reset is done
-    const bool toggle = !toggle_h_;
-    const std::uint32_t next_cn = resync ? 0 : next_cons_nr(cn);
-    wd_in_row_ = 0;
-    ipar_ok_ = (status & sb::kIparOk) != 0;
-    resync_needed_ = resync;
-    accepted_cn_ = cn;
-    data_valid_ = true;
-    ++deliveries_;
-    sent_any_ = true;
-    t_sent_ = now;
-    wd_tripped_ = false;
-    pending_rcons_ = resync;
-    cn_ = next_cn;
-    toggle_h_ = toggle;
-    pending_fv_ = false;
-    std::uint8_t control = toggle ? cb::kToggleH : 0;
-    if (cmd.ipar_en) control |= cb::kIparEn;
-    if (resync) control |= cb::kRConsNr;
-    detail::copy_fdata(app_in.data(), response.data(), in_len);
-    detail::copy_fdata(request.data(), app_out.data(), out_len);
-    request_crc_.seal_pdu(request, out_len, control, next_cn, crc1);
-    return true;
-  }
   bool valid = false;
   if (answered) {
     wd_in_row_ = 0;  // the device is there, however late
@@ -357,7 +347,9 @@ inline bool FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> respons
   // telegram is due; everything else is the fail-safe value 0.
   const bool may_pass = state_ == FHostState::Run && !cmd.pass_on;
   if (valid && may_pass && !fv) {
-    detail::copy_fdata(app_in.data(), response.data(), in_len_);
+    // app_in holds in_len_ bytes (the caller's contract); the bound tells
+    // the compiler so when app_in is a member array of the caller.
+    detail::copy_fdata(app_in.data(), response.data(), std::min(in_len_, app_in.size()));
     accepted_cn_ = cn_;
     data_valid_ = true;
     ++deliveries_;
@@ -368,6 +360,55 @@ inline bool FHostProtocol::cycle(TIME now, std::span<const std::uint8_t> respons
   }
 
   if (answered || !sent_any_) build_request(now, request, app_out, cmd);
+  return false;
+}
+
+// The steady exchange of cycle() (see there): true when it was taken. It
+// changes nothing when it returns false (the CRC2 cache aside, whose
+// results do not depend on what it holds), so the general path may follow.
+template <std::size_t InLen, std::size_t OutLen>
+[[gnu::always_inline]] inline bool FHostProtocol::steady_exchange(
+    TIME now, std::span<const std::uint8_t> response, std::span<std::uint8_t> request,
+    std::span<const std::uint8_t> app_out, std::span<std::uint8_t> app_in,
+    const FHostCommand& cmd) {
+  if (state_ == FHostState::Run && sent_any_ && !cmd.pass_on && (InLen == 0 || in_len_ == InLen) &&
+      (OutLen == 0 || out_len_ == OutLen)) {
+    const std::size_t in_len = InLen != 0 ? InLen : in_len_;
+    const std::uint8_t status = response[in_len];
+    if ((((status & sb::kToggleD) != 0) == toggle_h_) && now - t_sent_ <= wd_ &&
+        (status & (sb::kCeCrc | sb::kWdTimeout | sb::kDeviceFault | sb::kFvActivated)) == 0 &&
+        response_crc_.check_pdu(response, in_len, cn_, crc1_)) {
+      prev_ack_rei_ = cmd.ack_rei;
+      // Members read once into locals: the byte stores into the PDUs below
+      // may alias them for the compiler, which would reload each.
+      const std::uint32_t cn = cn_;
+      const std::size_t out_len = OutLen != 0 ? OutLen : out_len_;
+      const std::uint16_t crc1 = crc1_;
+      const bool resync = resync_needed_ && !pending_rcons_;  // answered: a reset is done
+      const bool toggle = !toggle_h_;
+      const std::uint32_t next_cn = resync ? 0 : next_cons_nr(cn);
+      wd_in_row_ = 0;
+      ipar_ok_ = (status & sb::kIparOk) != 0;
+      resync_needed_ = resync;
+      accepted_cn_ = cn;
+      data_valid_ = true;
+      ++deliveries_;
+      sent_any_ = true;
+      t_sent_ = now;
+      wd_tripped_ = false;
+      pending_rcons_ = resync;
+      cn_ = next_cn;
+      toggle_h_ = toggle;
+      pending_fv_ = false;
+      std::uint8_t control = toggle ? cb::kToggleH : 0;
+      if (cmd.ipar_en) control |= cb::kIparEn;
+      if (resync) control |= cb::kRConsNr;
+      detail::copy_fdata(app_in.data(), response.data(), in_len);
+      detail::copy_fdata(request.data(), app_out.data(), out_len);
+      request_crc_.seal_pdu(request, out_len, control, next_cn, crc1);
+      return true;
+    }
+  }
   return false;
 }
 

@@ -35,6 +35,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "plc/fb/safety/f_host_diag.hpp"
 #include "plc/fb/safety/f_host_protocol.hpp"
@@ -96,6 +97,28 @@ class F_MODULE {
                next_diag_read_, dev_code_, dev_code_count_, restart_after_fault_)
 
   void operator()(const ScanContext& ctx) {
+    // The steady scan (nearly every one in Run) first, inline, with only
+    // what it needs; every other scan out of line in scan_general(), the
+    // whole block. The same scan as scan_general()'s: taken only where that
+    // would take the steady exchange with its phase logic doing nothing
+    // (port usable, phase Cyclic, device not lost), and a steady_exchange()
+    // that returns false has changed nothing (scan_general() then decides).
+    if (phase_ == Phase::Cyclic && port.bound() && port.in().size() >= kInPdu &&
+        port.out().size() >= kOutPdu && proto_.watchdog_expiries_in_row() < kLostAfter) [[likely]] {
+      const FHostCommand cmd{PASS_ON, ACK_NEC, ACK_REI, IPAR_EN};
+      if (proto_.steady_exchange<NIn, NOut>(ctx.now, port.in().first(kInPdu),
+                                            port.out().first(kOutPdu), out_data(), in_data(),
+                                            cmd)) {
+        poll_device_diag(ctx.now);
+        publish_steady();
+        return;
+      }
+    }
+    scan_general(ctx);
+  }
+
+  // operator() without its inline steady path (tests compare the two).
+  [[gnu::noinline]] void scan_general(const ScanContext& ctx) {
     if (!port.bound() || port.in().size() < kInPdu || port.out().size() < kOutPdu) {
       proto_.param_failed(diag::kNoLink);
       publish_passive();
@@ -127,32 +150,14 @@ class F_MODULE {
       }
     }
 
-    std::uint8_t app_out[NOut];
-    for (std::size_t i = 0; i < NOut; ++i) app_out[i] = OUT_DATA[i];
-    // The protocol keeps the last valid data when no new telegram is due,
-    // so it works on the data the block currently shows.
-    std::uint8_t app_in[NIn];
-    for (std::size_t i = 0; i < NIn; ++i) app_in[i] = IN_DATA[i];
+    // On OUT_DATA and IN_DATA in place (out_data(), in_data()).
     FHostCommand cmd{PASS_ON, ACK_NEC, ACK_REI, IPAR_EN};
     const bool steady = proto_.cycle<true, NIn, NOut>(
-        ctx.now, port.in().first(kInPdu), port.out().first(kOutPdu), app_out, app_in, cmd);
-    for (std::size_t i = 0; i < NIn; ++i) IN_DATA[i] = app_in[i];
+        ctx.now, port.in().first(kInPdu), port.out().first(kOutPdu), out_data(), in_data(), cmd);
     if (phase_ == Phase::Cyclic) poll_device_diag(ctx.now);
 
     if (steady) {
-      // The steady exchange (nearly every scan in Run) leaves the state Run
-      // and the data valid, with PASS_ON off (cmd.pass_on): the outputs
-      // below for that, without reading the protocol back (the PDU byte
-      // stores in cycle() may alias it for the compiler).
-      // FModuleOutputs.FollowTheProtocolEveryScan (test_f_module_outputs.cpp).
-      STATE = FHostState::Run;
-      PASS_OUT = false;
-      QBAD = false;
-      ACK_REQ = false;
-      IPAR_OK = proto_.ipar_ok();
-      DIAG = static_cast<BYTE>(proto_.diag() | (dev_code_ != 0 ? diag::kDevCode : 0));
-      VS_IN.fill(0xFF);
-      VS_OUT.fill(0xFF);
+      publish_steady();
       return;
     }
 
@@ -164,8 +169,8 @@ class F_MODULE {
     DIAG = static_cast<BYTE>(proto_.diag() | (dev_code_ != 0 ? diag::kDevCode : 0));
     const std::uint8_t vs_in = proto_.data_valid() ? 0xFF : 0x00;
     const std::uint8_t vs_out = (STATE == FHostState::Run && !PASS_ON) ? 0xFF : 0x00;
-    VS_IN.fill(vs_in);
-    VS_OUT.fill(vs_out);
+    fill_bytes(VS_IN, vs_in);
+    fill_bytes(VS_OUT, vs_out);
   }
 
   // The pure protocol underneath (tests and diagnostics).
@@ -225,8 +230,9 @@ class F_MODULE {
   }
 
   // Reads the device's diagnosis record (P841, P842, code count) every
-  // kDiagPollEvery, and at once when Device_Fault appears.
-  void poll_device_diag(TIME now) {
+  // kDiagPollEvery, and at once when Device_Fault appears. Always inline:
+  // the steady scan (operator()) runs it every scan.
+  [[gnu::always_inline]] void poll_device_diag(TIME now) {
     if (diag_req_.status() == io::RecordStatus::Done) {
       take_device_diag(diag_req_.data());
       diag_req_.reset();
@@ -259,6 +265,43 @@ class F_MODULE {
     }
     dev_code_ = current;
     dev_code_count_ = count;
+  }
+
+  // a.fill(v) as the copy of a whole array: one store for the F-data
+  // lengths of one word (std::array::fill left a compare of its begin and
+  // end behind on every steady scan).
+  template <std::size_t N>
+  static void fill_bytes(std::array<BYTE, N>& a, std::uint8_t v) {
+    std::array<BYTE, N> f;
+    for (auto& b : f) b = v;
+    a = f;
+  }
+
+  // The protocol works on OUT_DATA and IN_DATA in place (BYTE is one byte
+  // with no padding), not on copies: it keeps the last valid data when no
+  // new telegram is due, so it works on the data the block currently shows.
+  static_assert(sizeof(BYTE) == 1 && std::is_trivially_copyable_v<BYTE>);
+  std::span<const std::uint8_t> out_data() const {
+    return {reinterpret_cast<const std::uint8_t*>(OUT_DATA.data()), NOut};
+  }
+  std::span<std::uint8_t> in_data() {
+    return {reinterpret_cast<std::uint8_t*>(IN_DATA.data()), NIn};
+  }
+
+  // The steady exchange (nearly every scan in Run) leaves the state Run and
+  // the data valid, with PASS_ON off (cmd.pass_on): the outputs for that,
+  // without reading the protocol back (the PDU byte stores in the exchange
+  // may alias it for the compiler).
+  // FModuleOutputs.FollowTheProtocolEveryScan (test_f_module_outputs.cpp).
+  void publish_steady() {
+    STATE = FHostState::Run;
+    PASS_OUT = false;
+    QBAD = false;
+    ACK_REQ = false;
+    IPAR_OK = proto_.ipar_ok();
+    DIAG = static_cast<BYTE>(proto_.diag() | (dev_code_ != 0 ? diag::kDevCode : 0));
+    fill_bytes(VS_IN, 0xFF);
+    fill_bytes(VS_OUT, 0xFF);
   }
 
   void publish_passive() {
