@@ -364,9 +364,48 @@ class NordProfisafeModel : public io::DeviceModel {
   std::uint64_t data_key_[2] = {~std::uint64_t{0}, ~std::uint64_t{0}};  // no state: first asks
   std::array<std::uint8_t, 4> data_kept_{};
   std::array<std::uint8_t, kPdu> pdu_{};  // the response as sent
-  // CRC2 of the requests checked and the responses sent (a cache: the
-  // results are compute_crc2()'s whatever it holds).
-  safety::Crc2Cache request_crc_, response_crc_;
+  // CRC2 of the requests checked and the responses sent, bit for bit
+  // compute_crc2() of this connection (seed crc1_), by its linearity
+  // (crc2_cache.hpp): CRC2 = Z4(head) ^ TAIL(consecutive number). The
+  // request checked and the response sent in one exchange carry the same
+  // number, so TAIL is looked up once (tail_, for cn_ as handle_request()
+  // set it; build_response() runs only in that step). Z4 is kept per head
+  // (the PDU's bytes 0..4, F-data and control/status byte, as the low 40
+  // bits of a word) for the last head of each toggle value; the seed is
+  // not in the key, so every change of crc1_ goes through set_crc1(),
+  // which empties them. A response with another seed (foreign injection)
+  // is computed in full.
+  struct Crc2Head {
+    std::uint64_t key = ~std::uint64_t{0};  // no head has bits above 40 set: empty
+    std::uint32_t z4 = 0;
+  };
+  std::array<Crc2Head, 2> req_head_{}, resp_head_{};
+  std::uint32_t tail_ = 0;
+  // kCrc2Tail[1][b1] ^ kCrc2Tail[2][b2] of the number bytes in tail_hi_of_
+  // (cn >> 8); both 0 at first, which is that entry for number 0.
+  std::uint32_t tail_hi_of_ = 0, tail_hi_ = 0;
+  [[gnu::always_inline]] std::uint32_t crc2_tail(std::uint32_t cn) {
+    const auto& t = safety::detail::kCrc2Tail;
+    const std::uint32_t hi = cn >> 8;
+    if (hi != tail_hi_of_) [[unlikely]] {  // every 256th number
+      tail_hi_of_ = hi;
+      tail_hi_ = t[1][hi & 0xFFu] ^ t[2][(hi >> 8) & 0xFFu];
+    }
+    return t[0][cn & 0xFFu] ^ tail_hi_;
+  }
+  // Z4 of the head in `key` (bytes 0..3 F-data, byte 4 control/status)
+  // with seed crc1_, from the head kept for it or computed (and kept).
+  [[gnu::always_inline]] std::uint32_t crc2_z4(Crc2Head& h, std::uint64_t key) const {
+    if (h.key != key) [[unlikely]]
+      take_head(h, key, crc1_);
+    return h.z4;
+  }
+  [[gnu::noinline]] static void take_head(Crc2Head& h, std::uint64_t key, std::uint16_t seed);
+  void set_crc1(std::uint16_t c) {
+    crc1_ = c;
+    req_head_ = {};
+    resp_head_ = {};
+  }
   NordResponseChannel channel_;  // device -> host (not reset by power_cycle)
   std::uint64_t frames_sent_ = 0;
 
