@@ -42,7 +42,13 @@ class FillingProcess {
 
   // Load on the scale (kg), without and with measurement noise.
   [[nodiscard]] double load() const { return load_; }
-  [[nodiscard]] double measured() { return load_ + noise_.gaussian() * sigma(); }
+  // The draw first: the load and sigma() are then read from the members
+  // after the noise's libm calls, not kept in registers across them (the
+  // same sum and product).
+  [[nodiscard]] double measured() {
+    const double g = noise_.gaussian();
+    return load_ + g * sigma();
+  }
   // Material that has left the valves but not yet landed (kg).
   [[nodiscard]] double in_flight() const;
   [[nodiscard]] double landing_rate() const { return landing_rate_; }

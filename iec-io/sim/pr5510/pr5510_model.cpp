@@ -111,6 +111,11 @@ void Pr5510Model::put_read_window(std::span<std::uint8_t> to_plc) const {
 // nothing across the noise's libm calls (no spills of its spans).
 void Pr5510Model::tick_1ms() {
   process_.step_1ms(outputs_ & 1U, outputs_ & 2U, outputs_ & 4U);
+  // The process wrote its load and landing rate to memory; measured()
+  // reads them after the noise's libm calls. Without this (empty) barrier
+  // GCC keeps the values it just stored in registers across those calls
+  // and spills and reloads them (four more moves per call).
+  asm volatile("" ::: "memory");
   filtered_kg_ += (process_.measured() - filtered_kg_) * filter_alpha_;
 }
 
