@@ -12,6 +12,7 @@ FillingProcess::FillingProcess(const FillingConfig& c)
       flight_n_(flight_.size()),
       load_(c.initial_load),
       valve_step_(c.valve_time_s > 0.0 ? std::min(1.0, 0.001 / c.valve_time_s) : 1.0),
+      valve_instant_(c.valve_time_s <= 0.0),
       wander_(c.flow_wander * 0.0316227766) {}
 
 double FillingProcess::in_flight() const {

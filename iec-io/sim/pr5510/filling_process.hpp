@@ -78,7 +78,8 @@ class FillingProcess {
   double load_ = 0.0;
   double landing_rate_ = 0.0;  // kg/s
   double flow_factor_ = 1.0;
-  double valve_step_;  // share of the way a valve moves in 1 ms (valve_time_s > 0)
+  double valve_step_;   // share of the way a valve moves in 1 ms (valve_time_s > 0)
+  bool valve_instant_;  // valve_time_s <= 0.0: a valve is where it is told at once (cfg_ is fixed)
   // flow_wander * sqrt(0.001 s), the first product of move()'s wander term
   // (evaluated left to right, so the same double), once.
   double wander_;
@@ -89,7 +90,7 @@ inline void FillingProcess::move(Valve& v, bool cmd) {
   v.cmd = cmd;
   if (cmd) v.factor *= 1.0 + wander_ * noise_.uniform_pm1();
   const double target = cmd ? 1.0 : 0.0;
-  if (cfg_.valve_time_s <= 0.0) {
+  if (valve_instant_) {
     v.open = target;
   } else {
     v.open += (target - v.open) * valve_step_;
@@ -107,7 +108,11 @@ inline void FillingProcess::drive(Valve& v, bool cmd) {
 inline void FillingProcess::step_1ms(bool coarse, bool fine, bool discharge) {
   drive(coarse_, coarse);
   drive(fine_, fine);
-  drive(discharge_, discharge);
+  // drive() for the discharge valve, its test kept: a valve closed and
+  // staying closed has open == 0.0, so the subtraction at the end (open >
+  // 0.0) is skipped without looking at it again.
+  const bool discharge_idle = !discharge && !discharge_.cmd && discharge_.open == 0.0;
+  if (!discharge_idle) move(discharge_, discharge);
   const double leaving = (coarse_.open * coarse_.factor * cfg_.coarse_rate +
                           fine_.open * fine_.factor * cfg_.fine_rate) *
                          flow_factor_ * 0.001;
@@ -118,7 +123,7 @@ inline void FillingProcess::step_1ms(bool coarse, bool fine, bool discharge) {
   if (++head_ == flight_n_) head_ = 0;
   load_ += landing;
   landing_rate_ = landing * 1000.0;
-  if (discharge_.open > 0.0)
+  if (!discharge_idle && discharge_.open > 0.0)
     load_ -= std::min(load_, discharge_.open * cfg_.discharge_rate * 0.001);
 }
 
