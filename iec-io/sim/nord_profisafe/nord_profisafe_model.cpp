@@ -645,9 +645,10 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
   } else {
     crc = crc2_z4(resp_head_[last_toggle_], head) ^ tail_;
   }
-  store_le64(pdu_.data(), head | static_cast<std::uint64_t>(crc >> 16 & 0xFFu) << 40 |
-                              static_cast<std::uint64_t>(crc >> 8 & 0xFFu) << 48 |
-                              static_cast<std::uint64_t>(crc & 0xFFu) << 56);
+  // CRC2 (24 bits: the engine masks every step, and so Z4 and TAIL) most
+  // significant first in bytes 5..7: its three bytes byte-reversed into
+  // the top of the word.
+  store_le64(pdu_.data(), head | __builtin_bswap64(crc));
   Sent& s = sent_[sent_head_++ % kHist];
   s.cn = cn_;
   s.valid = true;
