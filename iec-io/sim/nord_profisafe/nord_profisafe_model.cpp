@@ -414,9 +414,8 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
   pas_.host_fv = (control & cb::kActivateFv) != 0;
   const auto data = static_cast<std::uint32_t>(w);  // bytes 0..3
   store_le32(requested_.data(), data);
-  Sent& a = accepted_[accepted_head_++ % kHist];
+  Accepted& a = accepted_[accepted_head_++ % kHist];
   a.cn = cn_;
-  a.valid = true;
   store_le32(a.data.data(), data);
   if ((control & cb::kOaReq) && !pas_.ce_crc && !pas_.wd_timeout && !module_fault() &&
       fatal_code_ == 0)
@@ -650,16 +649,13 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
   // the top of the word.
   store_le64(pdu_.data(), head | __builtin_bswap64(crc));
   Sent& s = sent_[sent_head_++ % kHist];
-  s.cn = cn_;
-  s.valid = true;
   s.produced = now_;
-  s.data = data;
   s.pdu = pdu_;
   if (injecting_ && repeat_resp_ > 0 && sent_head_ >= 3) [[unlikely]] {
     const Sent& old = sent_[(sent_head_ - 3) % kHist];  // two exchanges earlier
     pdu_ = old.pdu;
     tag.produced = old.produced;
-    tag.data = old.data;
+    std::copy_n(old.pdu.begin(), 4, tag.data.begin());
     tag.repeated = true;
     --repeat_resp_;
   }
@@ -770,7 +766,7 @@ bool find_newest(const Ring& ring, std::size_t head, std::uint32_t cn,
                  std::span<std::uint8_t, 4> out) {
   for (std::size_t i = 1; i <= ring.size() && i <= head; ++i) {
     const auto& s = ring[(head - i) % ring.size()];
-    if (s.valid && s.cn == cn) {
+    if (s.cn == cn) {
       std::copy(s.data.begin(), s.data.end(), out.begin());
       return true;
     }

@@ -409,17 +409,19 @@ class NordProfisafeModel : public io::DeviceModel {
   NordResponseChannel channel_;  // device -> host (not reset by power_cycle)
   std::uint64_t frames_sent_ = 0;
 
-  // History (ring) for repeat injection and the soak oracle.
+  // History (rings) for repeat injection and the soak oracle. Only the
+  // entries written since reset_volatile() are read (head counts them).
   static constexpr std::size_t kHist = 64;
-  struct Sent {
-    std::uint32_t cn = 0;
-    bool valid = false;
+  struct Sent {  // a response as sent (its F-data: pdu bytes 0..3)
     TIME produced{};
-    std::array<std::uint8_t, 4> data{};
     std::array<std::uint8_t, kPdu> pdu{};
   };
+  struct Accepted {  // a valid request's number and F-data
+    std::uint32_t cn = 0;
+    std::array<std::uint8_t, 4> data{};
+  };
   std::array<Sent, kHist> sent_{};
-  std::array<Sent, kHist> accepted_{};
+  std::array<Accepted, kHist> accepted_{};
   std::size_t sent_head_ = 0, accepted_head_ = 0;
   // The last two new requests received, newest first (a replay takes [1]).
   std::array<std::array<std::uint8_t, kPdu>, 2> req_hist_{};
