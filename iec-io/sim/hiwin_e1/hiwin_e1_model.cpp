@@ -843,7 +843,15 @@ void HiwinE1Model::step(TIME now, TIME dt_ns, std::span<const std::uint8_t> from
         if (decoded_.stw1.control_by_plc) cmd_.stw2 = stw2;
         sol_monitor_ = monitor;
         if (!sol_frozen_) sol_ = next_sign_of_life(sol_);
-        put_inputs(to_plc);
+        // put_inputs() as it goes for a repeat: telegram 111 (only its
+        // decode finds the same words) in S4 (pulses enabled), so no
+        // switch on the telegram and no test of the state.
+        std::memcpy(to_plc.first<Telegram111In::kBytes>().data(), encoded_.data(),
+                    Telegram111In::kBytes);
+        Zsw2 zsw2;
+        zsw2.drive_sign_of_life = sol_;
+        zsw2.pulses_enabled = true;
+        wire::put16(to_plc, Telegram111In::kZsw2, zsw2.word());
         return;
       }
     }
