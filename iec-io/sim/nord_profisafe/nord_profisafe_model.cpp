@@ -647,24 +647,31 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
   // CRC2 (24 bits: the engine masks every step, and so Z4 and TAIL) most
   // significant first in bytes 5..7: its three bytes byte-reversed into
   // the top of the word.
-  store_le64(pdu_.data(), head | __builtin_bswap64(crc));
+  // The word is written to the PDU, the history and (no injection) the
+  // frame from the register, not read back from pdu_.
+  const std::uint64_t word = head | __builtin_bswap64(crc);
+  store_le64(pdu_.data(), word);
   Sent& s = sent_[sent_head_++ % kHist];
   s.produced = now_;
-  s.pdu = pdu_;
-  if (injecting_ && repeat_resp_ > 0 && sent_head_ >= 3) [[unlikely]] {
-    const Sent& old = sent_[(sent_head_ - 3) % kHist];  // two exchanges earlier
-    pdu_ = old.pdu;
-    tag.produced = old.produced;
-    std::copy_n(old.pdu.begin(), 4, tag.data.begin());
-    tag.repeated = true;
-    --repeat_resp_;
+  store_le64(s.pdu.data(), word);
+  if (injecting_) [[unlikely]] {
+    if (repeat_resp_ > 0 && sent_head_ >= 3) {
+      const Sent& old = sent_[(sent_head_ - 3) % kHist];  // two exchanges earlier
+      pdu_ = old.pdu;
+      tag.produced = old.produced;
+      std::copy_n(old.pdu.begin(), 4, tag.data.begin());
+      tag.repeated = true;
+      --repeat_resp_;
+    }
+    if (corrupt_resp_n_ > 0) {
+      pdu_[corrupt_resp_byte_] ^= corrupt_resp_mask_;
+      --corrupt_resp_n_;
+      tag.corrupted = true;
+    }
+    frame.pdu = pdu_;
+    return;
   }
-  if (injecting_ && corrupt_resp_n_ > 0) [[unlikely]] {
-    pdu_[corrupt_resp_byte_] ^= corrupt_resp_mask_;
-    --corrupt_resp_n_;
-    tag.corrupted = true;
-  }
-  frame.pdu = pdu_;
+  store_le64(frame.pdu.data(), word);
 }
 
 void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
