@@ -15,13 +15,11 @@ constexpr TIME kCycle = std::chrono::milliseconds(wg::kDeviceCycleMs);
 
 Pr5510Model::Pr5510Model(const Pr5510Config& c) : cfg_(c), process_(c.filling) {
   digits_per_kg_ = std::pow(10.0, cfg_.decimals);
+  fsd_digits_ = static_cast<DINT>(std::lround(cfg_.full_scale * digits_per_kg_));
+  overload_digits_ = static_cast<DINT>(std::lround(cfg_.overload * digits_per_kg_));
   filtered_kg_ = cfg_.filling.initial_load;
   filter_alpha_ = std::min(1.0, 1e-3 / std::chrono::duration<double>(cfg_.filter_time).count());
   power_cycle();
-}
-
-DINT Pr5510Model::fsd_digits() const {
-  return static_cast<DINT>(std::lround(cfg_.full_scale * digits_per_kg_));
 }
 
 void Pr5510Model::set_input(int n, bool on) {
@@ -180,7 +178,7 @@ void Pr5510Model::update_weight_and_status() {
   const bool above = gross_ >= fsd;
   if (above && !st_.AboveFsd) last_error_ = wg::device_error::kOverFullScale;
   st_.AboveFsd = above;
-  st_.Overload = gross_ >= fsd + static_cast<DINT>(std::lround(cfg_.overload * digits_per_kg_));
+  st_.Overload = gross_ >= fsd + overload_digits_;
   st_.BelowZero = exact <= -0.25 * d;
   st_.CenterZero = std::abs(exact) <= 0.25 * d;
   st_.Dimmed = st_.AboveFsd || st_.BelowZero;
