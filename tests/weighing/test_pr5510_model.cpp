@@ -4,9 +4,16 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <vector>
 
 #include "plc/fb/weighing/window_codec.hpp"
 #include "plc/io/device_model.hpp"
+#include "pr5510/display_rounding.hpp"
 #include "pr5510_harness.hpp"
 
 namespace wg = plc::weighing;
@@ -553,3 +560,63 @@ TEST(Pr5510Model, Spec34_WeightBeyondTheDisplaySaturates) {
 
 INSTANTIATE_TEST_SUITE_P(Pr5510Model, BothBuses,
                          ::testing::Values(wg::Bus::Profibus, wg::Bus::DeviceNet));
+
+// The display rounding of the model (weight to the display step, 1/100
+// digit, spec §3.4 gross and 0x0C read codes) inline: bit for bit
+// std::round and std::llround for every double class, halves and the
+// neighbours of halves at every magnitude, +-0, 2^52 and around it, the
+// infinities and NaN (fails with round-half-even, truncation, or the sign
+// of a zero result lost).
+TEST(PR5510Rounding, InlineRoundingIsStdRoundAndLlround) {
+  namespace r = plc::sim::pr5510_rounding;
+  std::vector<double> v = {0.0,
+                           -0.0,
+                           0.5,
+                           -0.5,
+                           1.5,
+                           -1.5,
+                           2.5,
+                           -2.5,
+                           0.49999999999999994,
+                           -0.49999999999999994,
+                           4503599627370495.5,
+                           -4503599627370495.5,
+                           4503599627370496.0,
+                           -4503599627370496.0,
+                           4503599627370497.0,
+                           9007199254740993.0,
+                           1e300,
+                           -1e300,
+                           std::numeric_limits<double>::denorm_min(),
+                           -std::numeric_limits<double>::denorm_min(),
+                           std::numeric_limits<double>::infinity(),
+                           -std::numeric_limits<double>::infinity(),
+                           std::numeric_limits<double>::quiet_NaN()};
+  std::mt19937_64 gen(5510);
+  for (int e = -60; e <= 60; ++e) {
+    for (int k = 0; k < 2000; ++k) {
+      const double x = std::ldexp(static_cast<double>(gen() >> 11) * 0x1p-53, e);
+      v.push_back(x);
+      v.push_back(-x);
+      const double h = std::floor(x) + 0.5;  // a half and its neighbours
+      v.push_back(h);
+      v.push_back(-h);
+      v.push_back(std::nextafter(h, 0.0));
+      v.push_back(std::nextafter(-h, 0.0));
+      v.push_back(std::nextafter(h, 1e308));
+    }
+  }
+  for (double x : v) {
+    const double want = std::round(x);
+    const double got = r::round(x);
+    if (std::isnan(want)) {
+      EXPECT_TRUE(std::isnan(got)) << x;
+    } else {
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(got), std::bit_cast<std::uint64_t>(want))
+          << std::hexfloat << x;
+    }
+    if (std::isfinite(x) && std::fabs(x) < 9.2e18) {
+      EXPECT_EQ(r::llround(x), std::llround(x)) << std::hexfloat << x;
+    }
+  }
+}

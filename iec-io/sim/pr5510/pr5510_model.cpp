@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "pr5510/display_rounding.hpp"
+
 namespace plc::sim {
 
 using namespace std::chrono_literals;
@@ -160,10 +162,12 @@ void Pr5510Model::update_weight_and_status() {
   // a huge test value) saturate, so every value and every difference of two
   // (net = gross - tare, the standstill check) fits a DINT.
   constexpr double kDisplayMax = 999'999'999.0;
-  const double shown = std::round(exact / d) * d;
+  // std::round and std::llround, inline (display_rounding.hpp).
+  const double shown = pr5510_rounding::round(exact / d) * d;
   gross_ = std::isnan(shown) ? 0 : static_cast<DINT>(std::clamp(shown, -kDisplayMax, kDisplayMax));
-  gross100_ =
-      std::isnan(exact) ? 0 : std::llround(std::clamp(exact, -kDisplayMax, kDisplayMax) * 100.0);
+  gross100_ = std::isnan(exact)
+                  ? 0
+                  : pr5510_rounding::llround(std::clamp(exact, -kDisplayMax, kDisplayMax) * 100.0);
 
   // Standstill: the displayed weight stays within +- range for the time.
   if (std::abs(gross_ - still_ref_) <= cfg_.standstill_range) {
