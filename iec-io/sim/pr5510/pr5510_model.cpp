@@ -1,6 +1,7 @@
 #include "pr5510/pr5510_model.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 
@@ -134,9 +135,11 @@ void Pr5510Model::device_cycle(std::span<const std::uint8_t> w) {
   const std::uint8_t w7 = w[wg::w::kCommands];
   const auto rising = static_cast<std::uint8_t>(w7 & ~prev_w7_);
   prev_w7_ = w7;
-  for (unsigned b = 0; b < wg::kCommandBitCount; ++b) {
-    if (rising & (1U << b)) start_command(static_cast<wg::CommandBit>(b));
-  }
+  // The rising command bits in ascending order, as a loop over the bits
+  // would take them (usually none: no loop at all).
+  static_assert(wg::kCommandBitCount < 8);
+  for (unsigned r = rising & ((1U << wg::kCommandBitCount) - 1U); r != 0; r &= r - 1U)
+    start_command(static_cast<wg::CommandBit>(std::countr_zero(r)));
 
   // W[5]: a change 0 -> code while Write_Active = 0 starts one write (§7.1).
   const std::uint8_t w5 = w[wg::w::kWriteValueSelect];
