@@ -100,6 +100,7 @@ void NordProfisafeModel::reset_volatile() {
   drop_until_ = TIME{};
   drop_start_pending_ = false;
   stopped_ = false;
+  answering_ = true;
   fn_.reset();
   at_rest_ = false;
   resp_fresh_ = false;
