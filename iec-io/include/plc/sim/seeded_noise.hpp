@@ -32,8 +32,10 @@ class SeededNoise {
       has_spare_ = false;
       return spare_;
     }
-    double u = uniform();
-    if (u < 1e-300) u = 1e-300;
+    // uniform() with its integer at hand: u = k * 2^-53 is below 1e-300
+    // only for k = 0 (the next one is 2^-53), so the integer is tested.
+    const std::uint64_t k = next_u64() >> 11;
+    const double u = k == 0 ? 1e-300 : static_cast<double>(k) * (1.0 / 9007199254740992.0);
     const double v = uniform();
     const double r = std::sqrt(-2.0 * std::log(u));
     spare_ = r * std::sin(6.283185307179586 * v);
