@@ -34,6 +34,9 @@ struct FillingConfig {
 class FillingProcess {
  public:
   explicit FillingProcess(const FillingConfig& c);
+  // The flight ring's cursor points into its own vector.
+  FillingProcess(const FillingProcess&) = delete;
+  FillingProcess& operator=(const FillingProcess&) = delete;
 
   // Advance by exactly 1 ms with the valves as commanded. Inline (defined
   // below): the PR5510 model calls it every ms, and as a call it cost the
@@ -73,8 +76,10 @@ class FillingProcess {
   SeededNoise noise_;
   Valve coarse_, fine_, discharge_;
   std::vector<double> flight_;  // kg leaving the valves per ms, ring buffer
-  std::size_t flight_n_;        // flight_.size(), fixed at construction (one load per ms)
-  std::size_t head_ = 0;
+  // The ring's next entry and its end (the vector's size is fixed at
+  // construction): one load and one compare per ms, no index arithmetic.
+  double* head_;
+  double* flight_end_;
   double load_ = 0.0;
   double landing_rate_ = 0.0;  // kg/s
   double flow_factor_ = 1.0;
@@ -118,9 +123,9 @@ inline void FillingProcess::step_1ms(bool coarse, bool fine, bool discharge) {
                          flow_factor_ * 0.001;
   // The ring holds what left the valves during the last fall_time: the
   // oldest entry lands now.
-  const double landing = flight_[head_];
-  flight_[head_] = leaving;
-  if (++head_ == flight_n_) head_ = 0;
+  const double landing = *head_;
+  *head_ = leaving;
+  if (++head_ == flight_end_) head_ = flight_.data();
   load_ += landing;
   landing_rate_ = landing * 1000.0;
   if (!discharge_idle && discharge_.open > 0.0)
