@@ -827,8 +827,8 @@ void HiwinE1Model::step(TIME now, TIME dt_ns, std::span<const std::uint8_t> from
   // and no edge rises; the state machine, the motion update and the
   // telegram's key would find what they found then. What is left is what
   // step_full() does with STW2 (the decoded word, the setpoints' copy, the
-  // sign-of-life) and the telegram copy. A sign-of-life failure (tried on a
-  // monitor fed in place, then put back) takes step_full() from the start instead.
+  // sign-of-life) and the telegram copy. A sign-of-life failure (the monitor
+  // fed in place) takes step_full() from the start instead.
   using T = Telegram111Out;
   if (rest_repeat_ && dt_ns > TIME::zero() && from_plc.size() >= T::kBytes) {
     const std::uint8_t* p = from_plc.data();
@@ -836,9 +836,11 @@ void HiwinE1Model::step(TIME now, TIME dt_ns, std::span<const std::uint8_t> from
         std::memcmp(p + T::kStw2 + 2, decoded_bytes_.data() + T::kStw2 + 2,
                     T::kBytes - T::kStw2 - 2) == 0) {
       const Stw2 stw2 = Stw2::from(wire::u16(from_plc, T::kStw2));
-      // The monitor is fed in place; a failure puts it back as it was and
-      // takes step_full() from the start.
-      const SignOfLifeMonitor before = sol_monitor_;
+      // The monitor is fed in place. A failure is a loss (update() returns
+      // !lost_, and nothing but reset() clears lost_): step_full() from the
+      // start then feeds it the same value, fails again and enters the
+      // fault, which resets it; nothing reads it in between, so it is not
+      // put back.
       if (!cfg_.sign_of_life_monitoring ||
           sol_monitor_.update(stw2.controller_sign_of_life, act_.sol_tol)) {
         decoded_.stw2 = stw2;
@@ -855,7 +857,6 @@ void HiwinE1Model::step(TIME now, TIME dt_ns, std::span<const std::uint8_t> from
         wire::put16(to_plc, Telegram111In::kZsw2, zsw2.word());
         return;
       }
-      sol_monitor_ = before;
     }
   }
   step_full(now, dt_ns, from_plc, to_plc);
