@@ -14,6 +14,7 @@
 #include "plc/fb/weighing/window_codec.hpp"
 #include "plc/io/device_model.hpp"
 #include "pr5510/display_rounding.hpp"
+#include "pr5510/filling_process.hpp"
 #include "pr5510_harness.hpp"
 
 namespace wg = plc::weighing;
@@ -619,4 +620,43 @@ TEST(PR5510Rounding, InlineRoundingIsStdRoundAndLlround) {
       EXPECT_EQ(r::llround(x), std::llround(x)) << std::hexfloat << x;
     }
   }
+}
+
+// A valve commanded open moves open += (1 - open) * step each ms until
+// the step no longer changes it; from there FillingProcess skips the
+// update (Valve::settled). With no flow variation, wander or fall time
+// the load is the sum of what the open valve let through, computed here
+// with the update every ms: the process must show it bit for bit over
+// opening, settling, closing and reopening (fails when a valve counts as
+// settled before its update stops changing it, or stays settled after a
+// new opening).
+TEST(PR5510Filling, SettledValveSkipsOnlyUpdatesThatChangeNothing) {
+  plc::sim::FillingConfig c;
+  c.flow_variation = 0.0;
+  c.flow_wander = 0.0;
+  c.fall_time_s = 0.0;  // a ring of one entry: what left the valve lands the next ms
+  c.noise_kg = 0.0;
+  c.impact_noise = 0.0;
+  plc::sim::FillingProcess p(c);
+  const double step = std::min(1.0, 0.001 / c.valve_time_s);
+  double open = 0.0, in_ring = 0.0, load = 0.0;
+  bool was_cmd = false;
+  int settled_ms = 0;
+  for (int ms = 0; ms < 7000; ++ms) {
+    const bool cmd = ms < 3000 || (ms >= 3200 && ms < 6500);  // open, close, reopen
+    if (cmd || was_cmd || open != 0.0) {
+      const double before = open;
+      open += ((cmd ? 1.0 : 0.0) - open) * step;
+      if (!cmd && open < 1e-4) open = 0.0;
+      settled_ms += cmd && open == before;
+    }
+    was_cmd = cmd;
+    const double leaving = (open * 1.0 * c.coarse_rate + 0.0 * 1.0 * c.fine_rate) * 1.0 * 0.001;
+    load += in_ring;
+    in_ring = leaving;
+    p.step_1ms(cmd, false, false);
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(p.load()), std::bit_cast<std::uint64_t>(load))
+        << "ms " << ms;
+  }
+  EXPECT_GT(settled_ms, 2000);  // most of both open spells
 }

@@ -65,6 +65,10 @@ class FillingProcess {
     bool cmd = false;
     double open = 0.0;    // 0..1
     double factor = 1.0;  // this opening's rate factor
+    // Open and commanded open, and the last step left `open` as it was:
+    // open + (1 - open) * step == open, so every later step while it stays
+    // commanded open would too (the same operation on the same double).
+    bool settled = false;
   };
   // step_1ms()'s parts, inline into step_1ms() (every valve, every ms): no
   // calls.
@@ -97,9 +101,11 @@ inline void FillingProcess::move(Valve& v, bool cmd) {
   const double target = cmd ? 1.0 : 0.0;
   if (valve_instant_) {
     v.open = target;
-  } else {
+  } else if (!(cmd && v.settled)) {
+    const double was = v.open;
     v.open += (target - v.open) * valve_step_;
     if (!cmd && v.open < 1e-4) v.open = 0.0;
+    v.settled = cmd && v.open == was;
   }
 }
 
