@@ -17,6 +17,9 @@
 #include <cstdint>
 #include <limits>
 
+#include "plc/fb/safety/control_status_byte.hpp"
+#include "plc/fb/safety/f_parameters.hpp"
+#include "plc/fb/safety/safety_pdu.hpp"
 #include "plc/sim/nord_response_channel.hpp"
 #include "safety_rig.hpp"
 
@@ -292,6 +295,99 @@ TEST(SafetyModelCaches, ChannelPushDeliveredShowsWhatPushAndDeliverShow_Spec8_4)
   }
   EXPECT_GT(at_once, 50000);
   EXPECT_GT(delayed, 10000);
+}
+
+// The device checks each new request's CRC2 and seals its response with
+// Z4 kept per head (F-data and control/status byte, per toggle value) and
+// the number's TAIL looked up once per exchange (CRC2 is linear,
+// crc2_cache.hpp). Requests from a few heads (so the kept ones are hit)
+// and now and then others, some with a wrong CRC2, a few with R_cons_nr
+// (numbers up to some thousands: the upper bytes' TAIL changes too);
+// new F-parameter blocks with other CRC1 seeds, power cycles and foreign
+// responses between them. Each response must carry compute_crc2() of its
+// bytes for the number the host expects (spec nord-profisafe.md §8.3
+// cyclic 1-3, safety_pdu.hpp byte order), and the device must count a CRC
+// error exactly for the wrong ones. Fails when a kept head outlives a
+// change of CRC1 or its key misses a byte.
+TEST(SafetyModelCaches, RequestCheckAndResponseCrc2AreComputeCrc2_Spec8_3) {
+  namespace ps = plc::safety;
+  plc::io::ModelParams mp;
+  for (auto& [k, v] : safety_test::default_device_params()) mp.set(k, v);
+  plc::sim::NordProfisafeModel m(mp);
+  Random rnd(2317);
+  plc::TIME now{};
+  const plc::TIME dt = std::chrono::milliseconds(1);
+  std::uint16_t crc1 = 0;
+  std::uint32_t cn = 0;
+  bool toggle = false;
+  std::uint64_t errors = 0;
+  auto parametrize = [&](std::uint16_t source) {
+    ps::FParameters p;
+    p.source_add = source;
+    p.dest_add = 1;
+    p.wd_time_ms = 10000;
+    p.ipar_crc = 0x1234ABCD;
+    std::array<std::uint8_t, ps::kFParamBlockSize> b{};
+    ps::encode(p, b);
+    ASSERT_EQ(m.write_record(ps::kFParamRecordIndex, b), plc::io::RecordError::None);
+    crc1 = p.par_crc;
+    cn = 0;
+    toggle = false;
+  };
+  parametrize(10);
+  const std::array<std::uint8_t, 4> pool[] = {
+      {0x01, 0x00, 0x00, 0x03}, {0x00, 0x00, 0x00, 0x00}, {0x81, 0x02, 0x00, 0x01}};
+  std::array<std::uint8_t, 8> req{};
+  int checked = 0, wrong = 0, foreign = 0;
+  for (int i = 0; i < 300000; ++i) {
+    now += dt;
+    const int event = rnd.below(20000);
+    if (event == 0) {
+      parametrize(static_cast<std::uint16_t>(10 + rnd.below(5)));
+    } else if (event == 1) {
+      m.power_cycle();  // the CRC error count goes on
+      parametrize(static_cast<std::uint16_t>(10 + rnd.below(5)));
+    }
+    bool fresh = false, bad = false, seeded_foreign = false;
+    if (rnd.below(8) != 0) {  // a new request (else the last bytes again)
+      fresh = true;
+      toggle = !toggle;
+      std::array<std::uint8_t, 4> data = pool[rnd.below(3)];
+      if (rnd.below(50) == 0)
+        for (auto& b : data) b = static_cast<std::uint8_t>(rnd.below(256));
+      std::uint8_t control = toggle ? ps::cb::kToggleH : 0;
+      if (rnd.below(2) == 0) control |= ps::cb::kOaReq;
+      if (rnd.below(5000) == 0) control |= ps::cb::kRConsNr;
+      if (rnd.below(300) == 0) control |= ps::cb::kActivateFv;
+      cn = (control & ps::cb::kRConsNr) ? 0u : ps::next_cons_nr(cn);
+      std::uint32_t crc = ps::compute_crc2(data, control, cn, crc1);
+      bad = rnd.below(10) == 0;
+      if (bad) crc ^= 1u + static_cast<std::uint32_t>(rnd.below(0xFFFFFF));
+      std::copy(data.begin(), data.end(), req.begin());
+      req[4] = control;
+      req[5] = static_cast<std::uint8_t>(crc >> 16);
+      req[6] = static_cast<std::uint8_t>(crc >> 8);
+      req[7] = static_cast<std::uint8_t>(crc);
+      errors += bad;
+      if (rnd.below(500) == 0) {
+        m.answer_as_foreign_device(1);
+        seeded_foreign = true;
+      }
+    }
+    std::array<std::uint8_t, 8> resp{};
+    m.step(now, dt, req, resp);
+    ASSERT_EQ(m.crc_errors(), errors) << "step " << i;
+    if (!fresh) continue;
+    ASSERT_EQ(m.cons_nr(), cn) << "step " << i;
+    const std::uint16_t seed = seeded_foreign ? static_cast<std::uint16_t>(crc1 ^ 0x5A5Au) : crc1;
+    ASSERT_TRUE(ps::check_pdu(resp, 4, cn, seed)) << "step " << i;
+    ++checked;
+    wrong += bad;
+    foreign += seeded_foreign;
+  }
+  EXPECT_GT(checked, 200000);
+  EXPECT_GT(wrong, 20000);
+  EXPECT_GT(foreign, 100);
 }
 
 // step() integrates the encoder position only when the sum can change it

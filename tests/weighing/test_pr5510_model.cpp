@@ -4,9 +4,17 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <vector>
 
 #include "plc/fb/weighing/window_codec.hpp"
 #include "plc/io/device_model.hpp"
+#include "pr5510/display_rounding.hpp"
+#include "pr5510/filling_process.hpp"
 #include "pr5510_harness.hpp"
 
 namespace wg = plc::weighing;
@@ -553,3 +561,102 @@ TEST(Pr5510Model, Spec34_WeightBeyondTheDisplaySaturates) {
 
 INSTANTIATE_TEST_SUITE_P(Pr5510Model, BothBuses,
                          ::testing::Values(wg::Bus::Profibus, wg::Bus::DeviceNet));
+
+// The display rounding of the model (weight to the display step, 1/100
+// digit, spec §3.4 gross and 0x0C read codes) inline: bit for bit
+// std::round and std::llround for every double class, halves and the
+// neighbours of halves at every magnitude, +-0, 2^52 and around it, the
+// infinities and NaN (fails with round-half-even, truncation, or the sign
+// of a zero result lost).
+TEST(PR5510Rounding, InlineRoundingIsStdRoundAndLlround) {
+  namespace r = plc::sim::pr5510_rounding;
+  std::vector<double> v = {0.0,
+                           -0.0,
+                           0.5,
+                           -0.5,
+                           1.5,
+                           -1.5,
+                           2.5,
+                           -2.5,
+                           0.49999999999999994,
+                           -0.49999999999999994,
+                           4503599627370495.5,
+                           -4503599627370495.5,
+                           4503599627370496.0,
+                           -4503599627370496.0,
+                           4503599627370497.0,
+                           9007199254740993.0,
+                           1e300,
+                           -1e300,
+                           std::numeric_limits<double>::denorm_min(),
+                           -std::numeric_limits<double>::denorm_min(),
+                           std::numeric_limits<double>::infinity(),
+                           -std::numeric_limits<double>::infinity(),
+                           std::numeric_limits<double>::quiet_NaN()};
+  std::mt19937_64 gen(5510);
+  for (int e = -60; e <= 60; ++e) {
+    for (int k = 0; k < 2000; ++k) {
+      const double x = std::ldexp(static_cast<double>(gen() >> 11) * 0x1p-53, e);
+      v.push_back(x);
+      v.push_back(-x);
+      const double h = std::floor(x) + 0.5;  // a half and its neighbours
+      v.push_back(h);
+      v.push_back(-h);
+      v.push_back(std::nextafter(h, 0.0));
+      v.push_back(std::nextafter(-h, 0.0));
+      v.push_back(std::nextafter(h, 1e308));
+    }
+  }
+  for (double x : v) {
+    const double want = std::round(x);
+    const double got = r::round(x);
+    if (std::isnan(want)) {
+      EXPECT_TRUE(std::isnan(got)) << x;
+    } else {
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(got), std::bit_cast<std::uint64_t>(want))
+          << std::hexfloat << x;
+    }
+    if (std::isfinite(x) && std::fabs(x) < 9.2e18) {
+      EXPECT_EQ(r::llround(x), std::llround(x)) << std::hexfloat << x;
+    }
+  }
+}
+
+// A valve commanded open moves open += (1 - open) * step each ms until
+// the step no longer changes it; from there FillingProcess skips the
+// update (Valve::settled). With no flow variation, wander or fall time
+// the load is the sum of what the open valve let through, computed here
+// with the update every ms: the process must show it bit for bit over
+// opening, settling, closing and reopening (fails when a valve counts as
+// settled before its update stops changing it, or stays settled after a
+// new opening).
+TEST(PR5510Filling, SettledValveSkipsOnlyUpdatesThatChangeNothing) {
+  plc::sim::FillingConfig c;
+  c.flow_variation = 0.0;
+  c.flow_wander = 0.0;
+  c.fall_time_s = 0.0;  // a ring of one entry: what left the valve lands the next ms
+  c.noise_kg = 0.0;
+  c.impact_noise = 0.0;
+  plc::sim::FillingProcess p(c);
+  const double step = std::min(1.0, 0.001 / c.valve_time_s);
+  double open = 0.0, in_ring = 0.0, load = 0.0;
+  bool was_cmd = false;
+  int settled_ms = 0;
+  for (int ms = 0; ms < 7000; ++ms) {
+    const bool cmd = ms < 3000 || (ms >= 3200 && ms < 6500);  // open, close, reopen
+    if (cmd || was_cmd || open != 0.0) {
+      const double before = open;
+      open += ((cmd ? 1.0 : 0.0) - open) * step;
+      if (!cmd && open < 1e-4) open = 0.0;
+      settled_ms += cmd && open == before;
+    }
+    was_cmd = cmd;
+    const double leaving = (open * 1.0 * c.coarse_rate + 0.0 * 1.0 * c.fine_rate) * 1.0 * 0.001;
+    load += in_ring;
+    in_ring = leaving;
+    p.step_1ms(cmd, false, false);
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(p.load()), std::bit_cast<std::uint64_t>(load))
+        << "ms " << ms;
+  }
+  EXPECT_GT(settled_ms, 2000);  // most of both open spells
+}

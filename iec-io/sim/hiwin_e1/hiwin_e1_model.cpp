@@ -208,6 +208,7 @@ void HiwinE1Model::refresh_active() {
   act_.pt53a = p(kPt53A);
   act_.ot_mode = p(kOvertravelStopMode);
   act_.sol_tolerance = p(kPnuSolTolerance);
+  act_.sol_tol = static_cast<std::uint16_t>(act_.sol_tolerance);
   act_.acc534 = accel_of_ms(act_.pt534);
   act_.acc537 = accel_of_ms(act_.pt537);
   act_.acc538 = accel_of_ms(act_.pt538);
@@ -826,8 +827,8 @@ void HiwinE1Model::step(TIME now, TIME dt_ns, std::span<const std::uint8_t> from
   // and no edge rises; the state machine, the motion update and the
   // telegram's key would find what they found then. What is left is what
   // step_full() does with STW2 (the decoded word, the setpoints' copy, the
-  // sign-of-life) and the telegram copy. A sign-of-life failure (tried on a
-  // copy of the monitor) takes step_full() from the start instead.
+  // sign-of-life) and the telegram copy. A sign-of-life failure (the monitor
+  // fed in place) takes step_full() from the start instead.
   using T = Telegram111Out;
   if (rest_repeat_ && dt_ns > TIME::zero() && from_plc.size() >= T::kBytes) {
     const std::uint8_t* p = from_plc.data();
@@ -835,15 +836,25 @@ void HiwinE1Model::step(TIME now, TIME dt_ns, std::span<const std::uint8_t> from
         std::memcmp(p + T::kStw2 + 2, decoded_bytes_.data() + T::kStw2 + 2,
                     T::kBytes - T::kStw2 - 2) == 0) {
       const Stw2 stw2 = Stw2::from(wire::u16(from_plc, T::kStw2));
-      SignOfLifeMonitor monitor = sol_monitor_;
+      // The monitor is fed in place. A failure is a loss (update() returns
+      // !lost_, and nothing but reset() clears lost_): step_full() from the
+      // start then feeds it the same value, fails again and enters the
+      // fault, which resets it; nothing reads it in between, so it is not
+      // put back.
       if (!cfg_.sign_of_life_monitoring ||
-          monitor.update(stw2.controller_sign_of_life,
-                         static_cast<std::uint16_t>(act_.sol_tolerance))) {
+          sol_monitor_.update(stw2.controller_sign_of_life, act_.sol_tol)) {
         decoded_.stw2 = stw2;
         if (decoded_.stw1.control_by_plc) cmd_.stw2 = stw2;
-        sol_monitor_ = monitor;
         if (!sol_frozen_) sol_ = next_sign_of_life(sol_);
-        put_inputs(to_plc);
+        // put_inputs() as it goes for a repeat: telegram 111 (only its
+        // decode finds the same words) in S4 (pulses enabled), so no
+        // switch on the telegram and no test of the state.
+        std::memcpy(to_plc.first<Telegram111In::kBytes>().data(), encoded_.data(),
+                    Telegram111In::kBytes);
+        Zsw2 zsw2;
+        zsw2.drive_sign_of_life = sol_;
+        zsw2.pulses_enabled = true;
+        wire::put16(to_plc, Telegram111In::kZsw2, zsw2.word());
         return;
       }
     }
@@ -941,8 +952,7 @@ void HiwinE1Model::step_full(TIME /*now*/, TIME dt_ns, std::span<const std::uint
 
   if (!sol_frozen_) sol_ = next_sign_of_life(sol_);
   if (cfg_.sign_of_life_monitoring && state_ != State::Fault) {
-    const auto tol = static_cast<std::uint16_t>(act_.sol_tolerance);
-    if (!sol_monitor_.update(sol_in, tol)) enter_fault(kFaultSignOfLife);
+    if (!sol_monitor_.update(sol_in, act_.sol_tol)) enter_fault(kFaultSignOfLife);
   }
 
   const bool in_s4 = state_ == State::S4;

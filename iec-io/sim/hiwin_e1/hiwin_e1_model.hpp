@@ -221,6 +221,8 @@ class HiwinE1Model : public io::DeviceModel {
            pt53a = 0, ot_mode = 0, sol_tolerance = 5;
     // accel_of_ms() of the ramp times, which depend on Pt317 too.
     double acc534 = 0, acc537 = 0, acc538 = 0, acc30a = 0, acc_coast = 0, acc_db = 0;
+    // The sign-of-life monitor's tolerance as it takes it (PNU 925).
+    std::uint16_t sol_tol = 5;
   } act_;
   const double stop_thr_;  // CU/s: below this |speed| the motor stands (ZSW1.13)
   // follow(): the lag's factor for the last step length (one exp() per change).

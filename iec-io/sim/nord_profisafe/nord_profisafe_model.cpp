@@ -42,7 +42,7 @@ NordProfisafeModel::NordProfisafeModel(const io::ModelParams& p)
 
 void NordProfisafeModel::reset_volatile() {
   pas_.no_fpar = true;
-  crc1_ = 0;
+  set_crc1(0);
   wd_ = {};
   cn_ = 0;
   last_toggle_ = false;
@@ -100,6 +100,7 @@ void NordProfisafeModel::reset_volatile() {
   drop_until_ = TIME{};
   drop_start_pending_ = false;
   stopped_ = false;
+  answering_ = true;
   fn_.reset();
   at_rest_ = false;
   resp_fresh_ = false;
@@ -333,14 +334,47 @@ inline bool NordProfisafeModel::update_q(TIME now) {
   return false;
 }
 
+// The head of a PDU (bytes 0..4) as handle_request() and build_response()
+// key it: the low 40 bits of its first 8 bytes read little-endian.
+namespace {
+[[gnu::always_inline]] inline std::uint64_t load_le64(const std::uint8_t* p) {
+  std::uint64_t w;
+  std::memcpy(&w, p, sizeof w);
+  if constexpr (std::endian::native == std::endian::big) w = __builtin_bswap64(w);
+  return w;
+}
+[[gnu::always_inline]] inline void store_le64(std::uint8_t* p, std::uint64_t w) {
+  if constexpr (std::endian::native == std::endian::big) w = __builtin_bswap64(w);
+  std::memcpy(p, &w, sizeof w);
+}
+[[gnu::always_inline]] inline void store_le32(std::uint8_t* p, std::uint32_t w) {
+  if constexpr (std::endian::native == std::endian::big) w = __builtin_bswap32(w);
+  std::memcpy(p, &w, sizeof w);
+}
+constexpr std::uint64_t kHeadMask = 0xFF'FFFF'FFFFu;
+}  // namespace
+
+void NordProfisafeModel::take_head(Crc2Head& h, std::uint64_t key, std::uint16_t seed) {
+  // Crc2Cache's head: the seed, the control/status byte, the F-data
+  // reversed, then the register run on through 4 zero bytes.
+  using Engine = safety::Crc2x24Engine;
+  std::uint32_t c = Engine::update_byte(seed, static_cast<std::uint8_t>(key >> 32));
+  for (int i = 3; i >= 0; --i)
+    c = Engine::update_byte(c, static_cast<std::uint8_t>(key >> (8 * i)));
+  for (int j = 0; j < 4; ++j) c = Engine::update_byte(c, 0x00);
+  h.key = key;
+  h.z4 = c;
+}
+
 inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> in) {
   if (in.size() < kPdu) return;
-  std::array<std::uint8_t, kPdu> req;
-  std::copy_n(in.begin(), kPdu, req.begin());
+  std::uint64_t w = load_le64(in.data());  // the request, byte i in bits 8i..8i+7
   // Not a new telegram: nothing is injected into it (the injections count
   // new ones only) and its toggle stays the last one, so it is ignored.
-  if (((req[4] & cb::kToggleH) != 0) == last_toggle_) return;
+  if (((w >> 32 & cb::kToggleH) != 0) == last_toggle_) return;
   if (injecting_ && (repeat_req_ > 0 || corrupt_req_n_ > 0)) [[unlikely]] {
+    std::array<std::uint8_t, kPdu> req;
+    store_le64(req.data(), w);
     if (repeat_req_ > 0) {
       req = req_hist_[1];  // the request received two exchanges earlier
       --repeat_req_;
@@ -349,29 +383,21 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
       req[corrupt_req_byte_] ^= corrupt_req_mask_;
       --corrupt_req_n_;
     }
+    w = load_le64(req.data());
     if (((req[4] & cb::kToggleH) != 0) == last_toggle_) return;  // not a new telegram now
   }
-  const std::uint8_t control = req[4];
+  const auto control = static_cast<std::uint8_t>(w >> 32);
   last_toggle_ = (control & cb::kToggleH) != 0;
   req_hist_[1] = req_hist_[0];
-  req_hist_[0] = req;
+  store_le64(req_hist_[0].data(), w);
 
   const bool rcons = (control & cb::kRConsNr) != 0;
   const std::uint32_t expected = rcons ? 0u : safety::next_cons_nr(cn_);
-  // check_pdu(req, 4, expected, crc1_) (an 8-byte PDU, F-data of 4), with
-  // the received CRC2 (bytes 5..7, big-endian) taken from the PDU as one
-  // word instead of byte by byte.
-  std::uint32_t got;
-  if constexpr (std::endian::native == std::endian::little) {
-    std::uint64_t w;
-    std::memcpy(&w, req.data(), sizeof w);
-    got = static_cast<std::uint32_t>(__builtin_bswap64(w)) & 0xFFFFFFu;
-  } else {
-    got =
-        static_cast<std::uint32_t>(req[5]) << 16 | static_cast<std::uint32_t>(req[6]) << 8 | req[7];
-  }
-  const bool ok = request_crc_.crc2(std::span<const std::uint8_t>(req.data(), 4), control, expected,
-                                    crc1_) == got;
+  // check_pdu(req, 4, expected, crc1_) (an 8-byte PDU, F-data of 4): the
+  // received CRC2 is bytes 5..7, most significant first.
+  const std::uint32_t got = static_cast<std::uint32_t>(__builtin_bswap64(w)) & 0xFFFFFFu;
+  tail_ = crc2_tail(expected);
+  const bool ok = (crc2_z4(req_head_[last_toggle_], w & kHeadMask) ^ tail_) == got;
   cn_ = expected;  // the host counts on as well, valid or not
   cons_nr_r_ = false;
   respond_pending_ = true;
@@ -387,11 +413,11 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
     cons_nr_r_ = true;
   }
   pas_.host_fv = (control & cb::kActivateFv) != 0;
-  std::copy_n(req.begin(), 4, requested_.begin());
-  Sent& a = accepted_[accepted_head_++ % kHist];
+  const auto data = static_cast<std::uint32_t>(w);  // bytes 0..3
+  store_le32(requested_.data(), data);
+  Accepted& a = accepted_[accepted_head_++ % kHist];
   a.cn = cn_;
-  a.valid = true;
-  std::copy_n(req.begin(), 4, a.data.begin());
+  store_le32(a.data.data(), data);
   if ((control & cb::kOaReq) && !pas_.ce_crc && !pas_.wd_timeout && !module_fault() &&
       fatal_code_ == 0)
     pas_.fault_fv = false;
@@ -600,33 +626,53 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
   tag.sent = tag.produced = now_;
   tag.data = data;
   tag.corrupted = tag.foreign = tag.repeated = false;
-  std::uint16_t seed = crc1_;
+  // write_pdu(pdu_, data, status, cn_, crc1_): the head's Z4 and the
+  // number's TAIL (handle_request() looked it up for cn_), the PDU as one
+  // word: F-data, status byte, CRC2 most significant first.
+  std::uint64_t head;
+  {
+    std::uint32_t d;
+    std::memcpy(&d, data.data(), 4);
+    if constexpr (std::endian::native == std::endian::big) d = __builtin_bswap32(d);
+    head = d | static_cast<std::uint64_t>(status) << 32;
+  }
+  std::uint32_t crc;
   if (injecting_ && foreign_ > 0) [[unlikely]] {
-    seed = static_cast<std::uint16_t>(crc1_ ^ 0x5A5Au);  // another F-device's CRC1
+    // Another F-device's CRC1 as the seed: computed in full.
+    crc = safety::compute_crc2(data, status, cn_, static_cast<std::uint16_t>(crc1_ ^ 0x5A5Au));
     --foreign_;
     tag.foreign = true;
+  } else {
+    crc = crc2_z4(resp_head_[last_toggle_], head) ^ tail_;
   }
-  response_crc_.write_pdu(pdu_, data, status, cn_, seed);
+  // CRC2 (24 bits: the engine masks every step, and so Z4 and TAIL) most
+  // significant first in bytes 5..7: its three bytes byte-reversed into
+  // the top of the word.
+  // The word is written to the PDU, the history and (no injection) the
+  // frame from the register, not read back from pdu_.
+  const std::uint64_t word = head | __builtin_bswap64(crc);
+  store_le64(pdu_.data(), word);
   Sent& s = sent_[sent_head_++ % kHist];
-  s.cn = cn_;
-  s.valid = true;
   s.produced = now_;
-  s.data = data;
-  s.pdu = pdu_;
-  if (injecting_ && repeat_resp_ > 0 && sent_head_ >= 3) [[unlikely]] {
-    const Sent& old = sent_[(sent_head_ - 3) % kHist];  // two exchanges earlier
-    pdu_ = old.pdu;
-    tag.produced = old.produced;
-    tag.data = old.data;
-    tag.repeated = true;
-    --repeat_resp_;
+  store_le64(s.pdu.data(), word);
+  if (injecting_) [[unlikely]] {
+    if (repeat_resp_ > 0 && sent_head_ >= 3) {
+      const Sent& old = sent_[(sent_head_ - 3) % kHist];  // two exchanges earlier
+      pdu_ = old.pdu;
+      tag.produced = old.produced;
+      std::copy_n(old.pdu.begin(), 4, tag.data.begin());
+      tag.repeated = true;
+      --repeat_resp_;
+    }
+    if (corrupt_resp_n_ > 0) {
+      pdu_[corrupt_resp_byte_] ^= corrupt_resp_mask_;
+      --corrupt_resp_n_;
+      tag.corrupted = true;
+    }
+    frame.pdu = pdu_;
+    return;
   }
-  if (injecting_ && corrupt_resp_n_ > 0) [[unlikely]] {
-    pdu_[corrupt_resp_byte_] ^= corrupt_resp_mask_;
-    --corrupt_resp_n_;
-    tag.corrupted = true;
-  }
-  frame.pdu = pdu_;
+  store_le64(frame.pdu.data(), word);
 }
 
 void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
@@ -706,7 +752,7 @@ io::RecordError NordProfisafeModel::write_record(std::uint16_t index,
   if (p.ipar_crc != ip_.p840) return refuse(err::kIparCrc);
 
   pas_.no_fpar = false;
-  crc1_ = p.par_crc;
+  set_crc1(p.par_crc);
   wd_ = std::chrono::milliseconds(p.wd_time_ms);
   cn_ = 0;
   last_toggle_ = false;
@@ -728,7 +774,7 @@ bool find_newest(const Ring& ring, std::size_t head, std::uint32_t cn,
                  std::span<std::uint8_t, 4> out) {
   for (std::size_t i = 1; i <= ring.size() && i <= head; ++i) {
     const auto& s = ring[(head - i) % ring.size()];
-    if (s.valid && s.cn == cn) {
+    if (s.cn == cn) {
       std::copy(s.data.begin(), s.data.end(), out.begin());
       return true;
     }

@@ -34,6 +34,9 @@ struct FillingConfig {
 class FillingProcess {
  public:
   explicit FillingProcess(const FillingConfig& c);
+  // The flight ring's cursor points into its own vector.
+  FillingProcess(const FillingProcess&) = delete;
+  FillingProcess& operator=(const FillingProcess&) = delete;
 
   // Advance by exactly 1 ms with the valves as commanded. Inline (defined
   // below): the PR5510 model calls it every ms, and as a call it cost the
@@ -42,7 +45,13 @@ class FillingProcess {
 
   // Load on the scale (kg), without and with measurement noise.
   [[nodiscard]] double load() const { return load_; }
-  [[nodiscard]] double measured() { return load_ + noise_.gaussian() * sigma(); }
+  // The draw first: the load and sigma() are then read from the members
+  // after the noise's libm calls, not kept in registers across them (the
+  // same sum and product).
+  [[nodiscard]] double measured() {
+    const double g = noise_.gaussian();
+    return load_ + g * sigma();
+  }
   // Material that has left the valves but not yet landed (kg).
   [[nodiscard]] double in_flight() const;
   [[nodiscard]] double landing_rate() const { return landing_rate_; }
@@ -56,6 +65,10 @@ class FillingProcess {
     bool cmd = false;
     double open = 0.0;    // 0..1
     double factor = 1.0;  // this opening's rate factor
+    // Open and commanded open, and the last step left `open` as it was:
+    // open + (1 - open) * step == open, so every later step while it stays
+    // commanded open would too (the same operation on the same double).
+    bool settled = false;
   };
   // step_1ms()'s parts, inline into step_1ms() (every valve, every ms): no
   // calls.
@@ -67,12 +80,15 @@ class FillingProcess {
   SeededNoise noise_;
   Valve coarse_, fine_, discharge_;
   std::vector<double> flight_;  // kg leaving the valves per ms, ring buffer
-  std::size_t flight_n_;        // flight_.size(), fixed at construction (one load per ms)
-  std::size_t head_ = 0;
+  // The ring's next entry and its end (the vector's size is fixed at
+  // construction): one load and one compare per ms, no index arithmetic.
+  double* head_;
+  double* flight_end_;
   double load_ = 0.0;
   double landing_rate_ = 0.0;  // kg/s
   double flow_factor_ = 1.0;
-  double valve_step_;  // share of the way a valve moves in 1 ms (valve_time_s > 0)
+  double valve_step_;   // share of the way a valve moves in 1 ms (valve_time_s > 0)
+  bool valve_instant_;  // valve_time_s <= 0.0: a valve is where it is told at once (cfg_ is fixed)
   // flow_wander * sqrt(0.001 s), the first product of move()'s wander term
   // (evaluated left to right, so the same double), once.
   double wander_;
@@ -83,11 +99,13 @@ inline void FillingProcess::move(Valve& v, bool cmd) {
   v.cmd = cmd;
   if (cmd) v.factor *= 1.0 + wander_ * noise_.uniform_pm1();
   const double target = cmd ? 1.0 : 0.0;
-  if (cfg_.valve_time_s <= 0.0) {
+  if (valve_instant_) {
     v.open = target;
-  } else {
+  } else if (!(cmd && v.settled)) {
+    const double was = v.open;
     v.open += (target - v.open) * valve_step_;
     if (!cmd && v.open < 1e-4) v.open = 0.0;
+    v.settled = cmd && v.open == was;
   }
 }
 
@@ -101,18 +119,22 @@ inline void FillingProcess::drive(Valve& v, bool cmd) {
 inline void FillingProcess::step_1ms(bool coarse, bool fine, bool discharge) {
   drive(coarse_, coarse);
   drive(fine_, fine);
-  drive(discharge_, discharge);
+  // drive() for the discharge valve, its test kept: a valve closed and
+  // staying closed has open == 0.0, so the subtraction at the end (open >
+  // 0.0) is skipped without looking at it again.
+  const bool discharge_idle = !discharge && !discharge_.cmd && discharge_.open == 0.0;
+  if (!discharge_idle) move(discharge_, discharge);
   const double leaving = (coarse_.open * coarse_.factor * cfg_.coarse_rate +
                           fine_.open * fine_.factor * cfg_.fine_rate) *
                          flow_factor_ * 0.001;
   // The ring holds what left the valves during the last fall_time: the
   // oldest entry lands now.
-  const double landing = flight_[head_];
-  flight_[head_] = leaving;
-  if (++head_ == flight_n_) head_ = 0;
+  const double landing = *head_;
+  *head_ = leaving;
+  if (++head_ == flight_end_) head_ = flight_.data();
   load_ += landing;
   landing_rate_ = landing * 1000.0;
-  if (discharge_.open > 0.0)
+  if (!discharge_idle && discharge_.open > 0.0)
     load_ -= std::min(load_, discharge_.open * cfg_.discharge_rate * 0.001);
 }
 

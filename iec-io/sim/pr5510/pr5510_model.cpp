@@ -1,8 +1,11 @@
 #include "pr5510/pr5510_model.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
+
+#include "pr5510/display_rounding.hpp"
 
 namespace plc::sim {
 
@@ -15,13 +18,11 @@ constexpr TIME kCycle = std::chrono::milliseconds(wg::kDeviceCycleMs);
 
 Pr5510Model::Pr5510Model(const Pr5510Config& c) : cfg_(c), process_(c.filling) {
   digits_per_kg_ = std::pow(10.0, cfg_.decimals);
+  fsd_digits_ = static_cast<DINT>(std::lround(cfg_.full_scale * digits_per_kg_));
+  overload_digits_ = static_cast<DINT>(std::lround(cfg_.overload * digits_per_kg_));
   filtered_kg_ = cfg_.filling.initial_load;
   filter_alpha_ = std::min(1.0, 1e-3 / std::chrono::duration<double>(cfg_.filter_time).count());
   power_cycle();
-}
-
-DINT Pr5510Model::fsd_digits() const {
-  return static_cast<DINT>(std::lround(cfg_.full_scale * digits_per_kg_));
 }
 
 void Pr5510Model::set_input(int n, bool on) {
@@ -71,6 +72,11 @@ void Pr5510Model::step_io(TIME, TIME dt, std::span<const std::uint8_t> from_plc,
     // it), so it is handed over first and nothing is kept across the
     // ticks' calls.
     put_read_window(to_plc);
+    if (since_ms_ == 1ms) {  // the usual step, 1 ms: the loop's one tick (a tail call)
+      since_ms_ = 0ns;
+      tick_1ms();
+      return;
+    }
     while (since_ms_ >= 1ms) {
       since_ms_ -= 1ms;
       tick_1ms();
@@ -111,6 +117,11 @@ void Pr5510Model::put_read_window(std::span<std::uint8_t> to_plc) const {
 // nothing across the noise's libm calls (no spills of its spans).
 void Pr5510Model::tick_1ms() {
   process_.step_1ms(outputs_ & 1U, outputs_ & 2U, outputs_ & 4U);
+  // The process wrote its load and landing rate to memory; measured()
+  // reads them after the noise's libm calls. Without this (empty) barrier
+  // GCC keeps the values it just stored in registers across those calls
+  // and spills and reloads them (four more moves per call).
+  asm volatile("" ::: "memory");
   filtered_kg_ += (process_.measured() - filtered_kg_) * filter_alpha_;
 }
 
@@ -129,9 +140,11 @@ void Pr5510Model::device_cycle(std::span<const std::uint8_t> w) {
   const std::uint8_t w7 = w[wg::w::kCommands];
   const auto rising = static_cast<std::uint8_t>(w7 & ~prev_w7_);
   prev_w7_ = w7;
-  for (unsigned b = 0; b < wg::kCommandBitCount; ++b) {
-    if (rising & (1U << b)) start_command(static_cast<wg::CommandBit>(b));
-  }
+  // The rising command bits in ascending order, as a loop over the bits
+  // would take them (usually none: no loop at all).
+  static_assert(wg::kCommandBitCount < 8);
+  for (unsigned r = rising & ((1U << wg::kCommandBitCount) - 1U); r != 0; r &= r - 1U)
+    start_command(static_cast<wg::CommandBit>(std::countr_zero(r)));
 
   // W[5]: a change 0 -> code while Write_Active = 0 starts one write (§7.1).
   const std::uint8_t w5 = w[wg::w::kWriteValueSelect];
@@ -157,10 +170,12 @@ void Pr5510Model::update_weight_and_status() {
   // a huge test value) saturate, so every value and every difference of two
   // (net = gross - tare, the standstill check) fits a DINT.
   constexpr double kDisplayMax = 999'999'999.0;
-  const double shown = std::round(exact / d) * d;
+  // std::round and std::llround, inline (display_rounding.hpp).
+  const double shown = pr5510_rounding::round(exact / d) * d;
   gross_ = std::isnan(shown) ? 0 : static_cast<DINT>(std::clamp(shown, -kDisplayMax, kDisplayMax));
-  gross100_ =
-      std::isnan(exact) ? 0 : std::llround(std::clamp(exact, -kDisplayMax, kDisplayMax) * 100.0);
+  gross100_ = std::isnan(exact)
+                  ? 0
+                  : pr5510_rounding::llround(std::clamp(exact, -kDisplayMax, kDisplayMax) * 100.0);
 
   // Standstill: the displayed weight stays within +- range for the time.
   if (std::abs(gross_ - still_ref_) <= cfg_.standstill_range) {
@@ -175,7 +190,7 @@ void Pr5510Model::update_weight_and_status() {
   const bool above = gross_ >= fsd;
   if (above && !st_.AboveFsd) last_error_ = wg::device_error::kOverFullScale;
   st_.AboveFsd = above;
-  st_.Overload = gross_ >= fsd + static_cast<DINT>(std::lround(cfg_.overload * digits_per_kg_));
+  st_.Overload = gross_ >= fsd + overload_digits_;
   st_.BelowZero = exact <= -0.25 * d;
   st_.CenterZero = std::abs(exact) <= 0.25 * d;
   st_.Dimmed = st_.AboveFsd || st_.BelowZero;

@@ -99,7 +99,7 @@ class Pr5510Model final : public io::DeviceModel {
   [[nodiscard]] DINT gross_digits() const { return gross_; }
   [[nodiscard]] DINT net_digits() const { return gross_ - tare_; }
   [[nodiscard]] DINT tare_digits() const { return tare_; }
-  [[nodiscard]] DINT fsd_digits() const;
+  [[nodiscard]] DINT fsd_digits() const { return fsd_digits_; }
   [[nodiscard]] const weighing::StatusBits& status() const { return st_; }
   [[nodiscard]] std::uint8_t last_error() const { return last_error_; }
   [[nodiscard]] std::uint64_t cycles() const { return cycles_; }
@@ -143,6 +143,9 @@ class Pr5510Model final : public io::DeviceModel {
   Pr5510Config cfg_;
   FillingProcess process_;
   double digits_per_kg_ = 100.0;
+  // FSD and the overload margin in digits (lround of the kg values; the
+  // config and the digit size are fixed), not rounded every device cycle.
+  DINT fsd_digits_ = 0, overload_digits_ = 0;
   std::array<std::uint8_t, weighing::kWindowSize> rd_{};
   std::array<std::uint8_t, 256> reg_valid_{};
   std::array<std::int32_t, 256> reg_{};

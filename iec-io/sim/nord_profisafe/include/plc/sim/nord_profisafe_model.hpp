@@ -77,7 +77,8 @@ class NordProfisafeModel : public io::DeviceModel {
   io::RecordError read_record(std::uint16_t index, std::span<std::uint8_t> out,
                               std::size_t& length) override;
   io::RecordError write_record(std::uint16_t index, std::span<const std::uint8_t> data) override;
-  [[nodiscard]] bool answering() const override { return !stopped_; }
+  // Asked by the host every step: a kept bool (answering_ = !stopped_), one load.
+  [[nodiscard]] bool answering() const override { return answering_; }
   void power_cycle() override;
 
   // ---- drive and field inputs ----
@@ -130,7 +131,10 @@ class NordProfisafeModel : public io::DeviceModel {
     drop_start_pending_ = true;
   }
   // Stop answering on the bus altogether (SimDevice reports it Offline).
-  void stop(bool s) { stopped_ = s; }
+  void stop(bool s) {
+    stopped_ = s;
+    answering_ = !s;
+  }
   // The next n responses are computed with a foreign CRC1 (another F-device
   // or address pair answering).
   void answer_as_foreign_device(int n) {
@@ -364,23 +368,64 @@ class NordProfisafeModel : public io::DeviceModel {
   std::uint64_t data_key_[2] = {~std::uint64_t{0}, ~std::uint64_t{0}};  // no state: first asks
   std::array<std::uint8_t, 4> data_kept_{};
   std::array<std::uint8_t, kPdu> pdu_{};  // the response as sent
-  // CRC2 of the requests checked and the responses sent (a cache: the
-  // results are compute_crc2()'s whatever it holds).
-  safety::Crc2Cache request_crc_, response_crc_;
+  // CRC2 of the requests checked and the responses sent, bit for bit
+  // compute_crc2() of this connection (seed crc1_), by its linearity
+  // (crc2_cache.hpp): CRC2 = Z4(head) ^ TAIL(consecutive number). The
+  // request checked and the response sent in one exchange carry the same
+  // number, so TAIL is looked up once (tail_, for cn_ as handle_request()
+  // set it; build_response() runs only in that step). Z4 is kept per head
+  // (the PDU's bytes 0..4, F-data and control/status byte, as the low 40
+  // bits of a word) for the last head of each toggle value; the seed is
+  // not in the key, so every change of crc1_ goes through set_crc1(),
+  // which empties them. A response with another seed (foreign injection)
+  // is computed in full.
+  struct Crc2Head {
+    std::uint64_t key = ~std::uint64_t{0};  // no head has bits above 40 set: empty
+    std::uint32_t z4 = 0;
+  };
+  std::array<Crc2Head, 2> req_head_{}, resp_head_{};
+  std::uint32_t tail_ = 0;
+  // kCrc2Tail[1][b1] ^ kCrc2Tail[2][b2] of the number bytes in tail_hi_of_
+  // (cn >> 8); both 0 at first, which is that entry for number 0.
+  std::uint32_t tail_hi_of_ = 0, tail_hi_ = 0;
+  [[gnu::always_inline]] std::uint32_t crc2_tail(std::uint32_t cn) {
+    const auto& t = safety::detail::kCrc2Tail;
+    const std::uint32_t hi = cn >> 8;
+    if (hi != tail_hi_of_) [[unlikely]] {  // every 256th number
+      tail_hi_of_ = hi;
+      tail_hi_ = t[1][hi & 0xFFu] ^ t[2][(hi >> 8) & 0xFFu];
+    }
+    return t[0][cn & 0xFFu] ^ tail_hi_;
+  }
+  // Z4 of the head in `key` (bytes 0..3 F-data, byte 4 control/status)
+  // with seed crc1_, from the head kept for it or computed (and kept).
+  [[gnu::always_inline]] std::uint32_t crc2_z4(Crc2Head& h, std::uint64_t key) const {
+    if (h.key != key) [[unlikely]]
+      take_head(h, key, crc1_);
+    return h.z4;
+  }
+  [[gnu::noinline]] static void take_head(Crc2Head& h, std::uint64_t key, std::uint16_t seed);
+  void set_crc1(std::uint16_t c) {
+    crc1_ = c;
+    req_head_ = {};
+    resp_head_ = {};
+  }
   NordResponseChannel channel_;  // device -> host (not reset by power_cycle)
   std::uint64_t frames_sent_ = 0;
 
-  // History (ring) for repeat injection and the soak oracle.
+  // History (rings) for repeat injection and the soak oracle. Only the
+  // entries written since reset_volatile() are read (head counts them).
   static constexpr std::size_t kHist = 64;
-  struct Sent {
-    std::uint32_t cn = 0;
-    bool valid = false;
+  struct Sent {  // a response as sent (its F-data: pdu bytes 0..3)
     TIME produced{};
-    std::array<std::uint8_t, 4> data{};
     std::array<std::uint8_t, kPdu> pdu{};
   };
+  struct Accepted {  // a valid request's number and F-data
+    std::uint32_t cn = 0;
+    std::array<std::uint8_t, 4> data{};
+  };
   std::array<Sent, kHist> sent_{};
-  std::array<Sent, kHist> accepted_{};
+  std::array<Accepted, kHist> accepted_{};
   std::size_t sent_head_ = 0, accepted_head_ = 0;
   // The last two new requests received, newest first (a replay takes [1]).
   std::array<std::array<std::uint8_t, kPdu>, 2> req_hist_{};
@@ -397,6 +442,7 @@ class NordProfisafeModel : public io::DeviceModel {
   TIME drop_for_{}, drop_until_{};
   bool drop_start_pending_ = false;
   bool stopped_ = false;
+  bool answering_ = true;  // !stopped_, set with it (stop(), reset_volatile())
   bool permanent_5792_ = false;
 };
 

@@ -12,6 +12,7 @@
 // the host never sees the tag.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -42,6 +43,7 @@ class NordResponseChannel {
     delay_ = d;
     delay_for_ = how_long;
     delay_pending_ = true;
+    refresh_direct();
   }
 
   struct Frame {
@@ -70,6 +72,7 @@ class NordResponseChannel {
     Frame& f = ring_[(first_ + count_) % kFrames];
     f.arrive = arrive;
     ++count_;
+    refresh_direct();
     return f;
   }
 
@@ -78,8 +81,11 @@ class NordResponseChannel {
   // deliver() would show it, so it is written where the shown one lives
   // (no ring slot, no copy at delivery). Else push().
   Frame& push_delivered(TIME now) {
-    if (count_ == 0 && !delay_pending_ && now >= delay_until_ && last_arrival_ <= now) {
+    // count_ == 0 && !delay_pending_ && now >= delay_until_ &&
+    // last_arrival_ <= now, as one compare (direct_from_).
+    if (now >= direct_from_) {
       last_arrival_ = now;
+      direct_from_ = now;  // max(delay_until_, last_arrival_), delay_until_ <= now
       shown_.arrive = now;
       return shown_;
     }
@@ -88,10 +94,12 @@ class NordResponseChannel {
 
   // Everything that has arrived by `now`; the newest becomes the one shown.
   void deliver(TIME now) {
+    if (count_ == 0) return;  // nothing in flight (the usual step)
     while (count_ > 0 && ring_[first_].arrive <= now) {
       shown_ = ring_[first_];
       pop();
     }
+    refresh_direct();
   }
 
   [[nodiscard]] const Pdu& shown() const { return shown_.pdu; }
@@ -103,6 +111,16 @@ class NordResponseChannel {
     first_ = (first_ + 1) % kFrames;
     --count_;
   }
+  // push_delivered()'s condition as the earliest time it holds, kept at
+  // each change of what it is made of (count_, delay_pending_,
+  // delay_until_, last_arrival_: push(), delay(), deliver(), and
+  // push_delivered() itself): never while a frame is in flight or a delay
+  // waits to start, else from the later of the delay's end and the last
+  // arrival.
+  void refresh_direct() {
+    direct_from_ =
+        count_ != 0 || delay_pending_ ? TIME::max() : std::max(delay_until_, last_arrival_);
+  }
 
   // The device sends a frame only when it answers a new request and the host
   // sends a request only after an answer, so a handful are ever in flight.
@@ -111,6 +129,7 @@ class NordResponseChannel {
   Frame shown_{};
   TIME last_arrival_{}, delay_{}, delay_for_{}, delay_until_{};
   bool delay_pending_ = false;
+  TIME direct_from_{};  // refresh_direct(); nothing in flight, no delay at first
 };
 
 }  // namespace plc::sim
