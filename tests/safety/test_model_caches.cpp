@@ -15,6 +15,7 @@
 #include <bit>
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 
 #include "plc/fb/safety/control_status_byte.hpp"
@@ -241,6 +242,136 @@ TEST(SafetyModelCaches, RestSkipShowsWhatTheFullEvaluateShows_Spec8_3) {
     }
   }
   EXPECT_GT(at_rest_like, 20000);
+}
+
+// step() takes the steady exchange (step_steady(): a request that repeats
+// the last accepted one but for Toggle_h, the number and CRC2, answered
+// without the full handle_request() / evaluate() / build_response()) only
+// where the full path gives the same. A twin without it
+// (set_steady_path(false)) gets the same host, calls, injections, delays,
+// dropped requests, stalls, power cycles (a new F-parameter block) and
+// steps; after every scan both show the same bytes to the host and the
+// same exchange state (spec nord-profisafe.md §8.3 cyclic exchange, §8.4
+// injections). Fails when the steady path is taken after a call that
+// changes what it assumes (e.g. an injection, a fault) or writes any
+// byte, number or history entry other than the full path.
+TEST(SafetyModelCaches, SteadyExchangeShowsWhatTheFullStepShows_Spec8_3) {
+  const Params none_enabled = {
+      {"p820_1", "0"}, {"p820_2", "0"}, {"p820_3", "0"}, {"p820_4", "0"}, {"p820_5", "0"}};
+  auto with = [&none_enabled](Params extra) {
+    Params p = none_enabled;
+    for (auto& [k, v] : extra) p[k] = v;
+    return p;
+  };
+  const Params sets[] = {
+      none_enabled,
+      with({{"p805", "3"}, {"p806_1", "1"}, {"p802_2", "0"}}),
+      with({{"p800_1", "1"}, {"p803", "5"}, {"p801", "1"}, {"p802_4", "0"}}),
+      {},  // every function enabled: never at rest, never steady
+  };
+  std::uint64_t seed = 2370;
+  std::uint64_t steady = 0;
+  for (const Params& p : sets) {
+    Rig a(p), b(p);
+    b.model->set_steady_path(false);
+    Random rnd(++seed);
+    a.start();
+    b.start();
+    for (int i = 0; i < 40000; ++i) {
+      const int what = rnd.below(90);
+      const int x = rnd.below(4096);
+      const int y = rnd.below(4096);
+      for (Rig* r : {&a, &b}) {
+        switch (what) {
+          case 0:
+            r->model->set_si((x & 1) != 0, (x & 2) != 0);
+            break;
+          case 1:
+            r->model->set_si_source(x & 1, (y % 3));
+            break;
+          case 2:
+            r->model->set_speed_rpm((x & 7) == 0 ? y - 2048 : (y % 120) - 60);
+            break;
+          case 3:
+            r->io.OSSD1 = (x & 1) != 0;
+            r->io.OSSD2 = (x & 2) != 0;
+            r->io.OSSD3 = (x & 4) != 0;
+            break;
+          case 4:
+            r->io.SOS = (x & 3) == 0;
+            r->io.SLS = (y & 3) == 0;
+            r->io.SLS_LEVEL = static_cast<plc::USINT>(x >> 10);
+            break;
+          case 5:
+            r->io.CH_PASS_ACK = !r->io.CH_PASS_ACK;
+            break;
+          case 6:
+            if ((x & 7) == 0) r->model->inject_device_fault(5732 + (y & 3));
+            break;
+          case 7:
+            r->model->clear_device_fault();
+            break;
+          case 8:
+            if ((x & 7) == 0) r->model->power_cycle();
+            break;
+          case 9:
+            if ((x & 255) == 0) r->model->corrupt_requests(1, y & 7, 0x10);
+            break;
+          case 10:
+            if ((x & 63) == 0) r->device_only(50 + (y & 127));  // the host stalls: watchdog
+            break;
+          case 11:
+            if ((x & 63) == 0) r->model->set_position_inc(y);
+            break;
+          case 12:
+            if ((x & 255) == 0) {  // a fatal error, then a power cycle later
+              r->model->inject_system_error();
+              r->scan(1 + (y & 31));
+              r->model->power_cycle();
+            }
+            break;
+          case 13:
+            if ((x & 31) == 0)
+              r->model->delay_responses(std::chrono::milliseconds(1 + (y & 7)),
+                                        std::chrono::milliseconds(y & 63));
+            break;
+          case 14:
+            if ((x & 31) == 0) r->model->drop_requests(std::chrono::milliseconds(1 + (y & 15)));
+            break;
+          case 15:
+            if ((x & 255) == 0) r->model->repeat_old_responses(1 + (y & 1));
+            break;
+          case 16:
+            if ((x & 255) == 0) r->model->repeat_old_requests(1);
+            break;
+          case 17:
+            if ((x & 255) == 0) r->model->answer_as_foreign_device(1);
+            break;
+          case 18:
+            if ((x & 255) == 0) r->model->corrupt_responses(1, y & 7, 0x01);
+            break;
+          case 19:
+            r->io.FMOD.ACK_REI = !r->io.FMOD.ACK_REI;
+            break;
+          default:
+            break;
+        }
+        if (r->io.ACK_REQ && (y & 3) == 0) r->ack();
+        r->scan(1 + (x % 3));
+      }
+      const auto ia = a.dev->inputs(), ib = b.dev->inputs();
+      ASSERT_TRUE(std::equal(ia.begin(), ia.end(), ib.begin(), ib.end())) << "scan " << i;
+      ASSERT_TRUE(a.model->same_exchange_state(*b.model)) << "scan " << i;
+      ASSERT_EQ(a.model->cons_nr(), b.model->cons_nr()) << "scan " << i;
+      ASSERT_EQ(a.model->fail_safe_active(), b.model->fail_safe_active()) << "scan " << i;
+      ASSERT_EQ(a.model->current_code(), b.model->current_code()) << "scan " << i;
+      ASSERT_EQ(a.model->q_causes_kept(), b.model->q_causes_kept()) << "scan " << i;
+    }
+    EXPECT_EQ(b.model->steady_steps(), 0u);
+    std::printf("steady steps: %llu\n", static_cast<unsigned long long>(a.model->steady_steps()));
+    steady += a.model->steady_steps();
+  }
+  EXPECT_GT(steady, 20000u);
 }
 
 // Two channels get the same frames, delays and deliveries; one takes each

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <tuple>
 
 #include "plc/fb/safety/control_status_byte.hpp"
 #include "plc/fb/safety/nord_error_codes.hpp"
@@ -104,6 +105,7 @@ void NordProfisafeModel::reset_volatile() {
   fn_.reset();
   at_rest_ = false;
   resp_fresh_ = false;
+  steady_ = false;
 }
 
 void NordProfisafeModel::power_cycle() {
@@ -366,12 +368,13 @@ void NordProfisafeModel::take_head(Crc2Head& h, std::uint64_t key, std::uint16_t
   h.z4 = c;
 }
 
-inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> in) {
-  if (in.size() < kPdu) return;
+// True when it accepted a valid new request without R_cons_nr.
+inline bool NordProfisafeModel::handle_request(TIME now, std::span<const std::uint8_t> in) {
+  if (in.size() < kPdu) return false;
   std::uint64_t w = load_le64(in.data());  // the request, byte i in bits 8i..8i+7
   // Not a new telegram: nothing is injected into it (the injections count
   // new ones only) and its toggle stays the last one, so it is ignored.
-  if (((w >> 32 & cb::kToggleH) != 0) == last_toggle_) return;
+  if (((w >> 32 & cb::kToggleH) != 0) == last_toggle_) return false;
   if (injecting_ && (repeat_req_ > 0 || corrupt_req_n_ > 0)) [[unlikely]] {
     std::array<std::uint8_t, kPdu> req;
     store_le64(req.data(), w);
@@ -384,7 +387,7 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
       --corrupt_req_n_;
     }
     w = load_le64(req.data());
-    if (((req[4] & cb::kToggleH) != 0) == last_toggle_) return;  // not a new telegram now
+    if (((req[4] & cb::kToggleH) != 0) == last_toggle_) return false;  // not a new telegram now
   }
   const auto control = static_cast<std::uint8_t>(w >> 32);
   last_toggle_ = (control & cb::kToggleH) != 0;
@@ -405,7 +408,7 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
     pas_.ce_crc = true;
     pas_.fault_fv = true;
     ++crc_errors_;
-    return;
+    return false;
   }
   t_valid_ = now;
   if (rcons) {
@@ -435,6 +438,7 @@ inline void NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
     at_rest_ = false;  // chan_passive_ may have changed
   }
   chan_ack_prev_ = ack;
+  return !rcons;
 }
 
 // evaluate()'s P805 input filter when an input differs from its filtered
@@ -675,6 +679,63 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
   store_le64(frame.pdu.data(), word);
 }
 
+// The full step() for a request that repeats the last accepted one but
+// for Toggle_h, the consecutive number and CRC2 (steady_, see the header),
+// or false (nothing changed but the CRC2 heads kept, which the full path
+// looks up alike). What the full path would do, part by part:
+//  * handle_request(): no injection (injecting_ clear), a new telegram
+//    (Toggle_h flipped), no R_cons_nr, CRC2 checked for next_cons_nr(cn_)
+//    as there. Accepted: the same F-data (requested_, chan_ack_prev_ and
+//    the channel-acknowledge edge unchanged), the same Activate_FV
+//    (host_fv unchanged), cons_nr_R already clear; OA_Req finds ce_crc,
+//    wd_timeout, the module fault and the fatal code as the arming step's
+//    handle_request() did (only handle_request() on an error or
+//    R_cons_nr, evaluate() in full or calls that clear at_rest_ change
+//    them), so fault_fv stays as it left it.
+//  * evaluate(): the watchdog runs from now (t_valid_ = now) and pas_ and
+//    requested_ are as the last evaluate() left them at rest: skipped.
+//  * build_response(): the kept F-data and status (resp_fresh_), Toggle_d
+//    = Toggle_h, no foreign injection.
+inline bool NordProfisafeModel::step_steady(TIME now, const std::uint8_t* in, std::uint8_t* out) {
+  const std::uint64_t w = load_le64(in);
+  const std::uint64_t head = w & kHeadMask;
+  if (head != steady_head_) return false;
+  const bool t = !last_toggle_;
+  const std::uint32_t expected = safety::next_cons_nr(cn_);
+  const std::uint32_t tail = crc2_tail(expected);
+  const std::uint32_t got = static_cast<std::uint32_t>(__builtin_bswap64(w)) & 0xFFFFFFu;
+  if ((crc2_z4(req_head_[t], head) ^ tail) != got) return false;  // the full path counts it
+  last_toggle_ = t;
+  req_hist_[1] = req_hist_[0];
+  store_le64(req_hist_[0].data(), w);
+  tail_ = tail;
+  cn_ = expected;
+  t_valid_ = now;
+  Accepted& a = accepted_[accepted_head_++ % kHist];
+  a.cn = expected;
+  store_le32(a.data.data(), static_cast<std::uint32_t>(w));
+  steady_head_ = head ^ static_cast<std::uint64_t>(cb::kToggleH) << 32;
+
+  NordResponseChannel::Frame& frame = channel_.push_delivered(now);
+  NordFrameTag& tag = frame.tag;
+  tag.id = ++frames_sent_;
+  tag.sent = tag.produced = now;
+  tag.data = resp_data_;
+  tag.corrupted = tag.foreign = tag.repeated = false;
+  const std::uint64_t rhead = steady_resp_[t];
+  const std::uint32_t crc = crc2_z4(resp_head_[t], rhead) ^ tail;
+  const std::uint64_t word = rhead | __builtin_bswap64(crc);
+  store_le64(pdu_.data(), word);
+  Sent& s = sent_[sent_head_++ % kHist];
+  s.produced = now;
+  store_le64(s.pdu.data(), word);
+  store_le64(frame.pdu.data(), word);
+  channel_.deliver(now);
+  std::copy_n(channel_.shown().begin(), kPdu, out);
+  ++steady_steps_;
+  return true;
+}
+
 void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
                               std::span<std::uint8_t> to_plc) {
   now_ = now;
@@ -685,11 +746,26 @@ void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> f
     drop_until_ = now + drop_for_;
     drop_start_pending_ = false;
   }
-  if (!pas_.no_fpar && now >= drop_until_) handle_request(now, from_plc);
+  // The steady exchange (armed: pas_.no_fpar is clear, see step_steady()).
+  if (steady_ && at_rest_ && !injecting_ && now >= drop_until_ && from_plc.size() >= kPdu &&
+      to_plc.size() >= kPdu && step_steady(now, from_plc.data(), to_plc.data()))
+    return;
+  const bool accepted = !pas_.no_fpar && now >= drop_until_ && handle_request(now, from_plc);
   evaluate(now, dt);
   if (respond_pending_) {
     build_response();
     respond_pending_ = false;
+  }
+  steady_ = accepted && steady_allowed_ && !injecting_ && at_rest_ && resp_fresh_;
+  if (steady_) {
+    steady_head_ = (load_le64(req_hist_[0].data()) & kHeadMask) ^
+                   static_cast<std::uint64_t>(cb::kToggleH) << 32;
+    std::uint32_t d;  // as build_response() makes the head
+    std::memcpy(&d, resp_data_.data(), 4);
+    if constexpr (std::endian::native == std::endian::big) d = __builtin_bswap32(d);
+    const std::uint64_t base = d | static_cast<std::uint64_t>(resp_status_) << 32;
+    steady_resp_[0] = base;
+    steady_resp_[1] = base | static_cast<std::uint64_t>(sbit::kToggleD) << 32;
   }
   channel_.deliver(now);
   if (to_plc.size() >= kPdu) {  // the usual buffer: a constant size, copied inline
@@ -782,6 +858,26 @@ bool find_newest(const Ring& ring, std::size_t head, std::uint32_t cn,
   return false;
 }
 }  // namespace
+
+bool NordProfisafeModel::same_exchange_state(const NordProfisafeModel& o) const {
+  auto key = [](const NordProfisafeModel& m) {
+    return std::tie(m.last_toggle_, m.cn_, m.cons_nr_r_, m.t_valid_, m.requested_, m.applied_,
+                    m.chan_ack_prev_, m.tail_, m.frames_sent_, m.pdu_, m.sent_head_,
+                    m.accepted_head_, m.req_hist_, m.at_rest_, m.rest_req_, m.rest_pas_,
+                    m.resp_fresh_, m.resp_status_, m.resp_data_, m.respond_pending_, m.ossd_,
+                    m.crc_errors_, m.wd_expiries_, m.p841_, m.p842_, m.active_q_);
+  };
+  if (key(*this) != key(o) || pas_word() != o.pas_word()) return false;
+  for (std::size_t i = 0; i < kHist; ++i) {
+    if (sent_[i].produced != o.sent_[i].produced || sent_[i].pdu != o.sent_[i].pdu) return false;
+    if (accepted_[i].cn != o.accepted_[i].cn || accepted_[i].data != o.accepted_[i].data)
+      return false;
+  }
+  const NordFrameTag &a = channel_.shown_tag(), &b = o.channel_.shown_tag();
+  return channel_.shown() == o.channel_.shown() && channel_.in_flight() == o.channel_.in_flight() &&
+         std::tie(a.id, a.sent, a.produced, a.data, a.corrupted, a.foreign, a.repeated) ==
+             std::tie(b.id, b.sent, b.produced, b.data, b.corrupted, b.foreign, b.repeated);
+}
 
 bool NordProfisafeModel::accepted_request(std::uint32_t cn, std::span<std::uint8_t, 4> out) const {
   return find_newest(accepted_, accepted_head_, cn, out);

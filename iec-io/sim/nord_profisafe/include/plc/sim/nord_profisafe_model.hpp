@@ -195,6 +195,17 @@ class NordProfisafeModel : public io::DeviceModel {
     rest_skip_ = on;
     at_rest_ = false;
   }
+  // Tests: off, step() never takes the steady exchange (step_steady()), so
+  // a twin without it shows what the steady path must produce.
+  void set_steady_path(bool on) {
+    steady_allowed_ = on;
+    steady_ = false;
+  }
+  // Tests: the state an exchange writes (protocol, histories, kept
+  // response parts, channel frame), equal in two twins fed alike.
+  [[nodiscard]] bool same_exchange_state(const NordProfisafeModel& o) const;
+  // Tests: how many steps took the steady exchange.
+  [[nodiscard]] std::uint64_t steady_steps() const { return steady_steps_; }
 
  private:
   // q-error slots: one per cause kind.
@@ -230,7 +241,8 @@ class NordProfisafeModel : public io::DeviceModel {
   };
 
   void reset_volatile();
-  void handle_request(TIME now, std::span<const std::uint8_t> req);
+  bool handle_request(TIME now, std::span<const std::uint8_t> req);
+  bool step_steady(TIME now, const std::uint8_t* in, std::uint8_t* out);
   void evaluate(TIME now, TIME dt);
   void filter_si(TIME now);
   bool update_q(TIME now);
@@ -355,6 +367,21 @@ class NordProfisafeModel : public io::DeviceModel {
   bool resp_fresh_ = false;
   std::uint8_t resp_status_ = 0;
   std::array<std::uint8_t, 4> resp_data_{};
+  // step_steady(), the exchange of the steady state: armed (steady_) at
+  // the end of a full step() that accepted a valid new request without
+  // R_cons_nr, with no injection ever set (injecting_), evaluate() at rest
+  // and build_response()'s parts kept (resp_fresh_). It stays valid while
+  // at_rest_ holds (every call that changes what evaluate() reads, the
+  // F-parameters or the volatile state clears it) and each step is a
+  // steady one: any full step re-arms or disarms it. steady_head_ is the
+  // next request's head (bytes 0..4) the steady path takes: the accepted
+  // one with Toggle_h flipped; steady_resp_[t] the response head (F-data,
+  // status byte with Toggle_d = t, cons_nr_R clear).
+  bool steady_ = false;
+  bool steady_allowed_ = true;  // tests: set_steady_path(false)
+  std::uint64_t steady_head_ = 0;
+  std::array<std::uint64_t, 2> steady_resp_{};
+  std::uint64_t steady_steps_ = 0;
 
   // Outputs
   std::array<bool, 4> ossd_{};  // SO1..SO3, the 4th always false (written as one word)
