@@ -103,9 +103,8 @@ void NordProfisafeModel::reset_volatile() {
   stopped_ = false;
   answering_ = true;
   fn_.reset();
-  at_rest_ = false;
+  at_rest_ = steady_ = false;
   resp_fresh_ = false;
-  steady_ = false;
 }
 
 void NordProfisafeModel::power_cycle() {
@@ -147,7 +146,7 @@ void NordProfisafeModel::raise_code(std::uint16_t code) {
 }
 
 void NordProfisafeModel::inject_device_fault(std::uint16_t code, bool fatal) {
-  at_rest_ = false;
+  at_rest_ = steady_ = false;
   if (fatal) {
     if (fatal_code_ == 0) fatal_code_ = code;
     raise_code(code);
@@ -163,7 +162,7 @@ void NordProfisafeModel::inject_device_fault(std::uint16_t code, bool fatal) {
 }
 
 void NordProfisafeModel::inject_system_error() {
-  at_rest_ = false;
+  at_rest_ = steady_ = false;
   ++p848_;
   if (p848_ > 15) permanent_5792_ = true;
   const std::uint16_t code = permanent_5792_ ? err::kSystemErrorMax : err::kSystemError;
@@ -174,6 +173,7 @@ void NordProfisafeModel::inject_system_error() {
 void NordProfisafeModel::corrupt_requests(int n, std::size_t byte, std::uint8_t mask) {
   corrupt_req_n_ = n;
   injecting_ = true;
+  steady_ = false;
   corrupt_req_byte_ = byte % kPdu;
   corrupt_req_mask_ = mask;
 }
@@ -181,6 +181,7 @@ void NordProfisafeModel::corrupt_requests(int n, std::size_t byte, std::uint8_t 
 void NordProfisafeModel::corrupt_responses(int n, std::size_t byte, std::uint8_t mask) {
   corrupt_resp_n_ = n;
   injecting_ = true;
+  steady_ = false;
   corrupt_resp_byte_ = byte % kPdu;
   corrupt_resp_mask_ = mask;
 }
@@ -435,7 +436,7 @@ inline bool NordProfisafeModel::handle_request(TIME now, std::span<const std::ui
       }
       if (!cause) chan_passive_[ch] = false;
     }
-    at_rest_ = false;  // chan_passive_ may have changed
+    at_rest_ = steady_ = false;  // chan_passive_ may have changed
   }
   chan_ack_prev_ = ack;
   return !rcons;
@@ -701,10 +702,14 @@ inline bool NordProfisafeModel::step_steady(TIME now, const std::uint8_t* in, st
   const std::uint64_t head = w & kHeadMask;
   if (head != steady_head_) return false;
   const bool t = !last_toggle_;
+  // The kept heads (the full path takes a missing one) and a frame that
+  // arrives at once (push_delivered()'s direct case; else push()).
+  const std::uint64_t rhead = steady_resp_[t];
+  if (req_head_[t].key != head || resp_head_[t].key != rhead || !channel_.direct(now)) return false;
   const std::uint32_t expected = safety::next_cons_nr(cn_);
   const std::uint32_t tail = crc2_tail(expected);
   const std::uint32_t got = static_cast<std::uint32_t>(__builtin_bswap64(w)) & 0xFFFFFFu;
-  if ((crc2_z4(req_head_[t], head) ^ tail) != got) return false;  // the full path counts it
+  if ((req_head_[t].z4 ^ tail) != got) return false;  // the full path counts it
   last_toggle_ = t;
   req_hist_[1] = req_hist_[0];
   store_le64(req_hist_[0].data(), w);
@@ -716,14 +721,13 @@ inline bool NordProfisafeModel::step_steady(TIME now, const std::uint8_t* in, st
   store_le32(a.data.data(), static_cast<std::uint32_t>(w));
   steady_head_ = head ^ static_cast<std::uint64_t>(cb::kToggleH) << 32;
 
-  NordResponseChannel::Frame& frame = channel_.push_delivered(now);
+  NordResponseChannel::Frame& frame = channel_.push_direct(now);
   NordFrameTag& tag = frame.tag;
   tag.id = ++frames_sent_;
   tag.sent = tag.produced = now;
   tag.data = resp_data_;
   tag.corrupted = tag.foreign = tag.repeated = false;
-  const std::uint64_t rhead = steady_resp_[t];
-  const std::uint32_t crc = crc2_z4(resp_head_[t], rhead) ^ tail;
+  const std::uint32_t crc = resp_head_[t].z4 ^ tail;
   const std::uint64_t word = rhead | __builtin_bswap64(crc);
   store_le64(pdu_.data(), word);
   Sent& s = sent_[sent_head_++ % kHist];
@@ -746,10 +750,17 @@ void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> f
     drop_until_ = now + drop_for_;
     drop_start_pending_ = false;
   }
-  // The steady exchange (armed: pas_.no_fpar is clear, see step_steady()).
-  if (steady_ && at_rest_ && !injecting_ && now >= drop_until_ && from_plc.size() >= kPdu &&
-      to_plc.size() >= kPdu && step_steady(now, from_plc.data(), to_plc.data()))
+  // The steady exchange (armed: pas_.no_fpar is clear, see step_steady();
+  // every call that clears at_rest_, sets an injection or drops requests
+  // disarms it). A leaf without calls; the rest as a tail call.
+  if (steady_ && from_plc.size() >= kPdu && to_plc.size() >= kPdu &&
+      step_steady(now, from_plc.data(), to_plc.data()))
     return;
+  step_full(now, dt, from_plc, to_plc);
+}
+
+void NordProfisafeModel::step_full(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
+                                   std::span<std::uint8_t> to_plc) {
   const bool accepted = !pas_.no_fpar && now >= drop_until_ && handle_request(now, from_plc);
   evaluate(now, dt);
   if (respond_pending_) {
@@ -796,7 +807,7 @@ io::RecordError NordProfisafeModel::read_record(std::uint16_t index, std::span<s
 io::RecordError NordProfisafeModel::write_record(std::uint16_t index,
                                                  std::span<const std::uint8_t> data) {
   if (index != safety::kFParamRecordIndex) return io::RecordError::InvalidIndex;
-  at_rest_ = false;  // a block, accepted or refused, may change what evaluate() reads
+  at_rest_ = steady_ = false;  // a block, accepted or refused, may change what evaluate() reads
   auto refuse = [this](std::uint16_t code) {
     pas_.no_fpar = true;
     raise_code(code);

@@ -85,25 +85,25 @@ class NordProfisafeModel : public io::DeviceModel {
   void set_speed_rpm(double n) {
     speed_rpm_ = n;
     refresh_inc_per_s();
-    at_rest_ = false;
+    at_rest_ = steady_ = false;
   }
   void set_position_inc(double p) {
     position_inc_ = p;
     refresh_integrate();
-    at_rest_ = false;
+    at_rest_ = steady_ = false;
   }
   [[nodiscard]] double position_inc() const { return position_inc_; }
   // Raw SI1/SI2 levels; the device sees them through the P805 filter.
   void set_si(bool si1, bool si2) {
     si_raw_ = {si1, si2};
-    at_rest_ = false;
+    at_rest_ = steady_ = false;
   }
   // What feeds SI1/SI2 (input 0/1): 0 = static 24 V, 1 = TAKT1, 2 = TAKT2.
   // With P806 assigning a clock, any other source is 5737/5738 (spec §4.5).
   void set_si_source(int input, int clock) {
     si_source_[input & 1] = clock;
     refresh_si_causes();
-    at_rest_ = false;
+    at_rest_ = steady_ = false;
   }
 
   // ---- fault injection (spec §8.4) ----
@@ -115,12 +115,14 @@ class NordProfisafeModel : public io::DeviceModel {
   void repeat_old_responses(int n) {
     repeat_resp_ = n;
     injecting_ = true;
+    steady_ = false;
   }
   // The next n received requests are replaced by the one received two
   // exchanges earlier (a replayed request).
   void repeat_old_requests(int n) {
     repeat_req_ = n;
     injecting_ = true;
+    steady_ = false;
   }
   // Responses the device sends during the next `how_long` reach the host
   // `d` late; the channel keeps their order (nord_response_channel.hpp).
@@ -129,6 +131,7 @@ class NordProfisafeModel : public io::DeviceModel {
   void drop_requests(TIME d) {
     drop_for_ = d;
     drop_start_pending_ = true;
+    steady_ = false;
   }
   // Stop answering on the bus altogether (SimDevice reports it Offline).
   void stop(bool s) {
@@ -140,13 +143,14 @@ class NordProfisafeModel : public io::DeviceModel {
   void answer_as_foreign_device(int n) {
     foreign_ = n;
     injecting_ = true;
+    steady_ = false;
   }
   // Device fault: q (acknowledgeable; ends when clear_device_fault() was
   // called and, for 5732-5738, >= 10 s after onset) or fatal (latched).
   void inject_device_fault(std::uint16_t code, bool fatal = false);
   void clear_device_fault() {
     injected_cause_ = false;
-    at_rest_ = false;
+    at_rest_ = steady_ = false;
   }
   // A system error (counted in P848; more than 15 is the permanent 5792).
   void inject_system_error();
@@ -193,7 +197,7 @@ class NordProfisafeModel : public io::DeviceModel {
   // twin without it shows what the skip must leave as it is.
   void set_rest_skip(bool on) {
     rest_skip_ = on;
-    at_rest_ = false;
+    at_rest_ = steady_ = false;
   }
   // Tests: off, step() never takes the steady exchange (step_steady()), so
   // a twin without it shows what the steady path must produce.
@@ -243,6 +247,8 @@ class NordProfisafeModel : public io::DeviceModel {
   void reset_volatile();
   bool handle_request(TIME now, std::span<const std::uint8_t> req);
   bool step_steady(TIME now, const std::uint8_t* in, std::uint8_t* out);
+  [[gnu::noinline]] void step_full(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
+                                   std::span<std::uint8_t> to_plc);
   void evaluate(TIME now, TIME dt);
   void filter_si(TIME now);
   bool update_q(TIME now);
@@ -370,10 +376,12 @@ class NordProfisafeModel : public io::DeviceModel {
   // step_steady(), the exchange of the steady state: armed (steady_) at
   // the end of a full step() that accepted a valid new request without
   // R_cons_nr, with no injection ever set (injecting_), evaluate() at rest
-  // and build_response()'s parts kept (resp_fresh_). It stays valid while
-  // at_rest_ holds (every call that changes what evaluate() reads, the
-  // F-parameters or the volatile state clears it) and each step is a
-  // steady one: any full step re-arms or disarms it. steady_head_ is the
+  // and build_response()'s parts kept (resp_fresh_). Every call that clears
+  // at_rest_ (a change of what evaluate() reads, the F-parameters or the
+  // volatile state) clears it too, and so do the injections (injecting_)
+  // and drop_requests() (so the steady step needs not look at
+  // drop_until_: a drop window starts only in a step after that call).
+  // Any full step re-arms or disarms it. steady_head_ is the
   // next request's head (bytes 0..4) the steady path takes: the accepted
   // one with Toggle_h flipped; steady_resp_[t] the response head (F-data,
   // status byte with Toggle_d = t, cons_nr_R clear).

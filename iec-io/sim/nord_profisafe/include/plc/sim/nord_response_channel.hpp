@@ -83,13 +83,19 @@ class NordResponseChannel {
   Frame& push_delivered(TIME now) {
     // count_ == 0 && !delay_pending_ && now >= delay_until_ &&
     // last_arrival_ <= now, as one compare (direct_from_).
-    if (now >= direct_from_) {
-      last_arrival_ = now;
-      direct_from_ = now;  // max(delay_until_, last_arrival_), delay_until_ <= now
-      shown_.arrive = now;
-      return shown_;
-    }
+    // direct_from_ = max(delay_until_, last_arrival_) = now, delay_until_ <= now.
+    if (direct(now)) return push_direct(now);
     return push(now);
+  }
+
+  // push_delivered()'s condition, and its frame when it holds (the caller
+  // asked direct(now) first).
+  [[nodiscard]] bool direct(TIME now) const { return now >= direct_from_; }
+  Frame& push_direct(TIME now) {
+    last_arrival_ = now;
+    direct_from_ = now;
+    shown_.arrive = now;
+    return shown_;
   }
 
   // Everything that has arrived by `now`; the newest becomes the one shown.
