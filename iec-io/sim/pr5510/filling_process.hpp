@@ -98,10 +98,14 @@ inline void FillingProcess::move(Valve& v, bool cmd) {
   if (cmd && !v.cmd) v.factor = 1.0 + cfg_.flow_variation * noise_.uniform_pm1();
   v.cmd = cmd;
   if (cmd) v.factor *= 1.0 + wander_ * noise_.uniform_pm1();
+  // A settled valve first: settled is set only by the moving branch (never
+  // with valve_instant_, which is fixed), so the instant test is left for
+  // the valves that may move.
+  if (cmd && v.settled) return;
   const double target = cmd ? 1.0 : 0.0;
   if (valve_instant_) {
     v.open = target;
-  } else if (!(cmd && v.settled)) {
+  } else {
     const double was = v.open;
     v.open += (target - v.open) * valve_step_;
     if (!cmd && v.open < 1e-4) v.open = 0.0;
