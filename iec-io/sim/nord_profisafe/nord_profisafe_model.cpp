@@ -700,8 +700,8 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
 inline bool NordProfisafeModel::step_steady(TIME now, const std::uint8_t* in, std::uint8_t* out) {
   const std::uint64_t w = load_le64(in);
   const std::uint64_t head = w & kHeadMask;
-  if (head != steady_head_) return false;
   const bool t = !last_toggle_;
+  if (head != steady_req_[t]) return false;
   // The kept heads (the full path takes a missing one) and a frame that
   // arrives at once (push_delivered()'s direct case; else push()).
   const std::uint64_t rhead = steady_resp_[t];
@@ -719,7 +719,6 @@ inline bool NordProfisafeModel::step_steady(TIME now, const std::uint8_t* in, st
   Accepted& a = accepted_[accepted_head_++ % kHist];
   a.cn = expected;
   store_le32(a.data.data(), static_cast<std::uint32_t>(w));
-  steady_head_ = head ^ static_cast<std::uint64_t>(cb::kToggleH) << 32;
 
   NordResponseChannel::Frame& frame = channel_.push_direct(now);
   NordFrameTag& tag = frame.tag;
@@ -746,13 +745,10 @@ void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> f
   // revs_per_s * pulses * dt, as (speed / 60 / P811 * pulses) * dt, when
   // it can change the position (integrate_).
   if (integrate_) position_inc_ += inc_per_s_ * std::chrono::duration<double>(dt).count();
-  if (drop_start_pending_) {
-    drop_until_ = now + drop_for_;
-    drop_start_pending_ = false;
-  }
   // The steady exchange (armed: pas_.no_fpar is clear, see step_steady();
   // every call that clears at_rest_, sets an injection or drops requests
-  // disarms it). A leaf without calls; the rest as a tail call.
+  // disarms it, so no drop waits to start). A leaf without calls; the rest
+  // as a tail call.
   if (steady_ && from_plc.size() >= kPdu && to_plc.size() >= kPdu &&
       step_steady(now, from_plc.data(), to_plc.data()))
     return;
@@ -761,6 +757,10 @@ void NordProfisafeModel::step(TIME now, TIME dt, std::span<const std::uint8_t> f
 
 void NordProfisafeModel::step_full(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
                                    std::span<std::uint8_t> to_plc) {
+  if (drop_start_pending_) {
+    drop_until_ = now + drop_for_;
+    drop_start_pending_ = false;
+  }
   const bool accepted = !pas_.no_fpar && now >= drop_until_ && handle_request(now, from_plc);
   evaluate(now, dt);
   if (respond_pending_) {
@@ -769,8 +769,11 @@ void NordProfisafeModel::step_full(TIME now, TIME dt, std::span<const std::uint8
   }
   steady_ = accepted && steady_allowed_ && !injecting_ && at_rest_ && resp_fresh_;
   if (steady_) {
-    steady_head_ = (load_le64(req_hist_[0].data()) & kHeadMask) ^
-                   static_cast<std::uint64_t>(cb::kToggleH) << 32;
+    // The request just accepted (toggle last_toggle_) and, for the other
+    // toggle value, the same with Toggle_h flipped.
+    const std::uint64_t h = load_le64(req_hist_[0].data()) & kHeadMask;
+    steady_req_[last_toggle_] = h;
+    steady_req_[!last_toggle_] = h ^ static_cast<std::uint64_t>(cb::kToggleH) << 32;
     std::uint32_t d;  // as build_response() makes the head
     std::memcpy(&d, resp_data_.data(), 4);
     if constexpr (std::endian::native == std::endian::big) d = __builtin_bswap32(d);

@@ -381,13 +381,14 @@ class NordProfisafeModel : public io::DeviceModel {
   // volatile state) clears it too, and so do the injections (injecting_)
   // and drop_requests() (so the steady step needs not look at
   // drop_until_: a drop window starts only in a step after that call).
-  // Any full step re-arms or disarms it. steady_head_ is the
-  // next request's head (bytes 0..4) the steady path takes: the accepted
-  // one with Toggle_h flipped; steady_resp_[t] the response head (F-data,
+  // Any full step re-arms or disarms it. steady_req_[t] is the head
+  // (bytes 0..4) of a request with Toggle_h = t that the steady path takes:
+  // the accepted one, and it with Toggle_h flipped (the requests alternate);
+  // steady_resp_[t] the response head (F-data,
   // status byte with Toggle_d = t, cons_nr_R clear).
   bool steady_ = false;
   bool steady_allowed_ = true;  // tests: set_steady_path(false)
-  std::uint64_t steady_head_ = 0;
+  std::array<std::uint64_t, 2> steady_req_{};
   std::array<std::uint64_t, 2> steady_resp_{};
   std::uint64_t steady_steps_ = 0;
 
