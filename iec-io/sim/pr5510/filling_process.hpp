@@ -95,8 +95,12 @@ class FillingProcess {
 };
 
 inline void FillingProcess::move(Valve& v, bool cmd) {
-  if (cmd && !v.cmd) v.factor = 1.0 + cfg_.flow_variation * noise_.uniform_pm1();
-  v.cmd = cmd;
+  // The command stored only when it changes (a valve held open or closed
+  // rewrote the same bool every ms); the draws in the same order.
+  if (cmd != v.cmd) {
+    if (cmd) v.factor = 1.0 + cfg_.flow_variation * noise_.uniform_pm1();
+    v.cmd = cmd;
+  }
   if (cmd) v.factor *= 1.0 + wander_ * noise_.uniform_pm1();
   // A settled valve first: settled is set only by the moving branch (never
   // with valve_instant_, which is fixed), so the instant test is left for
