@@ -660,3 +660,40 @@ TEST(PR5510Filling, SettledValveSkipsOnlyUpdatesThatChangeNothing) {
   }
   EXPECT_GT(settled_ms, 2000);  // most of both open spells
 }
+
+// The discharge valve's rest (closed and staying closed: no move, no
+// emptying) is kept as a bool, refreshed after each of its moves. With no
+// flow in, the load is what the discharge left, computed here with the
+// valve's update every ms while it is commanded or still open: the process
+// must show it bit for bit over openings, the close-down tail (open
+// decays below 1e-4) and long rests (fails when the rest is taken while
+// the valve is still closing).
+TEST(PR5510Filling, DischargeRestOnlyWhileClosed) {
+  plc::sim::FillingConfig c;
+  c.flow_variation = 0.0;
+  c.flow_wander = 0.0;
+  c.noise_kg = 0.0;
+  c.impact_noise = 0.0;
+  c.initial_load = 50.0;
+  plc::sim::FillingProcess p(c);
+  const double step = std::min(1.0, 0.001 / c.valve_time_s);
+  double open = 0.0, load = c.initial_load;
+  bool was_cmd = false;
+  int moving_closed = 0;
+  for (int ms = 0; ms < 6000; ++ms) {
+    const bool cmd = (ms >= 100 && ms < 400) || (ms >= 2000 && ms < 2050) ||
+                     (ms >= 2600 && ms < 2601) || (ms >= 4000 && ms < 4300);
+    if (cmd || was_cmd || open != 0.0) {
+      open += ((cmd ? 1.0 : 0.0) - open) * step;
+      if (!cmd && open < 1e-4) open = 0.0;
+      moving_closed += !cmd && open > 0.0;
+      if (open > 0.0) load -= std::min(load, open * c.discharge_rate * 0.001);
+    }
+    was_cmd = cmd;
+    p.step_1ms(false, false, cmd);
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(p.load()), std::bit_cast<std::uint64_t>(load))
+        << "ms " << ms;
+  }
+  EXPECT_GT(moving_closed, 300);  // closing tails after each opening
+  EXPECT_GT(load, 0.0);           // not all emptied: every opening counts
+}

@@ -79,6 +79,9 @@ class FillingProcess {
   FillingConfig cfg_;
   SeededNoise noise_;
   Valve coarse_, fine_, discharge_;
+  // !discharge_.cmd && discharge_.open == 0.0, kept: only move() changes
+  // either, and step_1ms() refreshes it after each move of that valve.
+  bool discharge_closed_ = true;
   std::vector<double> flight_;  // kg leaving the valves per ms, ring buffer
   // The ring's next entry and its end (the vector's size is fixed at
   // construction): one load and one compare per ms, no index arithmetic.
@@ -127,11 +130,15 @@ inline void FillingProcess::drive(Valve& v, bool cmd) {
 inline void FillingProcess::step_1ms(bool coarse, bool fine, bool discharge) {
   drive(coarse_, coarse);
   drive(fine_, fine);
-  // drive() for the discharge valve, its test kept: a valve closed and
-  // staying closed has open == 0.0, so the subtraction at the end (open >
+  // drive() for the discharge valve, its rest (closed: !cmd, open == 0.0)
+  // kept in discharge_closed_ and its test kept for the end: a valve
+  // closed and staying closed has open == 0.0, so the subtraction (open >
   // 0.0) is skipped without looking at it again.
-  const bool discharge_idle = !discharge && !discharge_.cmd && discharge_.open == 0.0;
-  if (!discharge_idle) move(discharge_, discharge);
+  const bool discharge_idle = !discharge && discharge_closed_;
+  if (!discharge_idle) {
+    move(discharge_, discharge);
+    discharge_closed_ = !discharge_.cmd && discharge_.open == 0.0;
+  }
   const double leaving = (coarse_.open * coarse_.factor * cfg_.coarse_rate +
                           fine_.open * fine_.factor * cfg_.fine_rate) *
                          flow_factor_ * 0.001;
