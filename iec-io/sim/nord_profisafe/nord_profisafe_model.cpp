@@ -702,14 +702,13 @@ inline bool NordProfisafeModel::step_steady(TIME now, const std::uint8_t* in, st
   const std::uint64_t head = w & kHeadMask;
   const bool t = !last_toggle_;
   if (head != steady_req_[t]) return false;
-  // The kept heads (the full path takes a missing one) and a frame that
-  // arrives at once (push_delivered()'s direct case; else push()).
-  const std::uint64_t rhead = steady_resp_[t];
-  if (req_head_[t].key != head || resp_head_[t].key != rhead || !channel_.direct(now)) return false;
+  // A frame that arrives at once (push_delivered()'s direct case; else
+  // push()).
+  if (!channel_.direct(now)) return false;
   const std::uint32_t expected = safety::next_cons_nr(cn_);
   const std::uint32_t tail = crc2_tail(expected);
   const std::uint32_t got = static_cast<std::uint32_t>(__builtin_bswap64(w)) & 0xFFFFFFu;
-  if ((req_head_[t].z4 ^ tail) != got) return false;  // the full path counts it
+  if ((steady_z4_[t][0] ^ tail) != got) return false;  // the full path counts it
   last_toggle_ = t;
   req_hist_[1] = req_hist_[0];
   store_le64(req_hist_[0].data(), w);
@@ -726,7 +725,8 @@ inline bool NordProfisafeModel::step_steady(TIME now, const std::uint8_t* in, st
   tag.sent = tag.produced = now;
   tag.data = resp_data_;
   tag.corrupted = tag.foreign = tag.repeated = false;
-  const std::uint32_t crc = resp_head_[t].z4 ^ tail;
+  const std::uint64_t rhead = steady_resp_[t];
+  const std::uint32_t crc = steady_z4_[t][1] ^ tail;
   const std::uint64_t word = rhead | __builtin_bswap64(crc);
   store_le64(pdu_.data(), word);
   Sent& s = sent_[sent_head_++ % kHist];
@@ -780,6 +780,12 @@ void NordProfisafeModel::step_full(TIME now, TIME dt, std::span<const std::uint8
     const std::uint64_t base = d | static_cast<std::uint64_t>(resp_status_) << 32;
     steady_resp_[0] = base;
     steady_resp_[1] = base | static_cast<std::uint64_t>(sbit::kToggleD) << 32;
+    // Their Z4 as the full path takes them (kept heads; crc1_ changes only
+    // through set_crc1(), which disarms).
+    for (int k = 0; k < 2; ++k) {
+      steady_z4_[k][0] = crc2_z4(req_head_[k], steady_req_[k]);
+      steady_z4_[k][1] = crc2_z4(resp_head_[k], steady_resp_[k]);
+    }
   }
   channel_.deliver(now);
   if (to_plc.size() >= kPdu) {  // the usual buffer: a constant size, copied inline

@@ -390,6 +390,8 @@ class NordProfisafeModel : public io::DeviceModel {
   bool steady_allowed_ = true;  // tests: set_steady_path(false)
   std::array<std::uint64_t, 2> steady_req_{};
   std::array<std::uint64_t, 2> steady_resp_{};
+  // Z4 (crc2_z4()) of steady_req_[t] ([t][0]) and steady_resp_[t] ([t][1]).
+  std::uint32_t steady_z4_[2][2] = {};
   std::uint64_t steady_steps_ = 0;
 
   // Outputs
