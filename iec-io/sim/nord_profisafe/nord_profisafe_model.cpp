@@ -682,8 +682,9 @@ std::array<std::uint8_t, 4> NordProfisafeModel::response_data() { return data_no
 
 // The full step() for a request that repeats the last accepted one but
 // for Toggle_h, the consecutive number and CRC2 (steady_, see the header),
-// or false (nothing changed but the CRC2 heads kept, which the full path
-// looks up alike). What the full path would do, part by part:
+// or false with nothing written (but crc2_tail()'s kept high part, which
+// the full path takes alike). The CRC2 heads' Z4 are those kept when it
+// armed (steady_z4_). What the full path would do, part by part:
 //  * handle_request(): no injection (injecting_ clear), a new telegram
 //    (Toggle_h flipped), no R_cons_nr, CRC2 checked for next_cons_nr(cn_)
 //    as there. Accepted: the same F-data (requested_, chan_ack_prev_ and
