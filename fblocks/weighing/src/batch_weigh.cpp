@@ -280,6 +280,25 @@ void PR5510_BatchWeigh::run_state(const ScanContext& ctx) {
   const bool filling = State == BatchState::Coarse || State == BatchState::Fine;
   if (filling && active_time_ > MaxFillTime) return fail(error_id::kFillTimeout, now);
 
+  const auto coarse = [this, now] {
+    if (ActualNet >= TargetWeight - PreactActual) {
+      // Already at the cut-off: the coarse in-flight decides the rest.
+      set_valves(false, false, false);
+      enter(BatchState::Settle, now);
+    } else if (ActualNet >= TargetWeight - FineSwitchPoint) {
+      set_valves(false, true, false);
+      enter(BatchState::Fine, now);
+    } else {
+      set_valves(true, true, false);
+    }
+  };
+  // Coarse first: the coarse feed runs for most scans of a batch; one
+  // compare takes them there, not the switch's bounds check and jump table
+  // (the same step).
+  if (State == BatchState::Coarse) [[likely]] {
+    coarse();
+    return;
+  }
   switch (State) {
     case BatchState::Tare:
       set_valves(false, false, false);
@@ -326,16 +345,7 @@ void PR5510_BatchWeigh::run_state(const ScanContext& ctx) {
       break;
 
     case BatchState::Coarse:
-      if (ActualNet >= TargetWeight - PreactActual) {
-        // Already at the cut-off: the coarse in-flight decides the rest.
-        set_valves(false, false, false);
-        enter(BatchState::Settle, now);
-      } else if (ActualNet >= TargetWeight - FineSwitchPoint) {
-        set_valves(false, true, false);
-        enter(BatchState::Fine, now);
-      } else {
-        set_valves(true, true, false);
-      }
+      coarse();
       break;
 
     case BatchState::Fine:
