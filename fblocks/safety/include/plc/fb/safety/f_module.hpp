@@ -96,7 +96,10 @@ class F_MODULE {
   PLC_INTERNAL(proto_, block_, phase_, retry_at_, dev_fault_prev_, diag_read_wanted_,
                next_diag_read_, dev_code_, dev_code_count_, restart_after_fault_)
 
-  void operator()(const ScanContext& ctx) {
+  // Always inline (as NORD_SAFE_IO's scan around it): the caller's program
+  // has its registers saved already, and the steady scan as a call paid its
+  // own saves, frame and return every scan.
+  [[gnu::always_inline]] void operator()(const ScanContext& ctx) {
     // The steady scan (nearly every one in Run) first, inline, with only
     // what it needs; every other scan out of line in scan_general(), the
     // whole block. The same scan as scan_general()'s: taken only where that
