@@ -22,6 +22,10 @@
 // ErrorID values: diag_codes.hpp.
 #pragma once
 
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <optional>
 
 #include "plc/fb/drive/drive_axis.hpp"
@@ -63,7 +67,7 @@ struct McExecute {
   // library; false (nothing done) otherwise, and run() makes the call.
   // McIdleCall (test_mc_idle.cpp) compares the two over scripted scans.
   [[gnu::always_inline]] bool idle_call(const ScanContext& ctx, DriveAxis& axis) {
-    if (Execute || Busy) return false;
+    if (execute_or_busy()) return false;
     axis.begin(ctx);
     Done = Error = CommandAborted = false;
     ErrorID = 0;
@@ -78,7 +82,31 @@ struct McExecute {
 
   std::uint32_t id_ = 0;
   bool prev_execute_ = false;
+
+ private:
+  // Execute || Busy: the two are bytes 0 and 2 of the block's first word
+  // (Execute, Done, Busy, Active: static_asserts below), tested as one
+  // load and one test (each byte whole, as the two bool tests).
+  [[gnu::always_inline]] bool execute_or_busy() const {
+    if constexpr (std::endian::native == std::endian::little) {
+      std::uint32_t w;
+      std::memcpy(&w, &Execute, sizeof w);
+      return (w & 0x00FF00FFu) != 0;
+    } else {
+      return Execute || Busy;
+    }
+  }
 };
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Winvalid-offsetof"
+#endif
+static_assert(sizeof(BOOL) == 1);
+static_assert(offsetof(McExecute, Execute) == 0 && offsetof(McExecute, Done) == 1 &&
+              offsetof(McExecute, Busy) == 2 && offsetof(McExecute, Active) == 3);
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
 
 // MC_Power over STW1/ZSW1: Enable = TRUE walks the drive S1 -> S2 -> S3 -> S4
 // (ON = 0 while switch-on inhibited, then ON + enable operation);
