@@ -155,8 +155,10 @@ inline void MC_Power::operator()(const ScanContext& ctx, DriveAxis& axis) {
   // Valid, no error, the count restarted now and the requests as written
   // here; one test of its conditions instead of the general path's branches
   // (McPower.EqualsTheFormerBlockOverRandomScans compares the two).
-  if (Enable && StopMode >= 0 && StopMode <= 2 && axis.CommOk && axis.operation_enabled() &&
-      !axis.drive_fault() && !axis.CommError && !axis.error_ && !axis.RestartInhibit) [[likely]] {
+  // StopMode 0..2 as one unsigned compare (a negative INT is above 2 so).
+  if (Enable && static_cast<std::uint16_t>(StopMode) <= 2 && axis.CommOk &&
+      axis.operation_enabled() && !axis.drive_fault() && !axis.CommError && !axis.error_ &&
+      !axis.RestartInhibit) [[likely]] {
     axis.PowerRequest = true;
     axis.RequireEnableEdgeAfterReset = RequireEnableEdgeAfterReset;
     axis.PowerStopMode = static_cast<drive::StopMode>(StopMode);
