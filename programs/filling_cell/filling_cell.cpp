@@ -12,6 +12,49 @@ FillingCell::FillingCell() {
   set_up_filling_station(guard, scale, dose, target_kg);
 }
 
+// The step Fill of the sequence (cycle() takes it first: most scans).
+inline void FillingCell::fill_step() {
+  dose.TargetWeight = target_kg;
+  dose.Execute = !dose.Done;
+  if (dose.Done) {
+    ++containers;
+    step = Step::Index;
+  }
+}
+
+// Every step of the sequence but Fill.
+inline void FillingCell::other_step(bool safe, bool scale_ok) {
+  switch (step) {
+    case Step::WaitSafety:
+      if (safe && run && scale_ok) step = Step::Enable;
+      break;
+    case Step::Enable:
+      if (power.Status) step = Step::Index;
+      break;
+    case Step::Index:
+      index.Distance = pitch;
+      index.Velocity = index_velocity;
+      index.Execute = !index.Done;
+      if (index.Done) step = Step::Fill;
+      break;
+    case Step::Fill:
+      fill_step();
+      break;
+    case Step::Fault:
+      // Acknowledge the axis error (drive fault or lost communication) and
+      // start over once the safety is good again. Enable is FALSE in this
+      // step, so MC_Reset leaves the conveyor Disabled and the sequence
+      // powers it again from WaitSafety, after the safety and scale checks
+      // (an Enable held through MC_Reset would re-enable it at once).
+      reset.Execute = safe;
+      if (reset.Done || conveyor.State != drive::AxisState::ErrorStop) {
+        reset.Execute = false;
+        step = Step::WaitSafety;
+      }
+      break;
+  }
+}
+
 void FillingCell::cycle(const ScanContext& ctx) {
   // Safety first: request STO release while running; the conveyor may be
   // powered only while the module exchanges good data and reports OSSD1 on.
@@ -27,39 +70,13 @@ void FillingCell::cycle(const ScanContext& ctx) {
   power.Enable = run && safe && scale_ok && step != Step::Fault;
   power(ctx, conveyor);
 
-  switch (step) {
-    case Step::WaitSafety:
-      if (safe && run && scale_ok) step = Step::Enable;
-      break;
-    case Step::Enable:
-      if (power.Status) step = Step::Index;
-      break;
-    case Step::Index:
-      index.Distance = pitch;
-      index.Velocity = index_velocity;
-      index.Execute = !index.Done;
-      if (index.Done) step = Step::Fill;
-      break;
-    case Step::Fill:
-      dose.TargetWeight = target_kg;
-      dose.Execute = !dose.Done;
-      if (dose.Done) {
-        ++containers;
-        step = Step::Index;
-      }
-      break;
-    case Step::Fault:
-      // Acknowledge the axis error (drive fault or lost communication) and
-      // start over once the safety is good again. Enable is FALSE in this
-      // step, so MC_Reset leaves the conveyor Disabled and the sequence
-      // powers it again from WaitSafety, after the safety and scale checks
-      // (an Enable held through MC_Reset would re-enable it at once).
-      reset.Execute = safe;
-      if (reset.Done || conveyor.State != drive::AxisState::ErrorStop) {
-        reset.Execute = false;
-        step = Step::WaitSafety;
-      }
-      break;
+  // Fill first: dosing a container takes seconds against the index move's
+  // fraction of one, so most scans are in Fill; one compare takes them
+  // there, not the switch's bounds check and jump table (the same step).
+  if (step == Step::Fill) [[likely]] {
+    fill_step();
+  } else {
+    other_step(safe, scale_ok);
   }
   index(ctx, conveyor);
   dose(ctx);

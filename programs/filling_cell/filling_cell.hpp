@@ -51,6 +51,11 @@ class FillingCell : public ProgramBase<FillingCell> {
   // The production count survives a power cut (a warm start); the batch
   // block keeps its learned preact and totals itself.
   PLC_RETAIN(containers)
+
+ private:
+  // cycle()'s sequence: the step Fill (most scans), every other step.
+  void fill_step();
+  void other_step(bool safe, bool scale_ok);
 };
 
 }  // namespace cell

@@ -240,15 +240,15 @@ void PR5510_BatchWeigh::operator()(const ScanContext& ctx) {
     entered_ = now;
   }
   if (feeding_state) active_time_ += dt;
-  run_state(ctx);
+  run_state(now, *dev, state);
 }
 
 // The weight this state acts on is not usable (0 = it is): read byte 7,
 // spec §3.4 (manual §5.4), §7.2. Every busy state acts on the weight: Tare
 // takes the start weight, Coarse..Check measure the fill, Discharge decides
 // "empty". The header comment gives the rules.
-std::uint16_t PR5510_BatchWeigh::weight_error(TIME now) const {
-  const StatusBits& st = Device->status();
+std::uint16_t PR5510_BatchWeigh::weight_error(TIME now, const StatusBits& st,
+                                              BatchState state) const {
   // None of the four bits below set, the usual scan: nothing to report. The
   // four are bools in a row (static_asserts below), tested as one word.
   std::uint32_t bits;
@@ -257,30 +257,49 @@ std::uint16_t PR5510_BatchWeigh::weight_error(TIME now) const {
   // Adu Error, Over-load, Above FSD (the at/above-FSD half of Dimmed): the
   // value is invalid. Discharge goes on above FSD: the hopper must empty.
   const bool invalid =
-      State == BatchState::Discharge ? st.AduError : st.AduError || st.Overload || st.AboveFsd;
+      state == BatchState::Discharge ? st.AduError : st.AduError || st.Overload || st.AboveFsd;
   if (invalid) return error_id::kWeightInvalid;
   // Below Zero (the negative half of Dimmed) below the zero-set range: never
   // the flicker of an empty scale.
   if (st.BelowZero && !st.InsideZsr) return error_id::kBelowZero;
   // Held Below Zero while a fill is measured: the feed does not lift the
   // reading, not flicker either. At Check: a negative final weight.
-  const bool measuring_fill = State == BatchState::Coarse || State == BatchState::Fine ||
-                              State == BatchState::Settle ||
-                              (State == BatchState::Tare && tare_step_ == TareStep::Sample);
+  const bool measuring_fill = state == BatchState::Coarse || state == BatchState::Fine ||
+                              state == BatchState::Settle ||
+                              (state == BatchState::Tare && tare_step_ == TareStep::Sample);
   if (st.BelowZero &&
-      (State == BatchState::Check || (measuring_fill && now - below_zero_since_ >= BelowZeroTime)))
+      (state == BatchState::Check || (measuring_fill && now - below_zero_since_ >= BelowZeroTime)))
     return error_id::kBelowZero;
   return error_id::kNone;
 }
 
-void PR5510_BatchWeigh::run_state(const ScanContext& ctx) {
-  const TIME now = ctx.now;
-  const StatusBits& st = Device->status();
-  if (const std::uint16_t e = weight_error(now); e != error_id::kNone) return fail(e, now);
-  const bool filling = State == BatchState::Coarse || State == BatchState::Fine;
+void PR5510_BatchWeigh::run_state(TIME now, PR5510_Device& dev, BatchState state) {
+  const StatusBits& st = dev.status();
+  if (const std::uint16_t e = weight_error(now, st, state); e != error_id::kNone)
+    return fail(e, now);
+  const bool filling = state == BatchState::Coarse || state == BatchState::Fine;
   if (filling && active_time_ > MaxFillTime) return fail(error_id::kFillTimeout, now);
 
-  switch (State) {
+  const auto coarse = [this, now] {
+    if (ActualNet >= TargetWeight - PreactActual) {
+      // Already at the cut-off: the coarse in-flight decides the rest.
+      set_valves(false, false, false);
+      enter(BatchState::Settle, now);
+    } else if (ActualNet >= TargetWeight - FineSwitchPoint) {
+      set_valves(false, true, false);
+      enter(BatchState::Fine, now);
+    } else {
+      set_valves(true, true, false);
+    }
+  };
+  // Coarse first: the coarse feed runs for most scans of a batch; one
+  // compare takes them there, not the switch's bounds check and jump table
+  // (the same step).
+  if (state == BatchState::Coarse) [[likely]] {
+    coarse();
+    return;
+  }
+  switch (state) {
     case BatchState::Tare:
       set_valves(false, false, false);
       switch (tare_step_) {
@@ -326,16 +345,7 @@ void PR5510_BatchWeigh::run_state(const ScanContext& ctx) {
       break;
 
     case BatchState::Coarse:
-      if (ActualNet >= TargetWeight - PreactActual) {
-        // Already at the cut-off: the coarse in-flight decides the rest.
-        set_valves(false, false, false);
-        enter(BatchState::Settle, now);
-      } else if (ActualNet >= TargetWeight - FineSwitchPoint) {
-        set_valves(false, true, false);
-        enter(BatchState::Fine, now);
-      } else {
-        set_valves(true, true, false);
-      }
+      coarse();
       break;
 
     case BatchState::Fine:

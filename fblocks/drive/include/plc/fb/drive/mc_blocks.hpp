@@ -22,6 +22,10 @@
 // ErrorID values: diag_codes.hpp.
 #pragma once
 
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <optional>
 
 #include "plc/fb/drive/drive_axis.hpp"
@@ -63,7 +67,7 @@ struct McExecute {
   // library; false (nothing done) otherwise, and run() makes the call.
   // McIdleCall (test_mc_idle.cpp) compares the two over scripted scans.
   [[gnu::always_inline]] bool idle_call(const ScanContext& ctx, DriveAxis& axis) {
-    if (Execute || Busy) return false;
+    if (execute_or_busy()) return false;
     axis.begin(ctx);
     Done = Error = CommandAborted = false;
     ErrorID = 0;
@@ -78,7 +82,31 @@ struct McExecute {
 
   std::uint32_t id_ = 0;
   bool prev_execute_ = false;
+
+ private:
+  // Execute || Busy: the two are bytes 0 and 2 of the block's first word
+  // (Execute, Done, Busy, Active: static_asserts below), tested as one
+  // load and one test (each byte whole, as the two bool tests).
+  [[gnu::always_inline]] bool execute_or_busy() const {
+    if constexpr (std::endian::native == std::endian::little) {
+      std::uint32_t w;
+      std::memcpy(&w, &Execute, sizeof w);
+      return (w & 0x00FF00FFu) != 0;
+    } else {
+      return Execute || Busy;
+    }
+  }
 };
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Winvalid-offsetof"
+#endif
+static_assert(sizeof(BOOL) == 1);
+static_assert(offsetof(McExecute, Execute) == 0 && offsetof(McExecute, Done) == 1 &&
+              offsetof(McExecute, Busy) == 2 && offsetof(McExecute, Active) == 3);
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
 
 // MC_Power over STW1/ZSW1: Enable = TRUE walks the drive S1 -> S2 -> S3 -> S4
 // (ON = 0 while switch-on inhibited, then ON + enable operation);
@@ -121,6 +149,28 @@ struct MC_Power {
 // as a call into the library it paid its call and register saves each time.
 inline void MC_Power::operator()(const ScanContext& ctx, DriveAxis& axis) {
   axis.begin(ctx);
+  // The steady scan of a powered axis (most scans): Enable with a valid
+  // StopMode, the drive answering in operation without a fault, no latched
+  // error, no RestartInhibit. Then the general path below gives Status,
+  // Valid, no error, the count restarted now and the requests as written
+  // here; one test of its conditions instead of the general path's branches
+  // (McPower.EqualsTheFormerBlockOverRandomScans compares the two).
+  // StopMode 0..2 as one unsigned compare (a negative INT is above 2 so).
+  if (Enable && static_cast<std::uint16_t>(StopMode) <= 2 && axis.CommOk &&
+      axis.operation_enabled() && !axis.drive_fault() && !axis.CommError && !axis.error_ &&
+      !axis.RestartInhibit) [[likely]] {
+    axis.PowerRequest = true;
+    axis.RequireEnableEdgeAfterReset = RequireEnableEdgeAfterReset;
+    axis.PowerStopMode = static_cast<drive::StopMode>(StopMode);
+    Status = true;
+    prev_enable_ = true;
+    enable_since_ = ctx.now;
+    Error = false;
+    ErrorID = 0;
+    Valid = true;
+    axis.block_done();
+    return;
+  }
   const bool mode_ok = StopMode >= 0 && StopMode <= 2;
   axis.PowerRequest = Enable && mode_ok;
   axis.RequireEnableEdgeAfterReset = RequireEnableEdgeAfterReset;

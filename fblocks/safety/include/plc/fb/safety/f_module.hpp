@@ -96,13 +96,23 @@ class F_MODULE {
   PLC_INTERNAL(proto_, block_, phase_, retry_at_, dev_fault_prev_, diag_read_wanted_,
                next_diag_read_, dev_code_, dev_code_count_, restart_after_fault_)
 
-  void operator()(const ScanContext& ctx) {
-    // The steady scan (nearly every one in Run) first, inline, with only
-    // what it needs; every other scan out of line in scan_general(), the
-    // whole block. The same scan as scan_general()'s: taken only where that
-    // would take the steady exchange with its phase logic doing nothing
-    // (port usable, phase Cyclic, device not lost), and a steady_exchange()
-    // that returns false has changed nothing (scan_general() then decides).
+  // Always inline (as NORD_SAFE_IO's scan around it): the caller's program
+  // has its registers saved already, and the steady scan as a call paid its
+  // own saves, frame and return every scan.
+  [[gnu::always_inline]] void operator()(const ScanContext& ctx) {
+    if (!steady_scan(ctx)) scan_general(ctx);
+  }
+
+  // The steady scan (nearly every one in Run), inline, with only what it
+  // needs; false when it does not apply, having changed nothing, and
+  // operator() then runs the whole block out of line in scan_general().
+  // The same scan as scan_general()'s: taken only where that would take
+  // the steady exchange with its phase logic doing nothing (port usable,
+  // phase Cyclic, device not lost), and a steady_exchange() that returns
+  // false has changed nothing (scan_general() then decides). A caller may
+  // make the two calls itself (NORD_SAFE_IO: its outputs after a steady
+  // scan from the steady values).
+  [[gnu::always_inline]] bool steady_scan(const ScanContext& ctx) {
     if (phase_ == Phase::Cyclic && port.bound() && port.in().size() >= kInPdu &&
         port.out().size() >= kOutPdu && proto_.watchdog_expiries_in_row() < kLostAfter) [[likely]] {
       const FHostCommand cmd{PASS_ON, ACK_NEC, ACK_REI, IPAR_EN};
@@ -111,10 +121,10 @@ class F_MODULE {
                                             cmd)) {
         poll_device_diag(ctx.now);
         publish_steady();
-        return;
+        return true;
       }
     }
-    scan_general(ctx);
+    return false;
   }
 
   // operator() without its inline steady path (tests compare the two).

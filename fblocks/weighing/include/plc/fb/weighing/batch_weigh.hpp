@@ -187,12 +187,16 @@ class PR5510_BatchWeigh {
   void fail(std::uint16_t id, TIME now);
   void finish_check(REAL final_net, TIME now);
   // Called from operator() alone (weight_error() from run_state()), every
-  // scan while busy: inline, no call and no register saves.
-  [[gnu::always_inline]] inline void run_state(const ScanContext& ctx);
+  // scan while busy: inline, no call and no register saves. With what
+  // operator() has read already (ctx.now, *Device, State: none of them
+  // written since), not loaded again.
+  [[gnu::always_inline]] inline void run_state(TIME now, PR5510_Device& dev, BatchState state);
   // Every busy scan sets the valves: inline (defined in batch_weigh.cpp).
   [[gnu::always_inline]] inline void set_valves(bool coarse, bool fine, bool discharge);
   void measure_fine_rate(TIME now);
-  [[gnu::always_inline]] [[nodiscard]] inline std::uint16_t weight_error(TIME now) const;
+  [[gnu::always_inline]] [[nodiscard]] inline std::uint16_t weight_error(TIME now,
+                                                                         const StatusBits& st,
+                                                                         BatchState state) const;
   [[nodiscard]] REAL cutoff() const;
 
   int slot_ = PR5510_Device::kNoSlot;
