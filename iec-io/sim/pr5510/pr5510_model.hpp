@@ -125,6 +125,8 @@ class Pr5510Model final : public io::DeviceModel {
   enum class Pending : std::uint8_t { None, Zero, Tare };
 
   [[gnu::noinline]] void tick_1ms();
+  [[gnu::noinline]] void step_other(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
+                                    std::span<std::uint8_t> to_plc);
   [[gnu::noinline]] void step_with_cycle(std::span<const std::uint8_t> from_plc,
                                          std::span<std::uint8_t> to_plc);
   // The read window to the master (zeros without the scale interface).
