@@ -826,9 +826,13 @@ void HiwinE1Model::step(TIME now, TIME dt_ns, std::span<const std::uint8_t> from
   // step's, which changed nothing, so stw1_, POS_STW2 and the setpoints stay
   // and no edge rises; the state machine, the motion update and the
   // telegram's key would find what they found then. What is left is what
-  // step_full() does with STW2 (the decoded word, the setpoints' copy, the
-  // sign-of-life) and the telegram copy. A sign-of-life failure (the monitor
-  // fed in place) takes step_full() from the start instead.
+  // step_full() does with STW2 that is read later (the sign-of-life) and
+  // the telegram copy. The decoded STW2 (decoded_.stw2) and its copy in the
+  // setpoints (cmd_.stw2) are not written: decode_111() writes
+  // decoded_.stw2 before every read of it, and of cmd_ only the setpoints
+  // are read (a copy of the whole, cmd_ = t, rewrites it too). A
+  // sign-of-life failure (the monitor fed in place) takes step_full() from
+  // the start instead.
   using T = Telegram111Out;
   if (rest_repeat_ && dt_ns > TIME::zero() && from_plc.size() >= T::kBytes) {
     const std::uint8_t* p = from_plc.data();
@@ -843,18 +847,19 @@ void HiwinE1Model::step(TIME now, TIME dt_ns, std::span<const std::uint8_t> from
       // put back.
       if (!cfg_.sign_of_life_monitoring ||
           sol_monitor_.update(stw2.controller_sign_of_life, act_.sol_tol)) {
-        decoded_.stw2 = stw2;
-        if (decoded_.stw1.control_by_plc) cmd_.stw2 = stw2;
-        if (!sol_frozen_) sol_ = next_sign_of_life(sol_);
+        std::uint8_t sol = sol_;
+        if (!sol_frozen_) sol_ = sol = next_sign_of_life(sol);
         // put_inputs() as it goes for a repeat: telegram 111 (only its
         // decode finds the same words) in S4 (pulses enabled), so no
-        // switch on the telegram and no test of the state.
+        // switch on the telegram and no test of the state. ZSW2 from the
+        // register (the copy could alias sol_ for the compiler).
+        Zsw2 zsw2;
+        zsw2.drive_sign_of_life = sol;
+        zsw2.pulses_enabled = true;
+        const std::uint16_t zsw2_word = zsw2.word();
         std::memcpy(to_plc.first<Telegram111In::kBytes>().data(), encoded_.data(),
                     Telegram111In::kBytes);
-        Zsw2 zsw2;
-        zsw2.drive_sign_of_life = sol_;
-        zsw2.pulses_enabled = true;
-        wire::put16(to_plc, Telegram111In::kZsw2, zsw2.word());
+        wire::put16(to_plc, Telegram111In::kZsw2, zsw2_word);
         return;
       }
     }
