@@ -52,6 +52,18 @@ class FillingProcess {
     const double g = noise_.gaussian();
     return load_ + g * sigma();
   }
+  // measured() in its two cases: while noise_spare() it is
+  // measured_spare() (every other call), else measured_drawn() (the draw
+  // of a pair, with the libm calls).
+  [[nodiscard]] bool noise_spare() const { return noise_.has_spare(); }
+  [[nodiscard]] double measured_spare() {
+    const double g = noise_.take_spare();
+    return load_ + g * sigma();
+  }
+  [[nodiscard]] double measured_drawn() {
+    const double g = noise_.gaussian_pair();
+    return load_ + g * sigma();
+  }
   // Material that has left the valves but not yet landed (kg).
   [[nodiscard]] double in_flight() const;
   [[nodiscard]] double landing_rate() const { return landing_rate_; }

@@ -128,15 +128,22 @@ void Pr5510Model::put_read_window(std::span<std::uint8_t> to_plc) const {
 }
 
 // One ms of the process and the filter, out of line: step_io() then keeps
-// nothing across the noise's libm calls (no spills of its spans).
+// nothing across the noise's libm calls (no spills of its spans). Every
+// other ms the noise gives the spare of its pair: then the tick is a leaf
+// (no frame); the draw of a pair, with its libm calls, is filter_drawn()
+// (a tail call), which reads the process's load and landing rate after
+// them from memory.
 void Pr5510Model::tick_1ms() {
   process_.step_1ms(outputs_ & 1U, outputs_ & 2U, outputs_ & 4U);
-  // The process wrote its load and landing rate to memory; measured()
-  // reads them after the noise's libm calls. Without this (empty) barrier
-  // GCC keeps the values it just stored in registers across those calls
-  // and spills and reloads them (four more moves per call).
-  asm volatile("" ::: "memory");
-  filtered_kg_ += (process_.measured() - filtered_kg_) * filter_alpha_;
+  if (process_.noise_spare()) {
+    filtered_kg_ += (process_.measured_spare() - filtered_kg_) * filter_alpha_;
+    return;
+  }
+  filter_drawn();
+}
+
+void Pr5510Model::filter_drawn() {
+  filtered_kg_ += (process_.measured_drawn() - filtered_kg_) * filter_alpha_;
 }
 
 void Pr5510Model::device_cycle(std::span<const std::uint8_t> w) {

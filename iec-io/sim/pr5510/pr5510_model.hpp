@@ -125,6 +125,7 @@ class Pr5510Model final : public io::DeviceModel {
   enum class Pending : std::uint8_t { None, Zero, Tare };
 
   [[gnu::noinline]] void tick_1ms();
+  [[gnu::noinline]] void filter_drawn();
   [[gnu::noinline]] void step_other(TIME now, TIME dt, std::span<const std::uint8_t> from_plc,
                                     std::span<std::uint8_t> to_plc);
   [[gnu::noinline]] void step_with_cycle(std::span<const std::uint8_t> from_plc,

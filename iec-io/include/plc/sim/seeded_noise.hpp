@@ -28,10 +28,18 @@ class SeededNoise {
   }
   // Standard normal (mean 0, sigma 1), two per pair of uniforms.
   double gaussian() {
-    if (has_spare_) {
-      has_spare_ = false;
-      return spare_;
-    }
+    if (has_spare_) return take_spare();
+    return gaussian_pair();
+  }
+  // gaussian() in its two parts, for a caller that takes the spare apart
+  // from the draw (the PR5510's ms tick: the draw's libm calls out of line):
+  // while has_spare(), gaussian() is take_spare(), else gaussian_pair().
+  [[nodiscard]] bool has_spare() const { return has_spare_; }
+  double take_spare() {
+    has_spare_ = false;
+    return spare_;
+  }
+  double gaussian_pair() {
     // uniform() with its integer at hand: u = k * 2^-53 is below 1e-300
     // only for k = 0 (the next one is 2^-53), so the integer is tested.
     const std::uint64_t k = next_u64() >> 11;
