@@ -112,7 +112,9 @@ class FillingProcess {
 inline void FillingProcess::move(Valve& v, bool cmd) {
   // The command stored only when it changes (a valve held open or closed
   // rewrote the same bool every ms); the draws in the same order.
-  if (cmd != v.cmd) {
+  // (A change of the command is rare: the held command's path laid out
+  // straight, not through a jump and back.)
+  if (cmd != v.cmd) [[unlikely]] {
     if (cmd) v.factor = 1.0 + cfg_.flow_variation * noise_.uniform_pm1();
     v.cmd = cmd;
   }
