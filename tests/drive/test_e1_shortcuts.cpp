@@ -194,3 +194,55 @@ TEST(E1Shortcuts, Telegram111SameAsWithoutShortcuts) { run_pair(TelegramType::Hi
 
 }  // namespace
 }  // namespace plc::sim
+
+namespace plc::sim {
+namespace {
+
+// The rest repeat's compare of the PLC's bytes (all but STW2, bytes 6 and
+// 7 of telegram 111, Table 3.4.1 of the spec): one bit changed in any other
+// byte while the drive repeats at rest must take the full step, which finds
+// other words and so does not arm the repeat again; a change of STW2 alone
+// (the sign-of-life) keeps repeating. Fails when the compare leaves out a
+// byte (e.g. the first word's difference shifted by 24, dropping byte 5).
+TEST(E1Shortcuts, RestRepeatSeesEveryByteButStw2) {
+  using namespace plc::drive;
+  using namespace std::chrono_literals;
+  int checked = 0;
+  for (std::size_t byte = 0; byte < Telegram111Out::kBytes; ++byte) {
+    for (int bit = 0; bit < 8; ++bit) {
+      HiwinE1Config c;
+      c.telegram = TelegramType::Hiwin111;
+      HiwinE1Model m(c);
+      std::vector<std::uint8_t> out(m.output_size()), in(m.input_size());
+      TIME now{};
+      std::uint8_t sol = 0;
+      auto step = [&] {
+        sol = next_sign_of_life(sol);
+        io::store_be<std::uint16_t>(out, Telegram111Out::kStw2,
+                                    static_cast<std::uint16_t>(sol << 12));
+        now += 1ms;
+        m.step(now, 1ms, out, in);
+      };
+      io::store_be<std::uint16_t>(out, Telegram111Out::kStw1, 0x043E);
+      for (int i = 0; i < 20; ++i) step();
+      io::store_be<std::uint16_t>(out, Telegram111Out::kStw1, 0x043F);
+      for (int i = 0; i < 2000 && !m.rest_repeating(); ++i) step();
+      ASSERT_TRUE(m.rest_repeating()) << "byte " << byte;
+      step();  // a repeat: only the sign-of-life changed
+      ASSERT_TRUE(m.rest_repeating());
+      out[byte] = static_cast<std::uint8_t>(out[byte] ^ (1U << bit));
+      step();
+      if (byte == Telegram111Out::kStw2 || byte == Telegram111Out::kStw2 + 1) {
+        EXPECT_TRUE(m.rest_repeating() || m.state() != HiwinE1Model::State::S4)
+            << "byte " << byte << " bit " << bit;
+      } else {
+        EXPECT_FALSE(m.rest_repeating()) << "byte " << byte << " bit " << bit;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, 22 * 8);
+}
+
+}  // namespace
+}  // namespace plc::sim

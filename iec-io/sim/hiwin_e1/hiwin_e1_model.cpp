@@ -18,6 +18,19 @@ constexpr std::uint16_t kWarnOvertravel = 0x09A0;
 constexpr std::uint16_t kFaultSignOfLife = 0xFB1;      // AL.FB1, no. 73
 constexpr std::uint16_t kFaultFollowingError = 0xD00;  // AL.d00, no. 62
 
+// The drive's sign-of-life after a step, by [frozen][now]: the same value
+// when frozen, else next_sign_of_life(). sol_ is 0 (restart) or a
+// next_sign_of_life() (1..15), so it indexes the table; a look-up instead
+// of the branches of the freeze and the wrap in the rest repeat.
+constexpr auto kSolAfterStep = [] {
+  std::array<std::array<std::uint8_t, 16>, 2> t{};
+  for (std::uint8_t v = 0; v < 16; ++v) {
+    t[0][v] = next_sign_of_life(v);
+    t[1][v] = v;
+  }
+  return t;
+}();
+
 // STW1 and POS_STW2 of telegram 111 as their decoded flags' word() would
 // rebuild them: the defined bits of the PLC's words. Taken from the bytes
 // every step instead of reassembling twelve flags (decode_111 keeps the
@@ -835,20 +848,33 @@ void HiwinE1Model::step(TIME now, TIME dt_ns, std::span<const std::uint8_t> from
   // the start instead.
   using T = Telegram111Out;
   if (rest_repeat_ && dt_ns > TIME::zero() && from_plc.size() >= T::kBytes) {
-    const std::uint8_t* p = from_plc.data();
-    if (std::memcmp(p, decoded_bytes_.data(), T::kStw2) == 0 &&
-        std::memcmp(p + T::kStw2 + 2, decoded_bytes_.data() + T::kStw2 + 2,
-                    T::kBytes - T::kStw2 - 2) == 0) {
+    // The bytes but STW2 the decoded ones: three 8-byte words, STW2
+    // (bytes 6 and 7) shifted out of the first one's difference.
+    static_assert(T::kBytes == 24 && T::kStw2 == 6);
+    const auto diff = [p = from_plc.data(), k = decoded_bytes_.data()](std::size_t off) {
+      std::uint64_t a, b;
+      std::memcpy(&a, p + off, sizeof a);
+      std::memcpy(&b, k + off, sizeof b);
+      return a ^ b;
+    };
+    const std::uint64_t d0 = diff(0);
+    const std::uint64_t d0_but_stw2 =
+        std::endian::native == std::endian::little ? d0 << 16 : d0 >> 16;
+    if ((d0_but_stw2 | diff(8) | diff(16)) == 0) {
       const Stw2 stw2 = Stw2::from(wire::u16(from_plc, T::kStw2));
       // The monitor is fed in place. A failure is a loss (update() returns
       // !lost_, and nothing but reset() clears lost_): step_full() from the
       // start then feeds it the same value, fails again and enters the
       // fault, which resets it; nothing reads it in between, so it is not
       // put back.
-      if (!cfg_.sign_of_life_monitoring ||
-          sol_monitor_.update(stw2.controller_sign_of_life, act_.sol_tol)) {
-        std::uint8_t sol = sol_;
-        if (!sol_frozen_) sol_ = sol = next_sign_of_life(sol);
+      // (Monitoring and a healthy sign-of-life marked likely: the usual
+      // path laid out straight.)
+      bool fed = true;
+      if (cfg_.sign_of_life_monitoring) [[likely]]
+        fed = sol_monitor_.update(stw2.controller_sign_of_life, act_.sol_tol);
+      if (fed) [[likely]] {
+        const std::uint8_t sol = kSolAfterStep[sol_frozen_][sol_];
+        sol_ = sol;
         // put_inputs() as it goes for a repeat: telegram 111 (only its
         // decode finds the same words) in S4 (pulses enabled), so no
         // switch on the telegram and no test of the state. ZSW2 from the
