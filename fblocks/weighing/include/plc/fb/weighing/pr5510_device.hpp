@@ -41,8 +41,11 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <chrono>
 #include <cstdint>
+#include <cstring>
+#include <span>
 
 #include "plc/fb/weighing/error_ids.hpp"
 #include "plc/fb/weighing/window_codec.hpp"
@@ -111,7 +114,10 @@ class PR5510_Device {
                wr_cmd_error_, wr_epoch_, wr_since_, cmd_status_, cmd_error_, cmd_bit_, cmd_phase_,
                cmd_slot_, cmd_next_, cmd_epoch_, cmd_since_, outputs_)
 
-  void operator()(const ScanContext& ctx);
+  // Inline (scan<true>() below): the programs' cycle() takes the scan
+  // without a call, its register saves and frame; the rare work (offline,
+  // own reads, writes, commands, status decode) stays out of line.
+  void operator()(const ScanContext& ctx) { scan<true>(ctx); }
   // operator() without its steady read path (tests compare the two).
   void scan_general(const ScanContext& ctx);
 
@@ -197,6 +203,10 @@ class PR5510_Device {
   static std::uint8_t bit(int slot) { return static_cast<std::uint8_t>(1U << slot); }
   // First slot at or after `from` (round-robin) whose bit is set in mask.
   static int next_in(std::uint8_t mask, int from);
+  static constexpr int kOwnSlot = 0;  // the device's own reader
+  // decode_status() where the status bytes changed (a few scans in a
+  // hundred): out of line, so that the inline scan needs fewer registers.
+  [[gnu::noinline]] static StatusBits decode_status_changed(std::span<const std::uint8_t> in);
   void go_offline();
   void run_own_reader();
   // operator()'s work; SteadyRead false: scan_general().
@@ -256,5 +266,141 @@ class PR5510_Device {
 
   std::uint8_t outputs_ = 0;
 };
+
+template <bool SteadyRead>
+inline void PR5510_Device::scan(const ScanContext& ctx) {
+  const bool usable = port.bound() && port.online() && port.in().size() >= kWindowSize &&
+                      port.out().size() >= kWindowSize;
+  if (!usable) {
+    go_offline();
+    return;
+  }
+  const auto in = port.in();
+  auto out = port.out();
+  // The three status bytes R[5..7] read once, before this block's byte
+  // stores (which may alias the image for the compiler): as R[4..7] in one
+  // load where the byte order allows (usable: the window's 8 bytes are
+  // there), shifted down past the echo R[4].
+  static_assert(r::kStatus == 5 && r::kCommand == 6 && r::kWeighing == 7);
+  std::uint32_t raw;
+  if constexpr (std::endian::native == std::endian::little) {
+    std::memcpy(&raw, in.data() + r::kReadValueSelected, 4);
+    raw >>= 8;
+  } else {
+    raw = static_cast<std::uint32_t>(in[r::kStatus]) |
+          static_cast<std::uint32_t>(in[r::kCommand]) << 8 |
+          static_cast<std::uint32_t>(in[r::kWeighing]) << 16;
+  }
+  Online = true;
+  StatusByte = static_cast<std::uint8_t>(raw);
+  CommandByte = static_cast<std::uint8_t>(raw >> 8);
+  WeighingByte = static_cast<std::uint8_t>(raw >> 16);
+  // Decoded once per change of the three status bytes: status_ is a
+  // function of them alone (raw: R[5] | R[6] << 8 | R[7] << 16), and
+  // neither it nor status_raw_ is reflected (no debugger or HMI write), so
+  // the last decode is still exact. Both start as the bytes 0, 0, 0 and
+  // their decode.
+  if (raw != status_raw_) {
+    status_ = decode_status_changed(in);
+    status_raw_ = raw;
+  }
+
+  if (!was_online_) {
+    // Spec §7.2 start-up: full scale (clears Cal_Changed), format, model.
+    want_fsd_ = want_format_ = want_model_ = true;
+    was_online_ = true;
+    out[w::kWriteValueSelect] = 0;
+    out[w::kCommands] = 0;
+  }
+  if (status_.CalChanged && !prev_cal_changed_) want_fsd_ = want_format_ = true;
+  if (status_.CmdError && !prev_cmd_error_) want_format_ = true;
+  prev_cal_changed_ = status_.CalChanged;
+  prev_cmd_error_ = status_.CmdError;
+
+  // With nothing to read for itself and no read error or grant of its own,
+  // run_own_reader() only sets Ready (= FormatReads > 0, want_fsd_ being
+  // false): most scans, so no call.
+  if (!want_fsd_ && !want_format_ && !want_model_ && holder_ != kOwnSlot &&
+      !(rd_err_ & bit(kOwnSlot)))
+    Ready = FormatReads > 0;
+  else
+    run_own_reader();
+  arbitrate_read<SteadyRead>(ctx.now);
+  // Idle with nothing pending, run_write() and run_command() do nothing
+  // (next_in() of an empty mask is kNoSlot): most scans, so no call.
+  if (wr_phase_ != WrPhase::Idle || wr_pending_ != 0) run_write(ctx.now);
+  if (cmd_phase_ != CmdPhase::Idle || cmd_pending_ != 0) run_command(ctx.now);
+  out[w::kOutputs] = outputs_;
+}
+
+template <bool SteadyRead>
+inline void PR5510_Device::arbitrate_read(TIME now) {
+  const auto in = port.in();
+  // The steady read: the holder alone requests, the same code, echoed, no
+  // read error anywhere. What the general path below does then: the holder
+  // keeps the window (nobody to pass it on to, no urgent request to
+  // preempt it), counts as served, and W[4] carries its code.
+  // ReadPathsAgree (test_window_faults.cpp) compares it with the general
+  // path over a random walk of requests, echoes, timeouts and faults.
+  if (SteadyRead && holder_ != kNoSlot && rd_req_ == bit(holder_) && rd_err_ == 0 &&
+      rd_code_[idx(holder_)] == holder_code_ && in[r::kReadValueSelected] == holder_code_) {
+    holder_served_ = true;
+    port.out()[w::kReadValueSelect] = holder_code_;
+    ReadHolder = static_cast<SINT>(holder_);
+    rd_req_ = 0;
+    rd_urgent_ = 0;
+    return;
+  }
+  const std::uint8_t waiting = static_cast<std::uint8_t>(rd_req_ & ~rd_err_);
+  if (holder_ != kNoSlot) {
+    const std::size_t h = idx(holder_);
+    if (!(rd_req_ & bit(holder_))) {
+      holder_ = kNoSlot;  // the holder let go (or was not called)
+    } else if (rd_code_[h] != holder_code_) {
+      holder_code_ = rd_code_[h];  // same holder, new code: wait for its echo again
+      holder_served_ = false;
+      grant_time_ = now;
+    } else if (in[r::kReadValueSelected] == holder_code_) {
+      // Served in an earlier scan: pass on if anybody else waits (an
+      // urgent holder only to another urgent request).
+      const std::uint8_t others = static_cast<std::uint8_t>(waiting & ~bit(holder_));
+      const bool holder_urgent = (rd_urgent_ & bit(holder_)) != 0;
+      if (holder_served_ && (holder_urgent ? (others & rd_urgent_) : others)) holder_ = kNoSlot;
+      holder_served_ = true;
+    } else if (now - grant_time_ > EchoTimeout) {
+      read_error_[h] = error_id::kReadEchoTimeout;
+      rd_err_ = static_cast<std::uint8_t>(rd_err_ | bit(holder_));
+      holder_ = kNoSlot;
+    }
+  }
+  if (holder_ != kNoSlot && !(rd_urgent_ & bit(holder_)) && (waiting & rd_urgent_)) {
+    holder_ = kNoSlot;  // an urgent request preempts a normal holder
+  }
+  if (holder_ == kNoSlot) {
+    const std::uint8_t urgent = static_cast<std::uint8_t>(waiting & rd_urgent_);
+    const int s = next_in(urgent ? urgent : waiting, ReadHolder >= 0 ? ReadHolder + 1 : 0);
+    if (s != kNoSlot) {
+      holder_ = s;
+      holder_code_ = rd_code_[idx(s)];
+      holder_served_ = false;
+      grant_time_ = now;
+      ++ReadGrants;
+    }
+  }
+  if (holder_ != kNoSlot) {
+    port.out()[w::kReadValueSelect] = holder_code_;
+    ReadHolder = static_cast<SINT>(holder_);
+  } else {
+    ReadHolder = -1;  // W[4] keeps its last code: harmless, and valid at once if asked again
+  }
+  // A slot that stopped requesting starts clean next time.
+  if (const std::uint8_t stale = static_cast<std::uint8_t>(rd_err_ & ~rd_req_); stale) {
+    for (int s = 0; s < kMaxClients; ++s)
+      if (stale & bit(s)) read_error_[idx(s)] = error_id::kNone;
+    rd_err_ = static_cast<std::uint8_t>(rd_err_ & rd_req_);
+  }
+  rd_req_ = 0;
+  rd_urgent_ = 0;
+}
 
 }  // namespace plc::weighing
