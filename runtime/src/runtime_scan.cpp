@@ -559,6 +559,12 @@ void Runtime::run_virtual(TIME span) {
   // Saturating: the clock must not run past the end of TIME's int64 range.
   const TIME last = TIME::max() - base_tick_;
   const TIME end = span > last - now_ ? last : now_ + span;
+  // begin_tick()'s step size, taken once: only the first tick after start()
+  // steps the plugins by 0 (first_tick_ is set by start() alone, cleared by
+  // every begin_tick(); a tick that step_scan() left open was begun, so
+  // first_tick_ is false then), every later one by base_tick_ (set only at
+  // build). begin_tick() would test first_tick_ and load the step every tick.
+  TIME dt = first_tick_ ? TIME(0) : base_tick_;
   while (now_ < end && !stop_requested()) {
     if (!any_task_alive()) break;
     if (tick_open_) {
@@ -567,7 +573,14 @@ void Runtime::run_virtual(TIME span) {
     }
     // tick() as advance_cursor() runs it, with the cursor in a register:
     // each task of the execution order that is due when its turn comes.
-    begin_tick();
+    // begin_tick() with the step size above.
+    if (plugins_enabled_)
+      for (auto& [name, p] : plugins_)
+        if (!p->failed()) step_plugin(name, *p, dt);
+    dt = base_tick_;
+    first_tick_ = false;
+    tick_open_ = true;
+    cursor_ = 0;
     const std::size_t n = exec_order_.size();
     for (std::size_t i = 0; i < n; ++i) {
       TaskRuntime& t = *exec_order_[i];
