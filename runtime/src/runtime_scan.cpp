@@ -168,40 +168,49 @@ void Runtime::deliver_answers(TaskRuntime& t) {
 // in virtual time (no lock, no whole-image scan, no merge of bits: both
 // halves in one call), step for step; what differs is only what they would
 // do for hooks or another thread. Test: PlainScanEqualsHookedScan.
+// The scan in two copies, timed and untimed (one in kVirtualTimedEvery is
+// timed, as in scan_latch()): the untimed one, nearly every scan, then keeps
+// no start time and no flag across the programs to choose record_scan() or
+// count_scan() by (the test compares the timed counts with the hooked scan's).
 bool Runtime::scan_plain(TaskRuntime& t, TIME now) try {
   if (ProgramSwap* s = t.swap.load(std::memory_order_acquire)) apply_program_swap(t, *s);
-  const bool timed = (t.timing_phase++ % kVirtualTimedEvery) == 0;
-  const std::int64_t start = timed ? steady_ns() : 0;
-  t.scan_seq.store(t.scan_seq.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
-  t.scan_started_ns.store(start, std::memory_order_release);
-  t.scan_timed = timed;
-  t.scan_time = now;
-  t.whole_image_scan = false;
-  t.merge_bits = false;
-  latch_devices(t, now);
-  io::detail::set_current_owner(static_cast<int>(t.order));
-  copy_spans(t.copy_in);
-  const ScanContext ctx{now, t.period, t.cycle};
-  try {
-    for (Program* p : t.programs) p->cycle(ctx);
-  } catch (const std::exception& e) {
-    trip(t, std::string("program threw: ") + e.what(), false);
-  } catch (...) {
-    trip(t, "program threw a non-standard exception", false);
-  }
-  if (t.trip_requested.load(std::memory_order_acquire)) trip(t, t.trip_reason, true);
-  if (!t.stopped.load(std::memory_order_acquire)) {
-    copy_spans(t.copy_out);
-    publish_devices(t);
-  }
-  io::detail::set_current_owner(-1);
-  if (timed)
-    t.stats.record_scan(steady_ns() - start);
+  const auto scan = [&]<bool timed>() __attribute__((always_inline)) {
+    const std::int64_t start = timed ? steady_ns() : 0;
+    t.scan_seq.store(t.scan_seq.load(std::memory_order_relaxed) + 1, std::memory_order_relaxed);
+    t.scan_started_ns.store(start, std::memory_order_release);
+    t.scan_timed = timed;
+    t.scan_time = now;
+    t.whole_image_scan = false;
+    t.merge_bits = false;
+    latch_devices(t, now);
+    io::detail::set_current_owner(static_cast<int>(t.order));
+    copy_spans(t.copy_in);
+    const ScanContext ctx{now, t.period, t.cycle};
+    try {
+      for (Program* p : t.programs) p->cycle(ctx);
+    } catch (const std::exception& e) {
+      trip(t, std::string("program threw: ") + e.what(), false);
+    } catch (...) {
+      trip(t, "program threw a non-standard exception", false);
+    }
+    if (t.trip_requested.load(std::memory_order_acquire)) trip(t, t.trip_reason, true);
+    if (!t.stopped.load(std::memory_order_acquire)) {
+      copy_spans(t.copy_out);
+      publish_devices(t);
+    }
+    io::detail::set_current_owner(-1);
+    if constexpr (timed)
+      t.stats.record_scan(steady_ns() - start);
+    else
+      t.stats.count_scan();
+    t.scan_started_ns.store(-1, std::memory_order_release);
+    for (const auto& o : observers_) o(t, ctx);
+    ++t.cycle;
+  };
+  if ((t.timing_phase++ % kVirtualTimedEvery) == 0) [[unlikely]]
+    scan.template operator()<true>();
   else
-    t.stats.count_scan();
-  t.scan_started_ns.store(-1, std::memory_order_release);
-  for (const auto& o : observers_) o(t, ctx);
-  ++t.cycle;
+    scan.template operator()<false>();
   return true;
 } catch (const std::exception& e) {
   scan_failed(t, e.what());
@@ -559,6 +568,12 @@ void Runtime::run_virtual(TIME span) {
   // Saturating: the clock must not run past the end of TIME's int64 range.
   const TIME last = TIME::max() - base_tick_;
   const TIME end = span > last - now_ ? last : now_ + span;
+  // begin_tick()'s step size, taken once: only the first tick after start()
+  // steps the plugins by 0 (first_tick_ is set by start() alone, cleared by
+  // every begin_tick(); a tick that step_scan() left open was begun, so
+  // first_tick_ is false then), every later one by base_tick_ (set only at
+  // build). begin_tick() would test first_tick_ and load the step every tick.
+  TIME dt = first_tick_ ? TIME(0) : base_tick_;
   while (now_ < end && !stop_requested()) {
     if (!any_task_alive()) break;
     if (tick_open_) {
@@ -567,7 +582,14 @@ void Runtime::run_virtual(TIME span) {
     }
     // tick() as advance_cursor() runs it, with the cursor in a register:
     // each task of the execution order that is due when its turn comes.
-    begin_tick();
+    // begin_tick() with the step size above.
+    if (plugins_enabled_)
+      for (auto& [name, p] : plugins_)
+        if (!p->failed()) step_plugin(name, *p, dt);
+    dt = base_tick_;
+    first_tick_ = false;
+    tick_open_ = true;
+    cursor_ = 0;
     const std::size_t n = exec_order_.size();
     for (std::size_t i = 0; i < n; ++i) {
       TaskRuntime& t = *exec_order_[i];

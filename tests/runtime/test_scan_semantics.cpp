@@ -258,6 +258,12 @@ devices:
             << "task " << p.name << " area " << int(a) << " at tick " << k;
       ASSERT_EQ(p.cycle, h.cycle) << p.name << " at tick " << k;
       ASSERT_EQ(p.stats.scans(), h.stats.scans()) << p.name << " at tick " << k;
+      // One scan in 16 timed, the same ones (scan_plain's timed and untimed copies).
+      ASSERT_EQ(p.stats.snapshot().scan_ns.count(), h.stats.snapshot().scan_ns.count())
+          << p.name << " at tick " << k;
+      ASSERT_EQ(p.stats.snapshot().scan_ns.count(), (p.stats.scans() + 15) / 16)
+          << p.name << " at tick " << k;
+      ASSERT_EQ(p.scan_timed, h.scan_timed) << p.name << " at tick " << k;
       ASSERT_EQ(p.stopped.load(), h.stopped.load()) << p.name << " at tick " << k;
       ASSERT_EQ(p.scan_seq.load(), h.scan_seq.load()) << p.name << " at tick " << k;
       ASSERT_EQ(p.scan_started_ns.load(), -1);
