@@ -38,7 +38,13 @@
 // FHostProtocol::cycle() returning bool; MC_Power's, MC_Reset's and the
 // move blocks' operator() inline (no longer exported by the drive library)
 // (issue 23, fifth and sixth rounds).
-#define PLC_ABI_VERSION 9
+// 10: inline steady paths in the block headers: MC_Power's, the MC blocks'
+// one-load idle test, F_MODULE's steady_exchange()/steady_scan() with
+// scan_general() (F_MODULE and NORD_SAFE_IO always inline),
+// PR5510_Device's and PR5510_BatchWeigh's operator() inline; the NORD
+// model's steady exchange and the PR5510 model's and FillingProcess's kept
+// flags (issue 23, seventh to ninth rounds).
+#define PLC_ABI_VERSION 10
 
 // The exported symbol's name, for dlsym.
 #define PLC_CELL_ABI_SYMBOL "softplc_cell_abi_version"
