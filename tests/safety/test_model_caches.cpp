@@ -139,6 +139,59 @@ TEST(SafetyModelCaches, KeptCausesAndResponseDataAreTheFullOnesOverRandomSteps_S
 // leaves at_rest_ set (e.g. set_speed_rpm(): SSM, set_si(): SI1/SI2), or
 // when a full evaluate() leaves build_response()'s kept F-data and status
 // bits (resp_fresh_) as they were.
+// The random changes both twin tests below make (the same draws, so each
+// test's sequence is what it was): SI inputs, speed, OSSD/SOS/SLS, the
+// channel-passivation acknowledgement, device faults, host stalls, the
+// position, a fatal error with a later power cycle. Other `what` values
+// are each test's own.
+void common_random_change(Rig* r, int what, int x, int y) {
+  switch (what) {
+    case 0:
+      r->model->set_si((x & 1) != 0, (x & 2) != 0);
+      break;
+    case 1:
+      r->model->set_si_source(x & 1, (y % 3));
+      break;
+    case 2:
+      r->model->set_speed_rpm((x & 7) == 0 ? y - 2048 : (y % 120) - 60);
+      break;
+    case 3:
+      r->io.OSSD1 = (x & 1) != 0;
+      r->io.OSSD2 = (x & 2) != 0;
+      r->io.OSSD3 = (x & 4) != 0;
+      break;
+    case 4:
+      r->io.SOS = (x & 3) == 0;
+      r->io.SLS = (y & 3) == 0;
+      r->io.SLS_LEVEL = static_cast<plc::USINT>(x >> 10);
+      break;
+    case 5:
+      r->io.CH_PASS_ACK = !r->io.CH_PASS_ACK;
+      break;
+    case 6:
+      if ((x & 7) == 0) r->model->inject_device_fault(5732 + (y & 3));
+      break;
+    case 7:
+      r->model->clear_device_fault();
+      break;
+    case 10:
+      if ((x & 63) == 0) r->device_only(50 + (y & 127));  // the host stalls: watchdog
+      break;
+    case 11:
+      if ((x & 63) == 0) r->model->set_position_inc(y);
+      break;
+    case 12:
+      if ((x & 255) == 0) {  // a fatal error, then a power cycle later
+        r->model->inject_system_error();
+        r->scan(1 + (y & 31));
+        r->model->power_cycle();
+      }
+      break;
+    default:
+      break;
+  }
+}
+
 TEST(SafetyModelCaches, RestSkipShowsWhatTheFullEvaluateShows_Spec8_3) {
   const Params none_enabled = {
       {"p820_1", "0"}, {"p820_2", "0"}, {"p820_3", "0"}, {"p820_4", "0"}, {"p820_5", "0"}};
@@ -168,54 +221,14 @@ TEST(SafetyModelCaches, RestSkipShowsWhatTheFullEvaluateShows_Spec8_3) {
       const int y = rnd.below(4096);
       for (Rig* r : {&a, &b}) {
         switch (what) {
-          case 0:
-            r->model->set_si((x & 1) != 0, (x & 2) != 0);
-            break;
-          case 1:
-            r->model->set_si_source(x & 1, (y % 3));
-            break;
-          case 2:
-            r->model->set_speed_rpm((x & 7) == 0 ? y - 2048 : (y % 120) - 60);
-            break;
-          case 3:
-            r->io.OSSD1 = (x & 1) != 0;
-            r->io.OSSD2 = (x & 2) != 0;
-            r->io.OSSD3 = (x & 4) != 0;
-            break;
-          case 4:
-            r->io.SOS = (x & 3) == 0;
-            r->io.SLS = (y & 3) == 0;
-            r->io.SLS_LEVEL = static_cast<plc::USINT>(x >> 10);
-            break;
-          case 5:
-            r->io.CH_PASS_ACK = !r->io.CH_PASS_ACK;
-            break;
-          case 6:
-            if ((x & 7) == 0) r->model->inject_device_fault(5732 + (y & 3));
-            break;
-          case 7:
-            r->model->clear_device_fault();
-            break;
           case 8:
             if ((x & 31) == 0) r->model->power_cycle();
             break;
           case 9:
             if ((x & 15) == 0) r->model->corrupt_requests(1, y & 7, 0x10);
             break;
-          case 10:
-            if ((x & 63) == 0) r->device_only(50 + (y & 127));  // the host stalls: watchdog
-            break;
-          case 11:
-            if ((x & 63) == 0) r->model->set_position_inc(y);
-            break;
-          case 12:
-            if ((x & 255) == 0) {  // a fatal error, then a power cycle later
-              r->model->inject_system_error();
-              r->scan(1 + (y & 31));
-              r->model->power_cycle();
-            }
-            break;
           default:
+            common_random_change(r, what, x, y);
             break;
         }
         if (r->io.ACK_REQ && (y & 3) == 0) r->ack();
@@ -283,52 +296,11 @@ TEST(SafetyModelCaches, SteadyExchangeShowsWhatTheFullStepShows_Spec8_3) {
       const int y = rnd.below(4096);
       for (Rig* r : {&a, &b}) {
         switch (what) {
-          case 0:
-            r->model->set_si((x & 1) != 0, (x & 2) != 0);
-            break;
-          case 1:
-            r->model->set_si_source(x & 1, (y % 3));
-            break;
-          case 2:
-            r->model->set_speed_rpm((x & 7) == 0 ? y - 2048 : (y % 120) - 60);
-            break;
-          case 3:
-            r->io.OSSD1 = (x & 1) != 0;
-            r->io.OSSD2 = (x & 2) != 0;
-            r->io.OSSD3 = (x & 4) != 0;
-            break;
-          case 4:
-            r->io.SOS = (x & 3) == 0;
-            r->io.SLS = (y & 3) == 0;
-            r->io.SLS_LEVEL = static_cast<plc::USINT>(x >> 10);
-            break;
-          case 5:
-            r->io.CH_PASS_ACK = !r->io.CH_PASS_ACK;
-            break;
-          case 6:
-            if ((x & 7) == 0) r->model->inject_device_fault(5732 + (y & 3));
-            break;
-          case 7:
-            r->model->clear_device_fault();
-            break;
           case 8:
             if ((x & 7) == 0) r->model->power_cycle();
             break;
           case 9:
             if ((x & 255) == 0) r->model->corrupt_requests(1, y & 7, 0x10);
-            break;
-          case 10:
-            if ((x & 63) == 0) r->device_only(50 + (y & 127));  // the host stalls: watchdog
-            break;
-          case 11:
-            if ((x & 63) == 0) r->model->set_position_inc(y);
-            break;
-          case 12:
-            if ((x & 255) == 0) {  // a fatal error, then a power cycle later
-              r->model->inject_system_error();
-              r->scan(1 + (y & 31));
-              r->model->power_cycle();
-            }
             break;
           case 13:
             if ((x & 31) == 0)
@@ -354,6 +326,7 @@ TEST(SafetyModelCaches, SteadyExchangeShowsWhatTheFullStepShows_Spec8_3) {
             r->io.FMOD.ACK_REI = !r->io.FMOD.ACK_REI;
             break;
           default:
+            common_random_change(r, what, x, y);
             break;
         }
         if (r->io.ACK_REQ && (y & 3) == 0) r->ack();
