@@ -127,6 +127,7 @@ void Runtime::build(const CellConfig& cfg) {
       t->program_names.push_back(p.value);
     }
     tasks_.push_back(std::move(t));
+    tasks_alive_.fetch_add(1, std::memory_order_relaxed);
   }
   for (const auto& t : tasks_) exec_order_.push_back(t.get());
   std::stable_sort(
@@ -380,6 +381,7 @@ void Runtime::build(const CellConfig& cfg) {
       }
     }
   }
+  plan_device_io();  // again: TaskRuntime::plain_in and plain_out take copy_in and copy_out
   for (auto& d : devices_) d.link = &d.plugin->link(d.index);
   // Tasks run their programs in the order the task lists them.
   for (auto& t : tasks_) {

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <mutex>
 
+#include "plc/detail/small_copy.hpp"
 #include "plc/io/current_owner.hpp"
 #include "plc/online_change.hpp"
 #include "plc/runtime.hpp"
@@ -20,49 +21,8 @@ std::int64_t steady_ns() {
       .count();
 }
 
-// A direct device's bytes (virtual time): mostly 2 to 32 bytes, copied
-// twice per device and scan; a task's bound image spans, often 33 to 64
-// (the filling cell's three: 56). Inline, as two overlapping fixed-size
-// copies, instead of a call into the library's memcpy, which costs more
-// than such a copy; memcpy above 64 bytes.
-inline void copy_bytes(std::uint8_t* dst, const std::uint8_t* src, std::size_t n) {
-  const auto two = [&]<std::size_t K>() {
-    std::uint8_t head[K], tail[K];
-    std::memcpy(head, src, K);
-    std::memcpy(tail, src + n - K, K);
-    std::memcpy(dst, head, K);
-    std::memcpy(dst + n - K, tail, K);
-  };
-  if (n >= 16) {
-    if (n <= 32) {
-      two.template operator()<16>();
-    } else if (n <= 64) {
-      // The first and the last 32 bytes as four 16-byte moves, through
-      // vector registers (byte arrays of 32 went through the stack).
-      using V = std::uint8_t __attribute__((vector_size(16)));
-      V a, b, c, d;
-      std::memcpy(&a, src, 16);
-      std::memcpy(&b, src + 16, 16);
-      std::memcpy(&c, src + n - 32, 16);
-      std::memcpy(&d, src + n - 16, 16);
-      std::memcpy(dst, &a, 16);
-      std::memcpy(dst + 16, &b, 16);
-      std::memcpy(dst + n - 32, &c, 16);
-      std::memcpy(dst + n - 16, &d, 16);
-    } else {
-      std::memcpy(dst, src, n);
-    }
-  } else if (n >= 8) {
-    two.template operator()<8>();
-  } else if (n >= 4) {
-    two.template operator()<4>();
-  } else {
-    for (std::size_t i = 0; i < n; ++i) dst[i] = src[i];
-  }
-}
-
 [[gnu::always_inline]] inline void copy_spans(const std::vector<ImageSpan>& spans) {
-  for (const ImageSpan& s : spans) copy_bytes(s.dst, s.src, s.n);
+  for (const ImageSpan& s : spans) detail::copy_bytes(s.dst, s.src, s.n);
 }
 
 template <class M>
@@ -91,7 +51,7 @@ struct MaybeLock {
 // scan() only chooses, so that the virtual-time loop inlines it: each of
 // the two catches what its scan throws.
 bool Runtime::scan(TaskRuntime& t, TIME now) {
-  if (!lock_image_ && hooks_.empty()) return scan_plain(t, now);
+  if (plain_scans_) return scan_plain(t, now);
   return scan_hooked(t, now);
 }
 
@@ -114,14 +74,35 @@ void Runtime::scan_failed(TaskRuntime& t, std::string_view what) {
   trip(t, "scan failed: " + std::string(what), false);
 }
 
+// Virtual time times one scan in kVirtualTimedEvery, the first of each
+// kVirtualTimedEvery: timing_phase counts down the untimed ones between (a
+// test and a decrement; the count up and a modulo cost more per scan).
+[[gnu::always_inline]] inline bool Runtime::timed_now(TaskRuntime& t) {
+  if (t.timing_phase == 0) [[unlikely]] {
+    t.timing_phase = kVirtualTimedEvery - 1;
+    return true;
+  }
+  --t.timing_phase;
+  return false;
+}
+
 // Both inline in their scans (a frame each per scan otherwise).
 [[gnu::always_inline]] inline void Runtime::latch_devices(TaskRuntime& t, TIME now) {
+  latch_device_bytes(t);
+  latch_states(t, now);
+}
+
+[[gnu::always_inline]] inline void Runtime::latch_device_bytes(TaskRuntime& t) {
   if (plugins_enabled_) {
     for (const TaskRuntime::DirectDevice& c : t.direct)
-      copy_bytes(c.image_in, c.device_in, c.in_bytes);
-    for (const TaskRuntime::PluginDevice& d : t.via_plugin)
-      if (d.in_bytes) d.plugin->latch_inputs(d.index, {d.image_in, d.in_bytes});
+      detail::copy_bytes(c.image_in, c.device_in, c.in_bytes);
+    if (t.any_via_plugin) [[unlikely]]
+      for (const TaskRuntime::PluginDevice& d : t.via_plugin)
+        if (d.in_bytes) d.plugin->latch_inputs(d.index, {d.image_in, d.in_bytes});
   }
+}
+
+[[gnu::always_inline]] inline void Runtime::latch_states(TaskRuntime& t, TIME now) {
   // 1a: the answers to this task's acyclic requests and its devices'
   // states become visible now, so they never change during the scan.
   // Answers only while a link tracks a request (most scans: none does).
@@ -159,9 +140,10 @@ void Runtime::deliver_answers(TaskRuntime& t) {
 [[gnu::always_inline]] inline void Runtime::publish_devices(TaskRuntime& t) {
   if (!plugins_enabled_) return;
   for (const TaskRuntime::DirectDevice& c : t.direct)
-    copy_bytes(c.device_out, c.image_out, c.out_bytes);
-  for (const TaskRuntime::PluginDevice& d : t.via_plugin)
-    if (d.out_bytes) d.plugin->publish_outputs(d.index, {d.image_out, d.out_bytes});
+    detail::copy_bytes(c.device_out, c.image_out, c.out_bytes);
+  if (t.any_via_plugin) [[unlikely]]
+    for (const TaskRuntime::PluginDevice& d : t.via_plugin)
+      if (d.out_bytes) d.plugin->publish_outputs(d.index, {d.image_out, d.out_bytes});
 }
 
 // scan_latch() and run_programs_and_publish() as they run with no hook set
@@ -172,7 +154,14 @@ void Runtime::deliver_answers(TaskRuntime& t) {
 // timed, as in scan_latch()): the untimed one, nearly every scan, then keeps
 // no start time and no flag across the programs to choose record_scan() or
 // count_scan() by (the test compares the timed counts with the hooked scan's).
-bool Runtime::scan_plain(TaskRuntime& t, TIME now) try {
+//
+// The body inline in the virtual-time loop (run_virtual(), nearly every
+// scan of a virtual-time run: a call, a frame and six saved registers per
+// scan otherwise) and in scan_plain(), which the other callers (tick(),
+// step_scan()) reach through scan().
+bool Runtime::scan_plain(TaskRuntime& t, TIME now) { return scan_plain_inline(t, now); }
+
+[[gnu::always_inline]] inline bool Runtime::scan_plain_inline(TaskRuntime& t, TIME now) try {
   if (ProgramSwap* s = t.swap.load(std::memory_order_acquire)) apply_program_swap(t, *s);
   const auto scan = [&]<bool timed>() __attribute__((always_inline)) {
     const std::int64_t start = timed ? steady_ns() : 0;
@@ -182,9 +171,19 @@ bool Runtime::scan_plain(TaskRuntime& t, TIME now) try {
     t.scan_time = now;
     t.whole_image_scan = false;
     t.merge_bits = false;
-    latch_devices(t, now);
-    io::detail::set_current_owner(static_cast<int>(t.order));
-    copy_spans(t.copy_in);
+    // Every device direct (the usual virtual-time run): its inputs and
+    // copy_in in one loop (plain_in), before the states' latch, which
+    // copies no bytes, and the owner, which no copy reads.
+    const bool fused = t.plain_fused;
+    if (fused) [[likely]] {
+      copy_spans(t.plain_in);
+      latch_states(t, now);
+      io::detail::set_current_owner(static_cast<int>(t.order));
+    } else {
+      latch_devices(t, now);
+      io::detail::set_current_owner(static_cast<int>(t.order));
+      copy_spans(t.copy_in);
+    }
     const ScanContext ctx{now, t.period, t.cycle};
     try {
       for (Program* p : t.programs) p->cycle(ctx);
@@ -195,8 +194,12 @@ bool Runtime::scan_plain(TaskRuntime& t, TIME now) try {
     }
     if (t.trip_requested.load(std::memory_order_acquire)) trip(t, t.trip_reason, true);
     if (!t.stopped.load(std::memory_order_acquire)) {
-      copy_spans(t.copy_out);
-      publish_devices(t);
+      if (fused) [[likely]] {
+        copy_spans(t.plain_out);  // copy_out, then the devices' outputs
+      } else {
+        copy_spans(t.copy_out);
+        publish_devices(t);
+      }
     }
     io::detail::set_current_owner(-1);
     if constexpr (timed)
@@ -204,10 +207,11 @@ bool Runtime::scan_plain(TaskRuntime& t, TIME now) try {
     else
       t.stats.count_scan();
     t.scan_started_ns.store(-1, std::memory_order_release);
-    for (const auto& o : observers_) o(t, ctx);
+    if (any_observer_) [[unlikely]]
+      for (const auto& o : observers_) o(t, ctx);
     ++t.cycle;
   };
-  if ((t.timing_phase++ % kVirtualTimedEvery) == 0) [[unlikely]]
+  if (timed_now(t)) [[unlikely]]
     scan.template operator()<true>();
   else
     scan.template operator()<false>();
@@ -227,7 +231,7 @@ ScanContext Runtime::scan_latch(TaskRuntime& t, TIME now) {
   // virtual time one in kVirtualTimedEvery, since two clock reads cost as
   // much as a small cell's whole scan there (the sample still shows what a
   // scan costs; every scan is counted).
-  const bool timed = lock_image_ || (t.timing_phase++ % kVirtualTimedEvery) == 0;
+  const bool timed = lock_image_ || timed_now(t);
   const std::int64_t start = timed ? steady_ns() : 0;
   // The watchdog's bookkeeping (the recorder's arm() also looks at
   // scan_started_ns). One writer: a load and a store, no locked instruction.
@@ -317,13 +321,15 @@ bool Runtime::run_programs_and_publish(TaskRuntime& t, const ScanContext& ctx) {
   else
     t.stats.count_scan();
   t.scan_started_ns.store(-1, std::memory_order_release);
-  for (const auto& o : observers_) o(t, ctx);
+  if (any_observer_) [[unlikely]]
+    for (const auto& o : observers_) o(t, ctx);
   ++t.cycle;
   return true;
 }
 
 void Runtime::trip(TaskRuntime& t, const std::string& reason, bool watchdog) {
   if (t.stopped.exchange(true)) return;
+  tasks_alive_.fetch_sub(1, std::memory_order_relaxed);
   t.stats.set_stopped(watchdog, reason);
   {
     MaybeLock lock(image_mutex_, lock_image_);
@@ -357,6 +363,7 @@ void Runtime::start(io::ClockMode mode) {
   if (mode == io::ClockMode::Virtual && virtual_clock_error_) throw *virtual_clock_error_;
   mode_ = mode;
   lock_image_ = mode == io::ClockMode::RealTime;
+  plain_scans_ = !lock_image_ && hooks_.empty();
   for (auto& [name, p] : plugins_) {
     if (!plugins_enabled_) break;
     try {
@@ -408,11 +415,26 @@ void Runtime::plan_device_io() {
       t->direct.push_back({ni ? gi.data() + d->in.byte : nullptr, d->direct_in, ni, d->direct_out,
                            no ? gq.data() + d->out.byte : nullptr, no});
     }
+    t->any_via_plugin = !t->via_plugin.empty();
+    t->plain_fused = plugins_enabled_ && !t->any_via_plugin;
+    // The plain scan's copies when every device is direct (scan_plain()):
+    // the devices' inputs, then copy_in (which reads them); copy_out, then
+    // the devices' outputs (which read it). copy_in and copy_out are made
+    // at build, after the build's call of this, which calls it again.
+    t->plain_in.clear();
+    t->plain_out.clear();
+    for (const TaskRuntime::DirectDevice& c : t->direct)
+      if (c.in_bytes) t->plain_in.push_back({c.image_in, c.device_in, nullptr, c.in_bytes});
+    t->plain_in.insert(t->plain_in.end(), t->copy_in.begin(), t->copy_in.end());
+    t->plain_out = t->copy_out;
+    for (const TaskRuntime::DirectDevice& c : t->direct)
+      if (c.out_bytes) t->plain_out.push_back({c.device_out, c.image_out, nullptr, c.out_bytes});
   }
 }
 
 void Runtime::remove_hooks(ScanHooks* h) {
   if (std::erase(hooks_, h) && h->whole_image()) --whole_image_hooks_;
+  plain_scans_ = !lock_image_ && hooks_.empty();
 }
 
 // Virtual time: step() is the plugin's thread. What it throws fails the
@@ -471,16 +493,21 @@ std::uint64_t Runtime::layout_hash() const {
   return h;
 }
 
+void Runtime::set_plugins_enabled(bool on) {
+  plugins_enabled_ = on;
+  for (auto& t : tasks_) t->plain_fused = on && !t->any_via_plugin;
+}
+
 bool Runtime::due(const TaskRuntime& t) const {
   return !t.stopped.load(std::memory_order_relaxed) && now_.count() % t.period.count() == 0;
 }
 
-// Whether a task has not stopped: the first one found ends the search (the
-// loop ran on over every task each tick, for the same answer).
+// Whether a task has not stopped: the count that trip() and finish() keep
+// as they stop tasks (a task's stopped flag is set nowhere else and never
+// cleared), one load instead of a loop over the tasks every tick. Test:
+// ScanSemantics.AliveCountFollowsTheStoppedTasks.
 [[gnu::always_inline]] inline bool Runtime::any_task_alive() const {
-  for (const auto& t : tasks_)
-    if (!t->stopped.load(std::memory_order_relaxed)) return true;
-  return false;
+  return tasks_alive_.load(std::memory_order_relaxed) != 0;
 }
 
 // Inline in the virtual-time loop, which begins a tick every base tick.
@@ -530,6 +557,7 @@ void Runtime::finish() {
   if (!started_) return;
   stop_watchdog();
   for (auto& t : tasks_) t->stopped.store(true);
+  tasks_alive_.store(0, std::memory_order_relaxed);
   {
     MaybeLock lock(image_mutex_, lock_image_);
     apply_safe_outputs(nullptr);
@@ -574,6 +602,12 @@ void Runtime::run_virtual(TIME span) {
   // first_tick_ is false then), every later one by base_tick_ (set only at
   // build). begin_tick() would test first_tick_ and load the step every tick.
   TIME dt = first_tick_ ? TIME(0) : base_tick_;
+  // Taken once as well (locals, so that no call in the loop makes the
+  // compiler load them again): the base tick and the execution order, set
+  // at build alone.
+  const TIME tick_len = base_tick_;
+  TaskRuntime* const* const order = exec_order_.data();
+  const std::size_t n = exec_order_.size();
   while (now_ < end && !stop_requested()) {
     if (!any_task_alive()) break;
     if (tick_open_) {
@@ -586,20 +620,27 @@ void Runtime::run_virtual(TIME span) {
     if (plugins_enabled_)
       for (auto& [name, p] : plugins_)
         if (!p->failed()) step_plugin(name, *p, dt);
-    dt = base_tick_;
+    dt = tick_len;
     first_tick_ = false;
     tick_open_ = true;
     cursor_ = 0;
-    const std::size_t n = exec_order_.size();
     for (std::size_t i = 0; i < n; ++i) {
-      TaskRuntime& t = *exec_order_[i];
-      if (!due(t)) continue;
+      TaskRuntime& t = *order[i];
+      // due(t); a task of the base tick's period is due every tick (no
+      // division then).
+      if (t.stopped.load(std::memory_order_relaxed) ||
+          (t.period != tick_len && now_.count() % t.period.count() != 0))
+        continue;
       cursor_ = i + 1;
-      scan(t, now_);
+      // scan() with scan_plain() inline.
+      if (plain_scans_) [[likely]]
+        scan_plain_inline(t, now_);
+      else
+        scan_hooked(t, now_);
     }
     cursor_ = n;
     tick_open_ = false;
-    now_ += base_tick_;
+    now_ += tick_len;
   }
 }
 

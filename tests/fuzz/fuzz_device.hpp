@@ -28,7 +28,7 @@ class FuzzDevice final : public io::DeviceModel {
     // device falls silent from the next step on.
     const std::uint8_t c = in_.byte();
     if (c & 1) in_.fill(to_plc);
-    answering_ = (c & 0x3E) != 0 || in_.empty();
+    set_answering_now((c & 0x3E) != 0 || in_.empty());
   }
   // Any record error code (also ones no device should send), or data of any
   // length up to what the request allows.
@@ -45,12 +45,10 @@ class FuzzDevice final : public io::DeviceModel {
     const std::uint8_t e = in_.byte();
     return (e & 0x80) ? static_cast<io::RecordError>(e & 0x7F) : io::RecordError::None;
   }
-  [[nodiscard]] bool answering() const override { return answering_; }
 
  private:
   FuzzInput& in_;
   std::size_t in_size_, out_size_;
-  bool answering_ = true;
 };
 
 // A SimDevice hosting a FuzzDevice.

@@ -28,11 +28,7 @@ class SwitchedLoopback final : public io::DeviceModel {
             std::span<std::uint8_t> to_plc) override {
     std::copy(from_plc.begin(), from_plc.end(), to_plc.begin());
   }
-  bool answering() const override { return answering_; }
-  void set_answering(bool on) { answering_ = on; }
-
- private:
-  bool answering_ = true;
+  void set_answering(bool on) { set_answering_now(on); }
 };
 PLC_REGISTER_DEVICE_MODEL("hmi_test_switched", SwitchedLoopback)
 

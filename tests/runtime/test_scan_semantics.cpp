@@ -258,10 +258,12 @@ devices:
             << "task " << p.name << " area " << int(a) << " at tick " << k;
       ASSERT_EQ(p.cycle, h.cycle) << p.name << " at tick " << k;
       ASSERT_EQ(p.stats.scans(), h.stats.scans()) << p.name << " at tick " << k;
-      // One scan in 16 timed, the same ones (scan_plain's timed and untimed copies).
+      // One scan in kVirtualTimedEvery timed (the first of each), the same
+      // ones (scan_plain's timed and untimed copies).
+      constexpr std::uint64_t every = Runtime::kVirtualTimedEvery;
       ASSERT_EQ(p.stats.snapshot().scan_ns.count(), h.stats.snapshot().scan_ns.count())
           << p.name << " at tick " << k;
-      ASSERT_EQ(p.stats.snapshot().scan_ns.count(), (p.stats.scans() + 15) / 16)
+      ASSERT_EQ(p.stats.snapshot().scan_ns.count(), (p.stats.scans() + every - 1) / every)
           << p.name << " at tick " << k;
       ASSERT_EQ(p.scan_timed, h.scan_timed) << p.name << " at tick " << k;
       ASSERT_EQ(p.stopped.load(), h.stopped.load()) << p.name << " at tick " << k;
@@ -446,4 +448,48 @@ TEST(ScanSemantics, SimDeviceUsualStepEqualsFullLinkCutLogic) {
   }
   EXPECT_GT(cuts, 200);
   EXPECT_GT(fresh_cuts_after_none, 20);
+}
+
+// Runtime::any_task_alive() is a count that trip() and finish() keep
+// (tasks_alive_): the virtual-time loop runs on while one task is left and
+// ends at the tick after the last one stopped, as the loop over the tasks'
+// stopped flags did; step_scan() finds no task then.
+TEST(ScanSemantics, AliveCountFollowsTheStoppedTasks) {
+  const char* cell = R"(
+tasks:
+  - {name: a, period: 1ms, programs: [A]}
+  - {name: b, period: 2ms, programs: [B]}
+programs:
+  - {name: A, type: Thrower}
+  - {name: B, type: Thrower}
+)";
+  {  // one of two stopped: the run goes on to its end
+    auto rt = plctest::make_runtime(cell);
+    static_cast<plctest::Thrower*>(rt->program("A"))->fire = true;
+    rt->run(io::ClockMode::Virtual, std::chrono::milliseconds(10));
+    EXPECT_TRUE(rt->tasks()[0]->stopped.load());
+    EXPECT_EQ(rt->now(), std::chrono::milliseconds(10));
+  }
+  {  // both stopped in the first tick: the run ends after it
+    auto rt = plctest::make_runtime(cell);
+    static_cast<plctest::Thrower*>(rt->program("A"))->fire = true;
+    static_cast<plctest::Thrower*>(rt->program("B"))->fire = true;
+    rt->run(io::ClockMode::Virtual, std::chrono::milliseconds(10));
+    EXPECT_EQ(rt->now(), std::chrono::milliseconds(1));
+  }
+  {  // step by step: b stops at 2 ms, a at 3 ms; then no scan is left
+    auto rt = plctest::make_runtime(cell);
+    rt->start(io::ClockMode::Virtual);
+    auto* a = static_cast<plctest::Thrower*>(rt->program("A"));
+    auto* b = static_cast<plctest::Thrower*>(rt->program("B"));
+    for (int i = 0; i < 3; ++i) ASSERT_NE(rt->step_scan(), nullptr);  // a 0, b 0, a 1 ms
+    b->fire = true;
+    EXPECT_EQ(rt->step_scan(), rt->tasks()[0].get());  // a at 2 ms
+    EXPECT_EQ(rt->step_scan(), rt->tasks()[1].get());  // b at 2 ms: stops
+    EXPECT_TRUE(rt->tasks()[1]->stopped.load());
+    a->fire = true;
+    EXPECT_EQ(rt->step_scan(), rt->tasks()[0].get());  // a at 3 ms: stops
+    EXPECT_EQ(rt->step_scan(), nullptr) << "every task stopped";
+    rt->finish();
+  }
 }

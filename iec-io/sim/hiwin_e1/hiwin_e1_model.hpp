@@ -117,7 +117,6 @@ class HiwinE1Model : public io::DeviceModel {
   io::RecordError read_record(std::uint16_t index, std::span<std::uint8_t> out,
                               std::size_t& length) override;
   io::RecordError write_record(std::uint16_t index, std::span<const std::uint8_t> data) override;
-  [[nodiscard]] bool answering() const override { return answering_now_; }
   void power_cycle() override;
 
   // ---- fault injection (tests) ----
@@ -246,10 +245,9 @@ class HiwinE1Model : public io::DeviceModel {
   State state_ = State::S1;
   bool answering_ = true;
   double reboot_left_ms_ = 0;
-  // answering(), asked by the host every step: answering_ and no reboot
+  // answering() (DeviceModel's kept flag): answering_ and no reboot
   // running, refreshed at each change of either.
-  bool answering_now_ = true;
-  void refresh_answering() { answering_now_ = answering_ && reboot_left_ms_ <= 0; }
+  void refresh_answering() { set_answering_now(answering_ && reboot_left_ms_ <= 0); }
 
   // motion, all in encoder CU
   double enc_ = 0, offset_ = 0;

@@ -101,7 +101,7 @@ void NordProfisafeModel::reset_volatile() {
   drop_until_ = TIME{};
   drop_start_pending_ = false;
   stopped_ = false;
-  answering_ = true;
+  set_answering_now(true);  // answering() is !stopped_
   fn_.reset();
   at_rest_ = steady_ = false;
   resp_fresh_ = false;

@@ -106,8 +106,7 @@ class Pr5510Model final : public io::DeviceModel {
   [[nodiscard]] std::uint64_t commands_accepted() const { return commands_accepted_; }
   void set_adu_error(bool on) { adu_error_ = on; }
   // Fault injection "stop answering": the host reports the device Offline.
-  void set_answering(bool on) { answering_ = on; }
-  [[nodiscard]] bool answering() const override { return answering_; }
+  void set_answering(bool on) { set_answering_now(on); }
   void set_input(int n, bool on);  // digital inputs 1..3
 
   // ---- the front panel: calibration by an operator (see the header) ----
@@ -171,7 +170,6 @@ class Pr5510Model final : public io::DeviceModel {
   DINT still_ref_ = 0;
   TIME still_for_{};
   bool adu_error_ = false;
-  bool answering_ = true;
   bool master_lost_ = false;  // io_connection_lost() until the next I/O message
   std::array<bool, 3> inputs_{};
   weighing::StatusBits st_{};

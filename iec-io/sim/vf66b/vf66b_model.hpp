@@ -142,7 +142,6 @@ class Vf66bModel : public io::DeviceModel {
                std::span<std::uint8_t> to_plc) override;
   io::RecordError query_record(std::uint16_t index, std::span<const std::uint8_t> request,
                                std::span<std::uint8_t> out, std::size_t& length) override;
-  [[nodiscard]] bool answering() const override { return answering_; }
   void power_cycle() override;
   void io_connection_lost() override;
 
@@ -156,7 +155,7 @@ class Vf66bModel : public io::DeviceModel {
   void clear_fault_cause() { persistent_ = 0; }
   void set_st_f(bool on) { st_f_ = on; }
   void set_main_power(bool on) { main_power_ = on; }
-  void set_answering(bool on) { answering_ = on; }
+  void set_answering(bool on) { set_answering_now(on); }
 
   // ---- inspection ----
   [[nodiscard]] acdrive::DriveState state() const { return state_; }
@@ -202,7 +201,6 @@ class Vf66bModel : public io::DeviceModel {
 
   acdrive::DriveState state_ = acdrive::DriveState::Startup;
   double startup_left_s_ = 0;
-  bool answering_ = true;
   bool st_f_ = true, main_power_ = true;
 
   // Control Supervisor / AC/DC Drive attributes, written by explicit Sets

@@ -44,7 +44,11 @@
 // PR5510_Device's and PR5510_BatchWeigh's operator() inline; the NORD
 // model's steady exchange and the PR5510 model's and FillingProcess's kept
 // flags (issue 23, seventh to ninth rounds).
-#define PLC_ABI_VERSION 10
+// 11: DeviceModel::answering() a kept flag (set_answering_now(), no longer
+// virtual); TaskRuntime's plain-scan copy lists (plain_in, plain_out,
+// plain_fused, any_via_plugin) and the timed-scan countdown; Runtime's
+// alive-task count (issue 23, tenth round).
+#define PLC_ABI_VERSION 11
 
 // The exported symbol's name, for dlsym.
 #define PLC_CELL_ABI_SYMBOL "softplc_cell_abi_version"

@@ -138,15 +138,22 @@ struct TaskRuntime {
   };
   std::vector<DirectDevice> direct;
   std::vector<PluginDevice> via_plugin;
+  bool any_via_plugin = false;  // !via_plugin.empty(), in one load
+  // The plain scan's copies while every device is direct (no via_plugin):
+  // the devices' inputs, then copy_in; copy_out, then the devices'
+  // outputs; one loop each (Runtime::plan_device_io).
+  std::vector<ImageSpan> plain_in, plain_out;
+  bool plain_fused = false;  // the plugins on and every device direct: plain_in, plain_out used
   bool whole_image_scan = false;  // this scan copies and merges whole areas (set at its latch)
   // This scan merges the bits it changed (kept in `before` at its latch)
   // instead of copying its bound bytes back: in real time, and for halves
   // driven apart (latch_scan/finish_scan), where another task's scan may
   // have written the global image between this latch and this merge.
   bool merge_bits = false;
-  std::uint32_t timing_phase = 0;  // virtual time: which scans are timed (Runtime::scan_latch)
-  bool scan_timed = false;         // the scan under way is timed
-  LiveTaskStats stats;             // recorded by the task's thread; snapshot() from any
+  std::uint32_t timing_phase =
+      0;  // virtual time: untimed scans before the next timed one (Runtime::timed_now)
+  bool scan_timed = false;  // the scan under way is timed
+  LiveTaskStats stats;      // recorded by the task's thread; snapshot() from any
   std::atomic<bool> stopped{false};
   // Real time: set from before the task looks at the pause flag until its
   // scan is over, so that once the pause is set and this is seen clear, the
@@ -237,7 +244,7 @@ class Runtime {
   static constexpr std::int64_t kMaxTicksPerRelease = 1000;
   // Virtual time times one scan in this many for the statistics (every scan
   // is counted); real time times every scan.
-  static constexpr std::uint32_t kVirtualTimedEvery = 16;
+  static constexpr std::uint32_t kVirtualTimedEvery = 64;
   // Virtual time: the least CPU time of one scan that the watchdog stops
   // (see the top of this file). Half a second: far above any noise seen,
   // and a runaway program still stops at once for a person watching.
@@ -289,6 +296,7 @@ class Runtime {
   // in the order they were added.
   void add_hooks(ScanHooks* h) {
     hooks_.push_back(h);
+    plain_scans_ = false;
     whole_image_hooks_ += h->whole_image() ? 1 : 0;
   }
   void remove_hooks(ScanHooks* h);
@@ -308,7 +316,7 @@ class Runtime {
   [[nodiscard]] std::uint64_t layout_hash() const;
   // Replay: devices are neither stepped, latched nor published; inputs come
   // from the hooks (after_latch) instead.
-  void set_plugins_enabled(bool on) { plugins_enabled_ = on; }
+  void set_plugins_enabled(bool on);
 
   [[nodiscard]] TIME now() const { return now_; }
   [[nodiscard]] TIME base_tick() const { return base_tick_; }
@@ -336,7 +344,10 @@ class Runtime {
   }
   [[nodiscard]] const std::string& cell_name() const { return cell_name_; }
 
-  void add_scan_observer(ScanObserver o) { observers_.push_back(std::move(o)); }
+  void add_scan_observer(ScanObserver o) {
+    observers_.push_back(std::move(o));
+    any_observer_ = true;
+  }
   // Every online change of this runtime tells `o` (ChangeObserver); it
   // must be removed before it goes.
   void add_change_observer(ChangeObserver* o) { change_observers_.push_back(o); }
@@ -409,8 +420,13 @@ class Runtime {
   std::vector<DeviceRuntime> devices_;
   std::vector<std::unique_ptr<TaskRuntime>> tasks_;
   std::vector<TaskRuntime*> exec_order_;  // by priority, then config order
+  // The tasks not stopped (any_task_alive()): trip() and finish() count
+  // down as they set TaskRuntime::stopped (the watchdog's thread trips in
+  // real time, hence atomic).
+  std::atomic<std::size_t> tasks_alive_{0};
   VarRegistry vars_;
   std::vector<ScanObserver> observers_;
+  bool any_observer_ = false;  // !observers_.empty(), in one load
   std::vector<ChangeObserver*> change_observers_;
   std::vector<ScanHooks*> hooks_;
   std::size_t whole_image_hooks_ = 0;  // hooks_ whose whole_image() is true
@@ -428,14 +444,18 @@ class Runtime {
   // branches and a second frame, which such a scan pays for and never uses
   // (test: ScanSemantics.PlainScanEqualsHookedScan).
   bool scan_plain(TaskRuntime& t, TIME now);
+  bool scan_plain_inline(TaskRuntime& t, TIME now);
   // Parts both scans share: step 1's devices (latch, answers, states) and
   // step 5's (publish); deliver_answers() is 1a, while a link tracks a request.
-  void latch_devices(TaskRuntime& t, TIME now);
+  void latch_devices(TaskRuntime& t, TIME now);  // latch_device_bytes(), latch_states()
+  void latch_device_bytes(TaskRuntime& t);
+  void latch_states(TaskRuntime& t, TIME now);
   void deliver_answers(TaskRuntime& t);
   void publish_devices(TaskRuntime& t);
   // What step_plugin() does when the plugin throws (out of line: rare).
   void plugin_failed(const std::string& name, io::Plugin& p, std::string_view what);
   [[nodiscard]] bool due(const TaskRuntime& t) const;
+  static bool timed_now(TaskRuntime& t);
   [[nodiscard]] bool any_task_alive() const;
 
   io::ClockMode mode_ = io::ClockMode::Virtual;
@@ -447,6 +467,9 @@ class Runtime {
   std::optional<ConfigError> virtual_clock_error_;
   PiMutex image_mutex_;
   bool lock_image_ = false;  // only real time has concurrent tasks
+  // !lock_image_ && hooks_.empty(), kept by start(), add_hooks() and
+  // remove_hooks(): scan() takes scan_plain() (one load per scan).
+  bool plain_scans_ = true;
   std::atomic<bool> stop_requested_{false};
   std::atomic<bool> rt_running_{false};
   std::atomic<bool> watchdog_running_{false};

@@ -2,15 +2,36 @@
 
 #include <algorithm>
 #include <cstring>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 namespace plc::debug {
 namespace {
 
 constexpr std::size_t round_up8(std::size_t n) { return (n + 7) / 8 * 8; }
 
-// memcmp compares an unchanged area, then an unchanged chunk, at vector
-// speed; only a chunk that differs is looked at word by word.
-constexpr std::size_t kChunk = 256;
+// Whether K (32 or 64) bytes at a and b are equal: 16-byte compares and
+// one mask with SSE2 (x86-64 always has it), word compares without.
+template <std::size_t K>
+inline bool same(const std::uint8_t* a, const std::uint8_t* b) {
+  static_assert(K == 32 || K == 64);
+#ifdef __SSE2__
+  const auto eq16 = [&](std::size_t at) {
+    return _mm_cmpeq_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(a + at)),
+                          _mm_loadu_si128(reinterpret_cast<const __m128i*>(b + at)));
+  };
+  __m128i all = _mm_and_si128(eq16(0), eq16(16));
+  if constexpr (K == 64) all = _mm_and_si128(all, _mm_and_si128(eq16(32), eq16(48)));
+  return _mm_movemask_epi8(all) == 0xFFFF;
+#else
+  std::uint64_t x[K / 8], y[K / 8], d = 0;
+  std::memcpy(x, a, K);
+  std::memcpy(y, b, K);
+  for (std::size_t k = 0; k < K / 8; ++k) d |= x[k] ^ y[k];
+  return d == 0;
+#endif
+}
 
 }  // namespace
 
@@ -25,29 +46,38 @@ void ImageMirror::diff_area(std::span<const std::uint8_t> src, std::size_t at, r
   // (An empty area may have no data pointer: memcmp must not see it.)
   if (src.empty()) return;
   std::uint8_t* copy = copy_.data() + at;
-  if (std::memcmp(src.data(), copy, src.size()) == 0) return;  // the common case
-  for (std::size_t c = 0; c < src.size(); c += kChunk) {
-    const std::size_t len = std::min(kChunk, src.size() - c);
-    // An area of one chunk (the filling cell's %Q) differs: compared above.
-    if (len != src.size() && std::memcmp(src.data() + c, copy + c, len) == 0) continue;
-    // Whole words with fixed-size loads (a variable-length memcpy per word
-    // was a library call: with the PROFIsafe bytes changing every scan the
-    // filling cell's %Q chunk is walked every scan); the area's last,
-    // partial word alone, zero-padded.
-    const std::size_t end = c + len;
-    const std::size_t whole_end = c + len / 8 * 8;
-    for (std::size_t i = c; i < whole_end; i += 8) {
-      std::uint64_t now, was;
-      std::memcpy(&now, src.data() + i, 8);
-      std::memcpy(&was, copy + i, 8);
-      if (now != was) put_word(copy, at, i, now, out, n);
-    }
-    if (whole_end != end) {
-      std::uint64_t now = 0, was;
-      std::memcpy(&now, src.data() + whole_end, end - whole_end);
-      std::memcpy(&was, copy + whole_end, 8);
-      if (now != was) put_word(copy, at, whole_end, now, out, n);
-    }
+  const std::uint8_t* s = src.data();
+  // 64 bytes at a time, then 32, and only a block that differs word by
+  // word: with the PROFIsafe bytes changing every scan, the filling cell's
+  // %Q differs every scan in one or two of its four blocks (a memcmp of the
+  // whole area, then a walk over every word, cost 1.3 instructions per
+  // byte; blocks of 32, 0.9). Whole words
+  // with fixed-size loads (a variable-length memcpy per word was a library
+  // call); the area's last, partial word alone, zero-padded.
+  const auto word = [&](std::size_t i) {
+    std::uint64_t now, was;
+    std::memcpy(&now, s + i, 8);
+    std::memcpy(&was, copy + i, 8);
+    if (now != was) put_word(copy, at, i, now, out, n);
+  };
+  const std::size_t end = src.size();
+  const std::size_t whole_end = end / 8 * 8;
+  std::size_t i = 0;
+  for (; i + 64 <= whole_end; i += 64) {
+    if (same<64>(s + i, copy + i)) continue;
+    for (std::size_t k = i; k < i + 64; k += 8) word(k);
+  }
+  if (i + 32 <= whole_end) {
+    if (!same<32>(s + i, copy + i))
+      for (std::size_t k = i; k < i + 32; k += 8) word(k);
+    i += 32;
+  }
+  for (; i < whole_end; i += 8) word(i);
+  if (whole_end != end) {
+    std::uint64_t now = 0, was;
+    std::memcpy(&now, s + whole_end, end - whole_end);
+    std::memcpy(&was, copy + whole_end, 8);
+    if (now != was) put_word(copy, at, whole_end, now, out, n);
   }
 }
 

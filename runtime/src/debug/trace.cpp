@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "plc/debug/one_task.hpp"
+#include "plc/detail/small_copy.hpp"
 #include "plc/iec_literal.hpp"
 #include "plc/thread_guard.hpp"
 
@@ -249,6 +250,20 @@ void Trace::plan_spans() {
     }
     column_at_[p.column] = s->at + std::size_t(p.src - s->src);
   }
+  // By size for capture(): the spans of 1, 2, 4 and 8 bytes (most are one
+  // variable: BOOL, INT, REAL/DINT, LREAL/TIME) each copied as one load
+  // and one store in a loop of their own, the rest after them. Each span
+  // has its own bytes in the row, so their order does not matter.
+  static constexpr std::size_t kSizes[] = {1, 2, 4, 8};
+  std::vector<Span> by_size;
+  for (std::size_t k = 0; k < 4; ++k) {
+    for (const Span& s : spans_)
+      if (s.bytes == kSizes[k]) by_size.push_back(s);
+    size_end_[k] = by_size.size();
+  }
+  for (const Span& s : spans_)
+    if (s.bytes != 1 && s.bytes != 2 && s.bytes != 4 && s.bytes != 8) by_size.push_back(s);
+  spans_ = std::move(by_size);
   decode_.clear();
   for (const Column& c : columns_) decode_.push_back(c.var);
   values_.assign(columns_.size(), 0);
@@ -261,9 +276,25 @@ std::unique_ptr<Trace::Block> Trace::new_block() const {
   return b;
 }
 
+// Inline copies (a call into the library's memcpy per span cost more than
+// the copy), without a test of the size per span for the spans of 1, 2, 4
+// and 8 bytes (plan_spans() put them first, by size).
 void Trace::capture(Row* meta, std::uint8_t* raw, const ScanContext& ctx) {
   *meta = {ctx.now.count(), ctx.cycle};
-  for (const Span& s : spans_) std::memcpy(raw + s.at, s.src, s.bytes);
+  const Span* s = spans_.data();
+  const auto fixed = [&]<std::size_t K>(const Span* end) {
+    for (; s != end; ++s) {
+      unsigned char v[K];
+      std::memcpy(v, s->src, K);
+      std::memcpy(raw + s->at, v, K);
+    }
+  };
+  fixed.template operator()<1>(spans_.data() + size_end_[0]);
+  fixed.template operator()<2>(spans_.data() + size_end_[1]);
+  fixed.template operator()<4>(spans_.data() + size_end_[2]);
+  fixed.template operator()<8>(spans_.data() + size_end_[3]);
+  for (const Span* end = spans_.data() + spans_.size(); s != end; ++s)
+    ::plc::detail::copy_bytes(raw + s->at, s->src, s->bytes);
 }
 
 void Trace::append(const Row& m, const std::uint8_t* raw) {

@@ -63,8 +63,10 @@ class DeviceModel {
 
   // Whether the device answers on the bus now (fault injection "stop
   // answering" turns this off; the plugin then reports the device Offline and
-  // stops updating its inputs).
-  [[nodiscard]] virtual bool answering() const { return true; }
+  // stops updating its inputs). A kept flag, not a virtual call: the host
+  // asks every step (the sim plugin: every device, every ms). A model sets
+  // it with set_answering_now() whenever what it depends on changes.
+  [[nodiscard]] bool answering() const { return answering_now_; }
 
   // Power cycle: volatile state lost, non-volatile state (e.g. an absolute
   // encoder's multi-turn count) kept.
@@ -73,6 +75,12 @@ class DeviceModel {
   // The hosting transport lost the I/O connection (its connection timeout
   // expired, e.g. a DeviceNet expected-packet-rate timeout). Default: nothing.
   virtual void io_connection_lost() {}
+
+ protected:
+  void set_answering_now(bool on) { answering_now_ = on; }
+
+ private:
+  bool answering_now_ = true;
 };
 
 using DeviceModelFactory = std::function<std::unique_ptr<DeviceModel>(const ModelParams&)>;

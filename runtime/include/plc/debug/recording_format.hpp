@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "plc/debug/crc32.hpp"
+#include "plc/detail/small_copy.hpp"
 #include "plc/types.hpp"
 
 namespace plc::debug::recfmt {
@@ -68,7 +69,10 @@ class Buf {
       overflow_ = true;
       return;
     }
-    if (n) std::memcpy(b_.data() + n_, p, n);
+    // Inline: a scan's record is many fields and device telegrams of a few
+    // bytes each, for which a call into the library's memcpy cost more
+    // than the copy (no pointer is read for n = 0).
+    ::plc::detail::copy_bytes(b_.data() + n_, static_cast<const std::uint8_t*>(p), n);
     n_ += n;
   }
   template <class U>

@@ -13,6 +13,7 @@
 // row lost (counted in overflow_blocks()).
 #pragma once
 
+#include <array>
 #include <condition_variable>
 #include <cstdint>
 #include <cstdio>
@@ -127,7 +128,8 @@ class Trace {
   std::string file_name_;
   std::FILE* file_ = nullptr;
   bool triggered_ = false;
-  std::vector<Span> spans_;
+  std::vector<Span> spans_;                // those of 1, 2, 4, 8 bytes, then the others
+  std::array<std::size_t, 4> size_end_{};  // where the spans of 1, 2, 4, 8 bytes end
   std::size_t row_bytes_ = 0;
   // Writer thread: per column, its VarInfo with the storage pointer aimed
   // at the column's bytes in the row being formatted (VarRegistry::read

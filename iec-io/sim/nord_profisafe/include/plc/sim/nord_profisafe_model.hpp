@@ -77,8 +77,6 @@ class NordProfisafeModel : public io::DeviceModel {
   io::RecordError read_record(std::uint16_t index, std::span<std::uint8_t> out,
                               std::size_t& length) override;
   io::RecordError write_record(std::uint16_t index, std::span<const std::uint8_t> data) override;
-  // Asked by the host every step: a kept bool (answering_ = !stopped_), one load.
-  [[nodiscard]] bool answering() const override { return answering_; }
   void power_cycle() override;
 
   // ---- drive and field inputs ----
@@ -136,7 +134,7 @@ class NordProfisafeModel : public io::DeviceModel {
   // Stop answering on the bus altogether (SimDevice reports it Offline).
   void stop(bool s) {
     stopped_ = s;
-    answering_ = !s;
+    set_answering_now(!s);
   }
   // The next n responses are computed with a foreign CRC1 (another F-device
   // or address pair answering).
@@ -480,7 +478,6 @@ class NordProfisafeModel : public io::DeviceModel {
   TIME drop_for_{}, drop_until_{};
   bool drop_start_pending_ = false;
   bool stopped_ = false;
-  bool answering_ = true;  // !stopped_, set with it (stop(), reset_volatile())
   bool permanent_5792_ = false;
 };
 
