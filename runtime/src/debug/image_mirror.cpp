@@ -11,6 +11,9 @@ namespace {
 
 constexpr std::size_t round_up8(std::size_t n) { return (n + 7) / 8 * 8; }
 
+// diff_area()'s unit after memcmp: an unchanged chunk costs one memcmp.
+constexpr std::size_t kChunk = 256;
+
 // Whether K (32 or 64) bytes at a and b are equal: 16-byte compares and
 // one mask with SSE2 (x86-64 always has it), word compares without.
 template <std::size_t K>
@@ -47,12 +50,14 @@ void ImageMirror::diff_area(std::span<const std::uint8_t> src, std::size_t at, r
   if (src.empty()) return;
   std::uint8_t* copy = copy_.data() + at;
   const std::uint8_t* s = src.data();
-  // 64 bytes at a time, then 32, and only a block that differs word by
-  // word: with the PROFIsafe bytes changing every scan, the filling cell's
-  // %Q differs every scan in one or two of its four blocks (a memcmp of the
-  // whole area, then a walk over every word, cost 1.3 instructions per
-  // byte; blocks of 32, 0.9). Whole words
-  // with fixed-size loads (a variable-length memcpy per word was a library
+  // An area of more than one chunk: memcmp (the library's, at vector
+  // speed) passes it unchanged, then each unchanged chunk. A chunk that
+  // differs, and an area of one chunk (no call then), is compared 64 bytes
+  // at a time, then 32, and only a block that differs word by word: with
+  // the PROFIsafe bytes changing every scan, the filling cell's %Q (one
+  // chunk) differs every scan in one of its four blocks (a walk over every
+  // word of the chunk cost 1.3 instructions per byte). Whole words with
+  // fixed-size loads (a variable-length memcpy per word was a library
   // call); the area's last, partial word alone, zero-padded.
   const auto word = [&](std::size_t i) {
     std::uint64_t now, was;
@@ -60,24 +65,35 @@ void ImageMirror::diff_area(std::span<const std::uint8_t> src, std::size_t at, r
     std::memcpy(&was, copy + i, 8);
     if (now != was) put_word(copy, at, i, now, out, n);
   };
-  const std::size_t end = src.size();
-  const std::size_t whole_end = end / 8 * 8;
-  std::size_t i = 0;
-  for (; i + 64 <= whole_end; i += 64) {
-    if (same<64>(s + i, copy + i)) continue;
-    for (std::size_t k = i; k < i + 64; k += 8) word(k);
+  // [begin, end): begin a multiple of 8; end the area's end or one.
+  const auto walk = [&](std::size_t begin, std::size_t end) __attribute__((always_inline)) {
+    const std::size_t whole_end = begin + (end - begin) / 8 * 8;
+    std::size_t i = begin;
+    for (; i + 64 <= whole_end; i += 64) {
+      if (same<64>(s + i, copy + i)) continue;
+      for (std::size_t k = i; k < i + 64; k += 8) word(k);
+    }
+    if (i + 32 <= whole_end) {
+      if (!same<32>(s + i, copy + i))
+        for (std::size_t k = i; k < i + 32; k += 8) word(k);
+      i += 32;
+    }
+    for (; i < whole_end; i += 8) word(i);
+    if (whole_end != end) {
+      std::uint64_t now = 0, was;
+      std::memcpy(&now, s + whole_end, end - whole_end);
+      std::memcpy(&was, copy + whole_end, 8);
+      if (now != was) put_word(copy, at, whole_end, now, out, n);
+    }
+  };
+  if (src.size() <= kChunk) {
+    walk(0, src.size());
+    return;
   }
-  if (i + 32 <= whole_end) {
-    if (!same<32>(s + i, copy + i))
-      for (std::size_t k = i; k < i + 32; k += 8) word(k);
-    i += 32;
-  }
-  for (; i < whole_end; i += 8) word(i);
-  if (whole_end != end) {
-    std::uint64_t now = 0, was;
-    std::memcpy(&now, s + whole_end, end - whole_end);
-    std::memcpy(&was, copy + whole_end, 8);
-    if (now != was) put_word(copy, at, whole_end, now, out, n);
+  if (std::memcmp(s, copy, src.size()) == 0) return;  // the common case
+  for (std::size_t c = 0; c < src.size(); c += kChunk) {
+    const std::size_t len = std::min(kChunk, src.size() - c);
+    if (std::memcmp(s + c, copy + c, len) != 0) walk(c, c + len);
   }
 }
 
