@@ -498,9 +498,15 @@ void Runtime::set_plugins_enabled(bool on) {
   for (auto& t : tasks_) t->plain_fused = on && !t->any_via_plugin;
 }
 
-bool Runtime::due(const TaskRuntime& t) const {
-  return !t.stopped.load(std::memory_order_relaxed) && now_.count() % t.period.count() == 0;
+// Whether `t` scans in the tick at `now`: not stopped, and a whole number
+// of periods since 0; a task of the base tick's period is due every tick
+// (no division then). The virtual-time loop passes the base tick it took.
+[[gnu::always_inline]] inline bool Runtime::due_at(const TaskRuntime& t, TIME now, TIME base_tick) {
+  return !t.stopped.load(std::memory_order_relaxed) &&
+         (t.period == base_tick || now.count() % t.period.count() == 0);
 }
+
+bool Runtime::due(const TaskRuntime& t) const { return due_at(t, now_, base_tick_); }
 
 // Whether a task has not stopped: the count that trip() and finish() keep
 // as they stop tasks (a task's stopped flag is set nowhere else and never
@@ -626,11 +632,7 @@ void Runtime::run_virtual(TIME span) {
     cursor_ = 0;
     for (std::size_t i = 0; i < n; ++i) {
       TaskRuntime& t = *order[i];
-      // due(t); a task of the base tick's period is due every tick (no
-      // division then).
-      if (t.stopped.load(std::memory_order_relaxed) ||
-          (t.period != tick_len && now_.count() % t.period.count() != 0))
-        continue;
+      if (!due_at(t, now_, tick_len)) continue;
       cursor_ = i + 1;
       // scan() with scan_plain() inline.
       if (plain_scans_) [[likely]]

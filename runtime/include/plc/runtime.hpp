@@ -455,6 +455,7 @@ class Runtime {
   // What step_plugin() does when the plugin throws (out of line: rare).
   void plugin_failed(const std::string& name, io::Plugin& p, std::string_view what);
   [[nodiscard]] bool due(const TaskRuntime& t) const;
+  [[nodiscard]] static bool due_at(const TaskRuntime& t, TIME now, TIME base_tick);
   static bool timed_now(TaskRuntime& t);
   [[nodiscard]] bool any_task_alive() const;
 
