@@ -422,6 +422,44 @@ TEST(Recording, ForcesAndFreezePointWritesReplayAndTheFileIsDeterministic) {
   EXPECT_EQ(files[0], files[1]);
 }
 
+// The recorder compares, at a scan's merge, only the words of %Q and %M
+// that scan can have changed: its task's bound bytes and the words the
+// debugger wrote (recording.hpp). Writes and forces of bytes no program is
+// bound to, made well after the recording's first (whole) comparison, must
+// still reach the output hash: the replay, which hashes its whole image,
+// finds no difference, and the forced and written bytes replay.
+TEST(Recording, WritesAndForcesOfUnboundImageBytesReachTheOutputHash) {
+  const std::string rec = plctest::temp_path("unbound.rec");
+  const CellConfig cfg = load_cell_config(demo_path());
+  {
+    debug::Debugger::Options o;
+    o.span = std::chrono::minutes(1);
+    debug::Debugger d([cfg] { return std::make_unique<Runtime>(cfg); }, o);
+    d.execute("record " + rec);
+    d.execute("continue for 100ms");
+    d.execute("write %MW100 16#1234");  // %M no program is bound to
+    d.execute("step");
+    d.execute("force %QB10 16#5A");  // %Q no program is bound to
+    d.execute("force %MB37 16#A5");
+    d.execute("continue for 50ms");
+    d.execute("unforce %QB10");
+    d.execute("continue for 20ms");
+    d.execute("write %QW12 16#BEEF");
+    d.execute("write %MD252 7");  // the last word of %M
+    d.execute("step 3");
+    EXPECT_TRUE(has(d.execute("record stop"), "recording stopped"));
+  }
+  debug::Debugger::Options o;
+  o.replay_file = rec;
+  debug::Debugger r([cfg] { return std::make_unique<Runtime>(cfg); }, o);
+  const std::string out = r.execute("continue");
+  EXPECT_TRUE(has(out, " 0 output mismatch(es)")) << out;
+  EXPECT_TRUE(has(r.execute("print %MW100"), "16#1234")) << r.execute("print %MW100");
+  EXPECT_TRUE(has(r.execute("print %MB37"), "16#A5")) << r.execute("print %MB37");
+  EXPECT_TRUE(has(r.execute("print %QW12"), "16#BEEF")) << r.execute("print %QW12");
+  std::remove(rec.c_str());
+}
+
 namespace {
 
 // Records `commands` in a debugger session on `yaml`, replays the recording,

@@ -195,7 +195,13 @@ class ChangeObserver {
 
 // Points inside a scan where the debugger (forcing, writes, freeze points,
 // recording and replay) acts. All run in the scan's thread; the two that get
-// the global image run under the image lock.
+// the global image run under the image lock. A recording compares, at a
+// scan's merge, only the %Q/%M words the scan can have changed (the task's
+// bound bytes and the debugger's writes, which it is told of: Debugger::
+// apply_write), and the whole image after a stop or an online change: a
+// new hook that writes image bytes must tell the recorder too
+// (Recorder::note_write), or the recording's output hash misses them and
+// its replay reports a difference.
 class ScanHooks {
  public:
   virtual ~ScanHooks() = default;

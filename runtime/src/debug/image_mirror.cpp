@@ -44,76 +44,125 @@ ImageMirror::ImageMirror(std::size_t output_bytes, std::size_t memory_bytes)
       m_at_(round_up8(output_bytes)),
       copy_(m_at_ + round_up8(memory_bytes), 0) {}
 
-void ImageMirror::diff_area(std::span<const std::uint8_t> src, std::size_t at, recfmt::Buf& out,
-                            std::uint32_t& n) {
+// Whole words with fixed-size loads (a variable-length memcpy per word was
+// a library call); the area's last, partial word alone, zero-padded.
+// Blocks of 64 bytes, then 32, compared at once, and only a block that
+// differs word by word: with the PROFIsafe bytes changing every scan, the
+// filling cell's %Q differs every scan in one of its blocks (a walk over
+// every word cost 1.3 instructions per byte).
+[[gnu::always_inline]] inline void ImageMirror::walk(const std::uint8_t* s, std::uint8_t* copy,
+                                                     std::size_t at, std::size_t begin,
+                                                     std::size_t end, Out& o) {
+  const auto word = [&](std::size_t i) {
+    std::uint64_t now, was;
+    std::memcpy(&now, s + i, 8);
+    std::memcpy(&was, copy + i, 8);
+    if (now != was) put_word(copy, at, i, now, o);
+  };
+  const std::size_t whole_end = begin + (end - begin) / 8 * 8;
+  std::size_t i = begin;
+  for (; i + 64 <= whole_end; i += 64) {
+    if (same<64>(s + i, copy + i)) continue;
+    for (std::size_t k = i; k < i + 64; k += 8) word(k);
+  }
+  if (i + 32 <= whole_end) {
+    if (!same<32>(s + i, copy + i))
+      for (std::size_t k = i; k < i + 32; k += 8) word(k);
+    i += 32;
+  }
+  for (; i < whole_end; i += 8) word(i);
+  if (whole_end != end) {
+    std::uint64_t now = 0, was;
+    std::memcpy(&now, s + whole_end, end - whole_end);
+    std::memcpy(&was, copy + whole_end, 8);
+    if (now != was) put_word(copy, at, whole_end, now, o);
+  }
+}
+
+void ImageMirror::diff_area(std::span<const std::uint8_t> src, std::size_t at, Out& o) {
   // (An empty area may have no data pointer: memcmp must not see it.)
   if (src.empty()) return;
   std::uint8_t* copy = copy_.data() + at;
   const std::uint8_t* s = src.data();
   // An area of more than one chunk: memcmp (the library's, at vector
-  // speed) passes it unchanged, then each unchanged chunk. A chunk that
-  // differs, and an area of one chunk (no call then), is compared 64 bytes
-  // at a time, then 32, and only a block that differs word by word: with
-  // the PROFIsafe bytes changing every scan, the filling cell's %Q (one
-  // chunk) differs every scan in one of its four blocks (a walk over every
-  // word of the chunk cost 1.3 instructions per byte). Whole words with
-  // fixed-size loads (a variable-length memcpy per word was a library
-  // call); the area's last, partial word alone, zero-padded.
-  const auto word = [&](std::size_t i) {
-    std::uint64_t now, was;
-    std::memcpy(&now, s + i, 8);
-    std::memcpy(&was, copy + i, 8);
-    if (now != was) put_word(copy, at, i, now, out, n);
-  };
-  // [begin, end): begin a multiple of 8; end the area's end or one.
-  const auto walk = [&](std::size_t begin, std::size_t end) __attribute__((always_inline)) {
-    const std::size_t whole_end = begin + (end - begin) / 8 * 8;
-    std::size_t i = begin;
-    for (; i + 64 <= whole_end; i += 64) {
-      if (same<64>(s + i, copy + i)) continue;
-      for (std::size_t k = i; k < i + 64; k += 8) word(k);
-    }
-    if (i + 32 <= whole_end) {
-      if (!same<32>(s + i, copy + i))
-        for (std::size_t k = i; k < i + 32; k += 8) word(k);
-      i += 32;
-    }
-    for (; i < whole_end; i += 8) word(i);
-    if (whole_end != end) {
-      std::uint64_t now = 0, was;
-      std::memcpy(&now, s + whole_end, end - whole_end);
-      std::memcpy(&was, copy + whole_end, 8);
-      if (now != was) put_word(copy, at, whole_end, now, out, n);
-    }
-  };
+  // speed) passes it unchanged, then each unchanged chunk; a chunk that
+  // differs, and an area of one chunk (no call then), is walked.
   if (src.size() <= kChunk) {
-    walk(0, src.size());
+    walk(s, copy, at, 0, src.size(), o);
     return;
   }
   if (std::memcmp(s, copy, src.size()) == 0) return;  // the common case
   for (std::size_t c = 0; c < src.size(); c += kChunk) {
     const std::size_t len = std::min(kChunk, src.size() - c);
-    if (std::memcmp(s + c, copy + c, len) != 0) walk(c, c + len);
+    if (std::memcmp(s + c, copy + c, len) != 0) walk(s, copy, at, c, c + len, o);
   }
 }
 
+ImageMirror::Words ImageMirror::words_of(bool output, std::size_t byte, std::size_t n) const {
+  const std::size_t size = output ? q_bytes_ : m_bytes_;
+  const std::size_t at = output ? 0 : m_at_;
+  if (byte >= size || n == 0) return {};
+  const std::size_t end = std::min(size, byte + n);
+  return {static_cast<std::uint32_t>((at + byte) / 8),
+          static_cast<std::uint32_t>((at + round_up8(end)) / 8)};
+}
+
+void ImageMirror::diff_range(std::span<const std::uint8_t> q, std::span<const std::uint8_t> m,
+                             Words w, Out& o) {
+  const bool output = std::size_t(w.begin) * 8 < m_at_;
+  const std::span<const std::uint8_t> src =
+      output ? q.first(std::min(q.size(), q_bytes_)) : m.first(std::min(m.size(), m_bytes_));
+  const std::size_t at = output ? 0 : m_at_;
+  const std::size_t begin = std::size_t(w.begin) * 8 - at;
+  const std::size_t end = std::min(std::size_t(w.end) * 8 - at, src.size());
+  if (begin >= end) return;
+  walk(src.data(), copy_.data() + at, at, begin, end, o);
+}
+
+bool ImageMirror::open(recfmt::Buf& out, Out& o) const {
+  std::uint8_t* room = out.room(max_delta_bytes());
+  if (!room) return false;
+  o.c.p = room;
+  o.c.le(std::uint32_t{0});  // the count: close()
+  return true;
+}
+
+void ImageMirror::close(recfmt::Buf& out, const Out& o, std::uint8_t* count_at) {
+  const std::uint32_t n = boost::endian::native_to_little(o.n);
+  std::memcpy(count_at, &n, 4);
+  out.advance_to(o.c.p);
+}
+
+std::uint32_t ImageMirror::diff_words(std::span<const std::uint8_t> q,
+                                      std::span<const std::uint8_t> m,
+                                      std::initializer_list<std::span<const Words>> ranges,
+                                      recfmt::Buf& out) {
+  Out o{};
+  if (!open(out, o)) return 0;
+  std::uint8_t* count_at = o.c.p - 4;
+  for (const std::span<const Words> list : ranges)
+    for (const Words& w : list) diff_range(q, m, w, o);
+  close(out, o, count_at);
+  return o.n;
+}
+
 void ImageMirror::put_word(std::uint8_t* copy, std::size_t at, std::size_t i, std::uint64_t now,
-                           recfmt::Buf& out, std::uint32_t& n) {
+                           Out& o) {
   std::memcpy(copy + i, &now, 8);
-  out.le(static_cast<std::uint32_t>((at + i) / 8));
-  out.bytes(&now, 8);
-  ++n;
+  o.c.le(static_cast<std::uint32_t>((at + i) / 8));
+  o.c.bytes(&now, 8);
+  ++o.n;
 }
 
 std::uint32_t ImageMirror::diff(std::span<const std::uint8_t> q, std::span<const std::uint8_t> m,
                                 recfmt::Buf& out) {
-  const std::size_t count_at = out.size();
-  out.le(std::uint32_t{0});
-  std::uint32_t n = 0;
-  diff_area(q.first(std::min(q.size(), q_bytes_)), 0, out, n);
-  diff_area(m.first(std::min(m.size(), m_bytes_)), m_at_, out, n);
-  out.patch(count_at, n);
-  return n;
+  Out o{};
+  if (!open(out, o)) return 0;
+  std::uint8_t* count_at = o.c.p - 4;
+  diff_area(q.first(std::min(q.size(), q_bytes_)), 0, o);
+  diff_area(m.first(std::min(m.size(), m_bytes_)), m_at_, o);
+  close(out, o, count_at);
+  return o.n;
 }
 
 bool ImageMirror::apply(std::span<const std::uint8_t> payload) {

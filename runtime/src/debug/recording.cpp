@@ -61,6 +61,37 @@ Recorder::Recorder(Runtime& rt, const std::string& file, Attach attach)
   mirror_ = std::make_unique<ImageMirror>(sizes.outputs, sizes.memory);
   const std::size_t delta = kHead + mirror_->max_delta_bytes() + kTail;
   delta_.reserve_fixed(delta);
+  // What each task's merge can change in the global %Q and %M: its bound
+  // bytes (copy_out; an online change cannot move them). The debugger's
+  // writes add their words as they are made (note_write).
+  const auto gq = rt.image().area(io::Area::Output);
+  const auto gm = rt.image().area(io::Area::Memory);
+  const auto offset_in = [](std::span<std::uint8_t> area, const std::uint8_t* p) -> std::ptrdiff_t {
+    const auto a = reinterpret_cast<std::uintptr_t>(area.data());
+    const auto x = reinterpret_cast<std::uintptr_t>(p);
+    return x >= a && x < a + area.size() ? static_cast<std::ptrdiff_t>(x - a) : -1;
+  };
+  for (const auto& t : rt.tasks()) {
+    TaskRec& ts = tasks_[t->order];
+    for (const DeviceRuntime* d : t->devices) ts.input_bytes += d->sizes.input_bytes;
+    for (const ImageSpan& sp : t->copy_out) {
+      if (const auto q = offset_in(gq, sp.dst); q >= 0)
+        ts.bound.push_back(mirror_->words_of(true, std::size_t(q), sp.n));
+      else if (const auto m = offset_in(gm, sp.dst); m >= 0)
+        ts.bound.push_back(mirror_->words_of(false, std::size_t(m), sp.n));
+    }
+    std::sort(ts.bound.begin(), ts.bound.end(),
+              [](const Words& a, const Words& b) { return a.begin < b.begin; });
+    std::vector<Words> merged;
+    for (const Words& w : ts.bound) {
+      if (w.begin == w.end) continue;
+      if (!merged.empty() && w.begin <= merged.back().end)
+        merged.back().end = std::max(merged.back().end, w.end);
+      else
+        merged.push_back(w);
+    }
+    ts.bound = std::move(merged);
+  }
   writer_ = std::make_unique<RecordingWriter>(
       fd, file, std::string(kMagic, sizeof kMagic),
       std::max({kMinBlockBytes, shared + kEventBytes + 64, delta}), kBlocks,
@@ -151,7 +182,7 @@ bool Recorder::try_start(const TaskRuntime& t) {
   // flight and none answered. From scan 0 that is the first latch.
   if (answer_count_ != 0) return false;
   for (const DeviceRuntime& d : rt_.devices())
-    if (d.plugin->link(d.index).in_flight() != 0) return false;
+    if (d.link->in_flight() != 0) return false;
   active_ = true;
   return true;
 }
@@ -176,40 +207,59 @@ void Recorder::after_latch(TaskRuntime& t, io::ProcessImage& global) {
   if (ts.change_due.load(std::memory_order_acquire)) {
     commit(ts.change, rt_.mode() == io::ClockMode::Virtual);
     ts.change_due.store(false, std::memory_order_release);
+    // The new build binds the same bytes (an online change cannot move
+    // them), and the values it carries over go into them; compared whole
+    // once all the same, since a change happens rarely.
+    diff_whole_next();
   }
-  Buf& b = shared_;
-  b.begin(kLatch);
-  b.le(static_cast<std::uint16_t>(t.order));
-  b.le(t.cycle);
-  b.le(static_cast<std::int64_t>(t.scan_time.count()));
-  auto in = global.area(io::Area::Input);
-  for (const DeviceRuntime* d : t.devices) b.bytes(in.data() + d->in.byte, d->sizes.input_bytes);
-  // Device states as the programs see them (a device's state changes only
-  // at its own task's latch).
+  // The record's fields through a cursor, into room checked for once.
   const auto& devs = rt_.devices();
-  b.le(static_cast<std::uint16_t>(devs.size()));
-  for (const DeviceRuntime& d : devs)
-    b.u8(static_cast<std::uint8_t>(d.plugin->link(d.index).state()));
-  b.le(answer_count_);
-  b.bytes(answers_.view().data(), answers_.size());
-  if (ts.pending_count) {
-    b.le(std::uint16_t{1});
-    b.u8(kAfterLatch);
-    b.le(std::uint16_t{0});
-    b.le(ts.pending_count);
-    b.bytes(ts.pending.view().data(), ts.pending.size());
-  } else {
-    b.le(std::uint16_t{0});
+  Buf& b = shared_;
+  b.clear();
+  const std::size_t most = kHead + 2 + 8 + 8 + ts.input_bytes + 2 + devs.size() + 2 +
+                           answers_.size() + 2 + 1 + 2 + 2 + ts.pending.size() + 1;
+  if (std::uint8_t* room = b.room(most)) {
+    Put c{room};
+    c.u8(kLatch);
+    c.le(std::uint32_t{0});  // the length: end()
+    c.le(static_cast<std::uint16_t>(t.order));
+    c.le(t.cycle);
+    c.le(static_cast<std::int64_t>(t.scan_time.count()));
+    const std::uint8_t* in = global.area(io::Area::Input).data();
+    for (const DeviceRuntime* d : t.devices) c.bytes(in + d->in.byte, d->sizes.input_bytes);
+    // Device states as the programs see them (a device's state changes
+    // only at its own task's latch).
+    c.le(static_cast<std::uint16_t>(devs.size()));
+    for (const DeviceRuntime& d : devs) c.u8(static_cast<std::uint8_t>(d.link->state()));
+    c.le(answer_count_);
+    c.bytes(answers_.view().data(), answers_.size());
+    if (ts.pending_count) {
+      c.le(std::uint16_t{1});
+      c.u8(kAfterLatch);
+      c.le(std::uint16_t{0});
+      c.le(ts.pending_count);
+      c.bytes(ts.pending.view().data(), ts.pending.size());
+    } else {
+      c.le(std::uint16_t{0});
+    }
+    c.u8(first ? 1 : 0);
+    b.advance_to(c.p);
   }
-  b.u8(first ? 1 : 0);
   if (first) put_snapshot(b);
   b.end();
   commit(b, rt_.mode() == io::ClockMode::Virtual);
   drop();
   ts.state = TaskRec::Open;
-  ts.merge.begin(kMerge);
-  ts.merge.le(static_cast<std::uint16_t>(t.order));
-  ts.merge.le(std::uint16_t{0});  // event groups, filled in at the merge
+  Buf& mg = ts.merge;
+  mg.clear();
+  if (std::uint8_t* room = mg.room(kHead + 4)) {
+    Put c{room};
+    c.u8(kMerge);
+    c.le(std::uint32_t{0});
+    c.le(static_cast<std::uint16_t>(t.order));
+    c.le(std::uint16_t{0});  // event groups, filled in at the merge
+    mg.advance_to(c.p);
+  }
   ts.merge_groups = 0;
 }
 
@@ -242,9 +292,15 @@ void Recorder::put_snapshot(Buf& b) {
     b.le(static_cast<std::uint32_t>(s.size()));
     b.bytes(s.data(), s.size());
   }
-  for (const DeviceRuntime& d : rt_.devices()) {
-    b.le(d.plugin->link(d.index).last_seq());
+  for (const DeviceRuntime& d : rt_.devices()) b.le(d.link->last_seq());
+}
+
+void Recorder::mark(Marks& m, bool output, std::size_t byte, std::size_t n) {
+  if (m.n == kMarks) {
+    diff_whole_next();
+    return;
   }
+  m.w[m.n++] = mirror_->words_of(output, byte, n);
 }
 
 void Recorder::note_write(TaskRuntime& t, const VarInfo& v, const void* value) {
@@ -255,7 +311,21 @@ void Recorder::note_write(TaskRuntime& t, const VarInfo& v, const void* value) {
     if (v.image_ptr == t.image.at(*v.address))
       target = kTaskImage;
     else if (v.image_ptr != rt_.image().at(*v.address))
-      return;  // another task's private copy: overwritten at its next latch
+      target = kVariable;  // another task's private copy (below)
+    // The words the next diffs must look at: a write into the global
+    // image is there for the next diff of any task (under the image lock
+    // both); one into t's copy reaches the global image at t's merge.
+    const io::Area area = v.address->area;
+    if (area != io::Area::Input) {
+      const bool output = area == io::Area::Output;
+      if (target == kGlobalImage)
+        mark(marks_, output, v.address->byte, v.address->width_bytes());
+      else if (target == kTaskImage)
+        mark(ts.marks, output, v.address->byte, v.address->width_bytes());
+      else
+        diff_whole_next();
+    }
+    if (target == kVariable) return;  // overwritten at that task's next latch
     p.u8(target);
     p.u8(static_cast<std::uint8_t>(v.address->area));
     p.le(v.address->byte);
@@ -291,32 +361,61 @@ void Recorder::seal(TaskRec& ts, Point point, std::size_t index) {
   ts.pending_count = 0;
 }
 
+// With no debugger write noted (nearly every scan), a seal has nothing to
+// seal: pending_count 0 means an empty, not overflowed, buffer.
 void Recorder::before_programs(TaskRuntime& t, const ScanContext&) {
-  seal(tasks_[t.order], kBeforePrograms, 0);
+  TaskRec& ts = tasks_[t.order];
+  if (ts.pending_count) seal(ts, kBeforePrograms, 0);
 }
 
 void Recorder::before_program(TaskRuntime& t, std::size_t index, const ScanContext&) {
-  seal(tasks_[t.order], kBeforeProgram, index);
+  TaskRec& ts = tasks_[t.order];
+  if (ts.pending_count) seal(ts, kBeforeProgram, index);
 }
 
 void Recorder::after_programs(TaskRuntime& t, const ScanContext&) {
-  seal(tasks_[t.order], kAfterPrograms, 0);
+  TaskRec& ts = tasks_[t.order];
+  if (ts.pending_count) seal(ts, kAfterPrograms, 0);
 }
 
 void Recorder::before_publish(TaskRuntime& t, io::ProcessImage& global) {
   TaskRec& ts = tasks_[t.order];
   if (ts.state != TaskRec::Open) {
+    // Merged unrecorded (the recording starts, or failed): what it changed
+    // is for the next diffs to find.
     ts.state = TaskRec::Idle;
     seal(ts, kBeforePublish, 0);  // drops them
+    ts.marks.n = 0;
+    diff_whole_next();
     return;
   }
-  seal(ts, kBeforePublish, 0);
+  if (ts.pending_count) seal(ts, kBeforePublish, 0);
   ts.merge.patch(kHead + 2, ts.merge_groups);
   ts.merge.le(std::uint64_t{0});  // the output hash: the writer's, from the deltas
   ts.merge.end();
   const bool wait = rt_.mode() == io::ClockMode::Virtual;
-  delta_.begin(kImageDelta);
-  if (mirror_->diff(global.area(io::Area::Output), global.area(io::Area::Memory), delta_) != 0) {
+  // Since the last diff (of any task) only this scan's merge and the
+  // debugger's writes changed %Q and %M: the words they can have changed
+  // are compared (none for a task bound to no %Q/%M byte), unless
+  // something else wrote them (then all).
+  const auto q = global.area(io::Area::Output);
+  const auto m = global.area(io::Area::Memory);
+  std::uint32_t words = 0;
+  if (const std::uint64_t e = whole_epoch_.load(std::memory_order_relaxed); ts.whole_seen != e) {
+    ts.whole_seen = e;
+    delta_.begin(kImageDelta);
+    words = mirror_->diff(q, m, delta_);
+  } else if (!ts.bound.empty() || ts.marks.n != 0 || marks_.n != 0) {
+    delta_.begin(kImageDelta);
+    words = mirror_->diff_words(q, m,
+                                {std::span<const Words>(ts.bound),
+                                 {ts.marks.w.data(), ts.marks.n},
+                                 {marks_.w.data(), marks_.n}},
+                                delta_);
+  }
+  ts.marks.n = 0;
+  marks_.n = 0;
+  if (words != 0) {
     delta_.end();
     // Not a record of the file: not counted, and no CRC of its own.
     if (!dead_.load(std::memory_order_acquire) && !writer_->append(delta_.view(), wait))
@@ -328,6 +427,7 @@ void Recorder::before_publish(TaskRuntime& t, io::ProcessImage& global) {
 }
 
 void Recorder::on_stop(TaskRuntime& t, io::ProcessImage&) {
+  diff_whole_next();  // the stopped task's outputs went to their safe values
   if (!active_) return;
   const std::string_view why = t.stats.stop_reason();
   const std::size_t n = std::min<std::size_t>(why.size(), kMaxPathBytes);

@@ -51,7 +51,9 @@ void RecordingWriter::fail(const std::string& why) {
   failed_.store(true, std::memory_order_release);
 }
 
-bool RecordingWriter::append(std::span<const std::uint8_t> record, bool wait) {
+// The block being filled is full (or there is none yet): hands it to the
+// writer thread and takes a free one.
+bool RecordingWriter::append_to_next_block(std::span<const std::uint8_t> record, bool wait) {
   if (failed()) return false;
   if (record.size() > block_bytes_) {
     fail("a record of " + std::to_string(record.size()) + " bytes exceeds the recording's blocks");

@@ -16,6 +16,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <span>
@@ -25,6 +26,7 @@
 
 #include "image_mirror.hpp"
 #include "plc/debug/recording_format.hpp"
+#include "plc/detail/small_copy.hpp"
 
 namespace plc::debug {
 
@@ -41,7 +43,19 @@ class RecordingWriter {
   // One framed record (type, length, payload, CRC slot), at most
   // block_bytes long. One caller at a time. false: the record is lost and
   // the recording broken (error() says why).
-  bool append(std::span<const std::uint8_t> record, bool wait);
+  bool append(std::span<const std::uint8_t> record, bool wait) {
+    // Nearly every record fits the block being filled: a copy, inline.
+    if (cur_ && record.size() <= cur_->data.size() - cur_->n && !failed()) [[likely]] {
+      std::uint8_t* to = cur_->data.data() + cur_->n;
+      if (record.size() <= 64)
+        ::plc::detail::copy_bytes(to, record.data(), record.size());
+      else
+        std::memcpy(to, record.data(), record.size());
+      cur_->n += record.size();
+      return true;
+    }
+    return append_to_next_block(record, wait);
+  }
   // Writes what is left and closes the file; "" or the first error.
   std::string finish();
   [[nodiscard]] bool failed() const { return failed_.load(std::memory_order_acquire); }
@@ -52,6 +66,7 @@ class RecordingWriter {
     std::vector<std::uint8_t> data;
     std::size_t n = 0;
   };
+  bool append_to_next_block(std::span<const std::uint8_t> record, bool wait);
   void run();
   void write_out(Block& b);
   void write_all(const std::uint8_t* p, std::size_t n);

@@ -70,6 +70,7 @@
 // could not finish it); RecordingReader checks all of it.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -102,7 +103,11 @@ class ImageMirror;
 // Scan threads only copy bytes into preallocated buffers (no allocation,
 // no I/O); a writer thread writes the file, and computes the merge records'
 // output hashes from the image deltas the scans hand it (image_mirror.hpp:
-// the scan compares %Q and %M with its copy instead of hashing them). Real time: several task
+// the scan compares %Q and %M with its copy instead of hashing them, and
+// only the words it can have changed: its task's bound bytes, the words
+// the debugger wrote since the last comparison; the whole of them at the
+// start, after an online change, a stopped task's safe outputs, a scan
+// merged unrecorded, or more than kMarks writes). Real time: several task
 // threads record at once; the latch and merge records are written under
 // the image lock the scan holds anyway, the rest of a scan's record goes
 // into the task's own buffer.
@@ -158,10 +163,23 @@ class Recorder final : public ScanHooks {
   [[nodiscard]] bool failed() const { return dead_.load(std::memory_order_acquire); }
 
  private:
+  // The words of %Q and %M a diff covers: a task's bound bytes, and the
+  // words the debugger wrote (at most kMarks between two diffs; more make
+  // the next diffs whole).
+  using Words = recfmt::ImageWords;
+  static constexpr std::size_t kMarks = 64;
+  struct Marks {
+    std::array<Words, kMarks> w{};
+    std::size_t n = 0;
+  };
   struct TaskRec {
     enum State : std::uint8_t { Idle, Open, Busy };  // Busy: in a scan not recorded
     State state = Idle;
-    recfmt::Buf merge;  // the merge record being built
+    std::vector<Words> bound;      // the words its merge can change
+    Marks marks;                   // written into its private image since its last diff
+    std::uint64_t whole_seen = 0;  // whole_epoch_ at its last whole diff
+    std::size_t input_bytes = 0;   // its devices' inputs, in its latch record
+    recfmt::Buf merge;             // the merge record being built
     std::uint16_t merge_groups = 0;
     recfmt::Buf pending;  // debugger writes not yet given their hook point
     std::uint16_t pending_count = 0;
@@ -176,6 +194,11 @@ class Recorder final : public ScanHooks {
   bool try_start(const TaskRuntime& t);
   void put_snapshot(recfmt::Buf& b);
   void seal(TaskRec& ts, recfmt::Point point, std::size_t index);
+  void mark(Marks& m, bool output, std::size_t byte, std::size_t n);
+  // The next diff of every task compares the whole %Q and %M: what wrote
+  // them since is not known word by word (the start, an online change, a
+  // stop's safe outputs, a scan merged unrecorded, too many marks).
+  void diff_whole_next() { whole_epoch_.fetch_add(1, std::memory_order_relaxed); }
   std::size_t snapshot_bytes() const;
 
   Runtime& rt_;
@@ -188,6 +211,8 @@ class Recorder final : public ScanHooks {
   // deltas and the copy of %Q and %M they are taken against.
   recfmt::Buf shared_, answers_, delta_;
   std::unique_ptr<ImageMirror> mirror_;
+  Marks marks_;  // words of the global image the debugger wrote since the last diff
+  std::atomic<std::uint64_t> whole_epoch_{1};
   std::uint16_t answer_count_ = 0;
   bool active_ = false;  // the first latch (with the snapshot) is written
   std::uint64_t records_ = 0;

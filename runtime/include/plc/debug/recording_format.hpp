@@ -99,6 +99,18 @@ class Buf {
     patch(1, static_cast<std::uint32_t>(n_ - kHead));
     le(std::uint32_t{0});
   }
+  // Room for up to n more bytes, to be written through a Put without a
+  // check per field (a record whose fields add up to at most n), then
+  // taken with advance_to(); null (and the buffer overflowed) if there is
+  // none.
+  [[nodiscard]] std::uint8_t* room(std::size_t n) {
+    if (n > b_.size() - n_) {
+      overflow_ = true;
+      return nullptr;
+    }
+    return b_.data() + n_;
+  }
+  void advance_to(const std::uint8_t* end) { n_ = static_cast<std::size_t>(end - b_.data()); }
   [[nodiscard]] std::size_t size() const { return n_; }
   [[nodiscard]] bool overflow() const { return overflow_; }
   [[nodiscard]] std::span<const std::uint8_t> view() const { return {b_.data(), n_}; }
@@ -107,6 +119,25 @@ class Buf {
   std::vector<std::uint8_t> b_;
   std::size_t n_ = 0;
   bool overflow_ = false;
+};
+
+// Writes fields into room a Buf checked for once (Buf::room): a cursor in
+// a register, where Buf's own writes reload its bounds after each byte
+// stored (a byte store may alias them).
+struct Put {
+  std::uint8_t* p;
+  template <class U>
+  void le(U v) {
+    static_assert(std::is_integral_v<U>);
+    const U x = boost::endian::native_to_little(v);
+    std::memcpy(p, &x, sizeof x);
+    p += sizeof x;
+  }
+  void u8(std::uint8_t v) { *p++ = v; }
+  void bytes(const void* s, std::size_t n) {
+    ::plc::detail::copy_bytes(p, static_cast<const std::uint8_t*>(s), n);
+    p += n;
+  }
 };
 
 // Reads a checked payload; every read fails (false) past its end.
@@ -160,5 +191,11 @@ using RunningCrc = Crc32;
 // starting at 0xcbf29ce484222325 + i. The result: lane 0 with lanes 1..3
 // folded in the same way.
 std::uint64_t image_hash(std::span<const std::uint8_t> q, std::span<const std::uint8_t> m);
+
+// Words [begin, end) of %Q and %M numbered as image_hash numbers them
+// (the recorder's image mirror compares them); a range lies in one area.
+struct ImageWords {
+  std::uint32_t begin = 0, end = 0;
+};
 
 }  // namespace plc::debug::recfmt
