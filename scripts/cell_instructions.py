@@ -36,17 +36,16 @@ class CallgrindError(RuntimeError):
     pass
 
 
-def callgrind_ir(bin_dir, config, seconds, valgrind="valgrind", extra=(), main_thread=False):
-    """Instructions of `plcrun CONFIG --virtual --for SECONDS [EXTRA]` under
-    callgrind: of the whole process, or with main_thread of plcrun's main
-    thread alone (--separate-threads; the scan thread in virtual time).
-    "{tmp}" in `extra` is a temporary folder (for files the run writes)."""
+def run_callgrind(program, what, valgrind="valgrind", main_thread=False):
+    """Instructions of `program` (a list: the executable and its arguments,
+    "{tmp}" in them a temporary folder) under callgrind: of the whole
+    process, or with main_thread of its main thread alone
+    (--separate-threads). `what` names the run in errors."""
     with tempfile.TemporaryDirectory(prefix="plc-callgrind-") as tmp:
         out = pathlib.Path(tmp) / "callgrind.out"
         cmd = [valgrind, "--tool=callgrind", f"--callgrind-out-file={out}",
                *(["--separate-threads=yes"] if main_thread else []),
-               str(pathlib.Path(bin_dir) / "plcrun"), str(ROOT / config), "--virtual", "--for",
-               f"{seconds}s", "-q", *[a.replace("{tmp}", tmp) for a in extra]]
+               *[a.replace("{tmp}", tmp) for a in program]]
         p = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if p.returncode != 0:
             raise CallgrindError(f"{shlex.join(cmd)} failed with exit code {p.returncode}:\n"
@@ -57,8 +56,18 @@ def callgrind_ir(bin_dir, config, seconds, valgrind="valgrind", extra=(), main_t
         text = result.read_text(errors="replace")
     m = re.search(r"^summary: (\d+)", text, re.M) or re.search(r"^totals: (\d+)", text, re.M)
     if not m:
-        raise CallgrindError(f"no instruction total in callgrind's output of {config}")
+        raise CallgrindError(f"no instruction total in callgrind's output of {what}")
     return int(m.group(1))
+
+
+def callgrind_ir(bin_dir, config, seconds, valgrind="valgrind", extra=(), main_thread=False):
+    """Instructions of `plcrun CONFIG --virtual --for SECONDS [EXTRA]` under
+    callgrind: of the whole process, or with main_thread of plcrun's main
+    thread alone (--separate-threads; the scan thread in virtual time).
+    "{tmp}" in `extra` is a temporary folder (for files the run writes)."""
+    program = [str(pathlib.Path(bin_dir) / "plcrun"), str(ROOT / config), "--virtual", "--for",
+               f"{seconds}s", "-q", *extra]
+    return run_callgrind(program, config, valgrind, main_thread)
 
 
 def instr_per_sim_ms(bin_dir, cells=None, jobs=None, valgrind="valgrind"):
@@ -112,3 +121,31 @@ def debugger_scan_costs(bin_dir, jobs=None, valgrind="valgrind"):
         per_ms = {name: (runs[(name, DEBUG_LONG_S)].result() - runs[(name, SHORT_S)].result()) /
                   ((DEBUG_LONG_S - SHORT_S) * 1000) for name in modes}
     return {name: per_ms[name] - per_ms["plain"] for name in modes if name != "plain"}
+
+
+# The same two costs on the cell bench_debugger times (its own program of
+# 100 variables that change every scan, with the default 5 KB image, the
+# debugger attached): `bench_debugger --count-scans MODE N` runs N scans
+# and nothing else; (scans of the long run - those of the short) / their
+# difference, against the idle debugger, scan thread only.
+BENCH_SCANS = (2000, 6000)
+
+
+def bench_cell_ir(bin_dir, mode, scans, valgrind="valgrind"):
+    program = [str(pathlib.Path(bin_dir) / "bench_debugger"), "--count-scans", mode, str(scans)]
+    return run_callgrind(program, f"bench_debugger {mode}", valgrind, main_thread=True)
+
+
+def bench_cell_scan_costs(bin_dir, jobs=None, valgrind="valgrind"):
+    """{figure: scan-thread instructions per scan} of a trace of the 100
+    variables and of a recording on bench_debugger's cell."""
+    modes = {"idle": None, "trace100_bench_cell_instr_per_scan": "trace",
+             "record_bench_cell_instr_per_scan": "record"}
+    short, long_ = BENCH_SCANS
+    jobs = jobs or os.cpu_count() or 1
+    with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
+        runs = {(name, n): pool.submit(bench_cell_ir, bin_dir, mode or "idle", n, valgrind)
+                for name, mode in modes.items() for n in BENCH_SCANS}
+        per_scan = {name: (runs[(name, long_)].result() - runs[(name, short)].result()) /
+                    (long_ - short) for name in modes}
+    return {name: per_scan[name] - per_scan["idle"] for name in modes if name != "idle"}

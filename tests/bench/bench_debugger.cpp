@@ -4,10 +4,12 @@
 // formatting runs on a writer thread; its throughput is the *_wall figure).
 // Prints `name: value unit` lines.
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <map>
 #include <string>
@@ -108,13 +110,18 @@ void BM_TenBreakpoints(benchmark::State& state) {
 }
 BENCHMARK(BM_TenBreakpoints)->MinTime(1.0);
 
-void trace_bench(benchmark::State& state, const char* file, bool paced = false) {
-  auto d = make_debugger();
+// The debugger command that adds the program's 100 variables to the trace.
+std::string trace_add_all() {
   std::string add = "trace add";
   for (int k = 0; k < 50; ++k) add += " P.i[" + std::to_string(k) + "]";
   for (int k = 0; k < 25; ++k) add += " P.r[" + std::to_string(k) + "]";
   for (int k = 0; k < 25; ++k) add += " P.b[" + std::to_string(k) + "]";
-  d->execute(add);
+  return add;
+}
+
+void trace_bench(benchmark::State& state, const char* file, bool paced = false) {
+  auto d = make_debugger();
+  d->execute(trace_add_all());
   d->execute(std::string("trace start ") + file);
   int n = 0;
   for (auto _ : state) {
@@ -153,9 +160,43 @@ void BM_RecordPaced(benchmark::State& state) { record_bench(state, true); }
 BENCHMARK(BM_Record)->MinTime(1.0);
 BENCHMARK(BM_RecordPaced)->MinTime(1.0);
 
+// `bench_debugger --count-scans MODE N`: N scans of the bench's cell with
+// the debugger idle, tracing the 100 variables or recording (MODE idle,
+// trace or record), and nothing else, so that callgrind counts what the
+// timed benchmarks above time (scripts/cell_instructions.py:
+// bench_cell_scan_costs takes two N apart, as for the example cells).
+int count_scans(const std::string& mode, long n) {
+  auto d = make_debugger();
+  const std::string file = "/tmp/plc_bench_count_" + mode + "_" + std::to_string(::getpid());
+  if (mode == "trace") {
+    d->execute(trace_add_all());
+    d->execute("trace start " + file + ".csv");
+  } else if (mode == "record") {
+    d->execute("record " + file + ".rec");
+  } else if (mode != "idle") {
+    std::fprintf(stderr, "bench_debugger: --count-scans: MODE is idle, trace or record\n");
+    return 2;
+  }
+  for (long k = 0; k < n; ++k) d->runtime().step_scan();
+  if (mode == "trace") d->execute("trace stop");
+  if (mode == "record") d->execute("record stop");
+  std::remove((file + ".csv").c_str());
+  std::remove((file + ".rec").c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc == 4 && std::string(argv[1]) == "--count-scans") {
+    char* end = nullptr;
+    const long n = std::strtol(argv[3], &end, 10);
+    if (*end != '\0' || n < 0) {
+      std::fprintf(stderr, "bench_debugger: --count-scans MODE N: N is a number of scans\n");
+      return 2;
+    }
+    return count_scans(argv[2], n);
+  }
   plc::bench::Collector c;
   if (!plc::bench::run_benchmarks(argc, argv, c)) return 1;
   auto get = [&](const char* prefix) { return c.cpu(prefix); };
