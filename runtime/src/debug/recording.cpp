@@ -62,35 +62,17 @@ Recorder::Recorder(Runtime& rt, const std::string& file, Attach attach)
   const std::size_t delta = kHead + mirror_->max_delta_bytes() + kTail;
   delta_.reserve_fixed(delta);
   // What each task's merge can change in the global %Q and %M: its bound
-  // bytes (copy_out; an online change cannot move them). The debugger's
-  // writes add their words as they are made (note_write).
-  const auto gq = rt.image().area(io::Area::Output);
-  const auto gm = rt.image().area(io::Area::Memory);
-  const auto offset_in = [](std::span<std::uint8_t> area, const std::uint8_t* p) -> std::ptrdiff_t {
-    const auto a = reinterpret_cast<std::uintptr_t>(area.data());
-    const auto x = reinterpret_cast<std::uintptr_t>(p);
-    return x >= a && x < a + area.size() ? static_cast<std::ptrdiff_t>(x - a) : -1;
-  };
+  // bytes (an online change cannot move them; ranges sorted and more than
+  // a word apart, Runtime's build joins closer ones). The debugger's writes
+  // add their words as they are made (note_write).
   for (const auto& t : rt.tasks()) {
     TaskRec& ts = tasks_[t->order];
     for (const DeviceRuntime* d : t->devices) ts.input_bytes += d->sizes.input_bytes;
-    for (const ImageSpan& sp : t->copy_out) {
-      if (const auto q = offset_in(gq, sp.dst); q >= 0)
-        ts.bound.push_back(mirror_->words_of(true, std::size_t(q), sp.n));
-      else if (const auto m = offset_in(gm, sp.dst); m >= 0)
-        ts.bound.push_back(mirror_->words_of(false, std::size_t(m), sp.n));
-    }
-    std::sort(ts.bound.begin(), ts.bound.end(),
-              [](const Words& a, const Words& b) { return a.begin < b.begin; });
-    std::vector<Words> merged;
-    for (const Words& w : ts.bound) {
-      if (w.begin == w.end) continue;
-      if (!merged.empty() && w.begin <= merged.back().end)
-        merged.back().end = std::max(merged.back().end, w.end);
-      else
-        merged.push_back(w);
-    }
-    ts.bound = std::move(merged);
+    for (io::Area a : {io::Area::Output, io::Area::Memory})
+      for (const ImageRange& r : t->bound[static_cast<std::size_t>(a)])
+        if (const Words w = mirror_->words_of(a == io::Area::Output, r.begin, r.end - r.begin);
+            w.begin != w.end)
+          ts.bound.push_back(w);
   }
   writer_ = std::make_unique<RecordingWriter>(
       fd, file, std::string(kMagic, sizeof kMagic),
@@ -307,25 +289,25 @@ void Recorder::note_write(TaskRuntime& t, const VarInfo& v, const void* value) {
   TaskRec& ts = tasks_[t.order];
   Buf& p = ts.pending;
   if (v.address) {
-    std::uint8_t target = kGlobalImage;
-    if (v.image_ptr == t.image.at(*v.address))
-      target = kTaskImage;
-    else if (v.image_ptr != rt_.image().at(*v.address))
-      target = kVariable;  // another task's private copy (below)
+    const bool in_task = v.image_ptr == t.image.at(*v.address);
+    const bool in_global = !in_task && v.image_ptr == rt_.image().at(*v.address);
     // The words the next diffs must look at: a write into the global
     // image is there for the next diff of any task (under the image lock
-    // both); one into t's copy reaches the global image at t's merge.
-    const io::Area area = v.address->area;
-    if (area != io::Area::Input) {
-      const bool output = area == io::Area::Output;
-      if (target == kGlobalImage)
-        mark(marks_, output, v.address->byte, v.address->width_bytes());
-      else if (target == kTaskImage)
-        mark(ts.marks, output, v.address->byte, v.address->width_bytes());
+    // both); one into t's copy reaches the global image at t's merge; one
+    // into another task's copy (not recorded: overwritten at that task's
+    // next latch) is not followed word by word.
+    if (v.address->area != io::Area::Input) {
+      const bool output = v.address->area == io::Area::Output;
+      const std::size_t n = v.address->width_bytes();
+      if (in_global)
+        mark(marks_, output, v.address->byte, n);
+      else if (in_task)
+        mark(ts.marks, output, v.address->byte, n);
       else
         diff_whole_next();
     }
-    if (target == kVariable) return;  // overwritten at that task's next latch
+    if (!in_task && !in_global) return;
+    const std::uint8_t target = in_task ? kTaskImage : kGlobalImage;
     p.u8(target);
     p.u8(static_cast<std::uint8_t>(v.address->area));
     p.le(v.address->byte);

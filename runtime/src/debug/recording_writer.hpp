@@ -16,7 +16,6 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
-#include <cstring>
 #include <memory>
 #include <mutex>
 #include <span>
@@ -46,11 +45,7 @@ class RecordingWriter {
   bool append(std::span<const std::uint8_t> record, bool wait) {
     // Nearly every record fits the block being filled: a copy, inline.
     if (cur_ && record.size() <= cur_->data.size() - cur_->n && !failed()) [[likely]] {
-      std::uint8_t* to = cur_->data.data() + cur_->n;
-      if (record.size() <= 64)
-        ::plc::detail::copy_bytes(to, record.data(), record.size());
-      else
-        std::memcpy(to, record.data(), record.size());
+      ::plc::detail::copy_bytes(cur_->data.data() + cur_->n, record.data(), record.size());
       cur_->n += record.size();
       return true;
     }
